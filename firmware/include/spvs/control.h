@@ -1,0 +1,126 @@
+/*
+ * control.h - Shortest Path Control: Methods I, II and III, three steps each
+ * (paper, section 3, eqs. (11), (20), (21), (22)).
+ *
+ *   Method I   (calibrated, eq. 20), f = h11^2 + h13^2 / alpha_x^2 - 1 (eq. 19)
+ *     step 1: v = 0,                   w = -k_w f
+ *     step 2: v = -k_v (h11 - h33),    w = -k_w f
+ *     step 3: v = 0,                   w = -k_w3 h13
+ *   Method II  (uncalibrated, eq. 21)
+ *     step 1: v = 0,                   w = -k_w h12
+ *     step 2: v = -k_v h32,            w = -k_w h12
+ *     step 3: v = 0,                   w = -k_w3 h13
+ *   Method III (parallax, eq. 22), e_x = x of the epipole in pixels
+ *     step 1: v = 0,                   w = -k_w e_x
+ *     step 2: v = -k_v (h11 - h33),    w = -k_w e_x, and once the parallax
+ *             falls under switch_parallax_px: w = k_w11 (h11 - cos phi_t)
+ *             (eq. 11), with cos phi_t learnt from h11 while aligned (eq. 8)
+ *     step 3: v = 0,                   w = -k_w3 h13
+ *
+ * Gains here are magnitudes; their signs are chosen once, from the parallax
+ * (the signed epipole) and H at the start of the step that needs them, as the
+ * paper suggests.  docs/CONTROL.md derives each rule.  Step-ending rules,
+ * saturation and the Method I false-zero escape are documented there too.
+ */
+#ifndef SPVS_CONTROL_H
+#define SPVS_CONTROL_H
+
+#include "spvs/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    SPVS_METHOD_I = 1,   /* calibrated, eq. (20)   */
+    SPVS_METHOD_II = 2,  /* uncalibrated, eq. (21) */
+    SPVS_METHOD_III = 3  /* parallax, eq. (22)     */
+} spvs_method_t;
+
+typedef enum {
+    SPVS_STEP_ROTATE = 1,    /* step 1: turn to face the target             */
+    SPVS_STEP_TRANSLATE = 2, /* step 2: drive straight to it                */
+    SPVS_STEP_ALIGN = 3,     /* step 3: turn to the target heading          */
+    SPVS_STEP_DONE = 4,      /* converged: (v, w) = (0, 0) from now on      */
+    SPVS_STEP_FAILED = 5     /* a latched failure: (0, 0) until reset       */
+} spvs_step_t;
+
+typedef struct {
+    spvs_method_t method;
+    spvs_real alpha_x;        /* assumed focal length in x, pixels (Method I) */
+    spvs_real alpha_y;        /* assumed focal length in y, pixels            */
+    spvs_real k_w;            /* step 1 and 2 rotation gain (method's units)  */
+    spvs_real k_v;            /* step 2 translation gain                      */
+    spvs_real k_w3;           /* step 3 rotation gain, rad/s per pixel of h13 */
+    spvs_real k_w11;          /* Method III eq. (11) gain, rad/s              */
+    spvs_real v_max;          /* |v| saturation, m/s                          */
+    spvs_real w_max;          /* |w| saturation, rad/s                        */
+    spvs_real w_min_escape;   /* Method I: least |w| while the epipole says
+                                 the robot is not yet facing the target      */
+    spvs_real tol_align;      /* step 1 ends: |signal| under this ...         */
+    spvs_real tol_translate;  /* step 2 ends: |signal| under this, or a sign
+                                 change of the signal                        */
+    spvs_real tol_h13_px;     /* step 3 ends: |h13| under this (pixels)       */
+    spvs_real lock_ex_px;     /* |e_x| under this counts as facing the target */
+    spvs_real switch_parallax_px; /* Method III switches to eq. (11) below   */
+    spvs_real min_signal_ratio;   /* plane check: the normal component the
+                                     method relies on, relative, must exceed */
+    spvs_real step_timeout_s; /* a step longer than this fails                */
+    uint16_t hold_frames;     /* consecutive frames a step-end test must hold */
+} spvs_control_params_t;
+
+/* What the estimation stages hand to the controller for one frame. */
+typedef struct {
+    spvs_real H[9];      /* H_cur_tgt, centred pixels, h22 = 1              */
+    spvs_real e_x_px;    /* x of the epipole, pixels (when e_valid)         */
+    spvs_real e_dir_x;   /* signed epipole direction (see epipole.h)        */
+    spvs_real e_dir_z;
+    spvs_real parallax_px; /* median off-plane parallax, 0 when none        */
+    spvs_real t_s;       /* frame time, seconds                             */
+    uint8_t e_valid;     /* the epipole estimate is usable this frame       */
+} spvs_control_input_t;
+
+/* Controller state: caller-owned, cleared by spvs_control_reset(). */
+typedef struct {
+    spvs_step_t step;
+    int status;              /* latched status once step is FAILED          */
+    int8_t sign_w;           /* chosen sign of k_w (0: not chosen yet)      */
+    int8_t sign_v;           /* chosen sign of k_v (0: not chosen yet)      */
+    int8_t ahead;            /* +1 target in front, -1 behind, 0 unknown    */
+    int8_t sign_sin_phit;    /* Method III: sign of sin(phi_t)              */
+    int8_t trans_sign0;      /* sign of the step-2 signal at its start      */
+    int8_t align_sign0;      /* sign of h13 at the start of step 3          */
+    uint8_t use_eq11;        /* Method III: parallax gone, eq. (11) in use  */
+    uint8_t checked_plane;   /* the plane check has been made               */
+    uint16_t hold;           /* consecutive frames the step-end test held   */
+    spvs_real step_t0;       /* time the current step started, s            */
+    spvs_real cos_phit;      /* Method III: learnt cos(phi_t)               */
+    uint32_t n_phit;         /* frames averaged into cos_phit               */
+    spvs_real t_step_end[4]; /* time each step ended (index 1..3), s        */
+    spvs_real normal_est[3]; /* (r/d) n estimated at the plane check        */
+} spvs_control_t;
+
+/* Defaults for a method: the gains and tolerances of docs/CONTROL.md for the
+ * nominal 640x480, alpha = 800 px camera. */
+void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m);
+
+/* Check parameters; returns SPVS_OK or SPVS_E_CONFIG. */
+SPVS_NODISCARD int spvs_control_params_check(const spvs_control_params_t *p);
+
+void spvs_control_reset(spvs_control_t *c);
+
+/* One control step.  in may be NULL: no valid estimate this frame.
+ * Writes the command to *v (m/s) and *w (rad/s); (0, 0) on every error.
+ * Returns SPVS_OK, or SPVS_E_NO_PARALLAX (signs not yet chosen, or Method III
+ * without an epipole), SPVS_E_PLANE_NZ / SPVS_E_PLANE_NY (latched: the plane
+ * gives this method no signal), SPVS_E_STEP_TIMEOUT (latched). */
+SPVS_NODISCARD int spvs_control_step(spvs_control_t *c,
+                                     const spvs_control_params_t *p,
+                                     const spvs_control_input_t *in,
+                                     spvs_real *v, spvs_real *w);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPVS_CONTROL_H */

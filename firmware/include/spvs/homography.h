@@ -1,0 +1,61 @@
+/*
+ * homography.h - the planar-motion homography: 3-point minimal solver and the
+ * least-squares refit on inliers (paper, section 2, eqs. (2), (4), (5)).
+ *
+ * Under planar motion H_cur_tgt = [[h11 h12 h13],[0 1 0],[h31 h32 h33]]
+ * (eq. 4), stored row-major in 9 scalars with H[4] = h22 = 1 and H[3] = H[5] = 0.
+ * Six unknowns, so three matches fix it.  Each match gives
+ *     y_cur * (h31 x_tgt + h32 y_tgt + h33) = y_tgt                 (row 3)
+ *     x_cur * (h31 x_tgt + h32 y_tgt + h33) = h11 x_tgt + h12 y_tgt + h13
+ * so the 6x6 system is block triangular: the three y-equations give row 3, then
+ * the x-equations give row 1 with the same 3x3 matrix [x_tgt y_tgt 1].
+ *
+ * Points passed to these functions are in the core's scaled units (pixels
+ * divided by SPVS_COORD_SCALE); an isotropic scaling keeps the (0,1,0) row.
+ * A point is 4 scalars: x_tgt, y_tgt, x_cur, y_cur.
+ */
+#ifndef SPVS_HOMOGRAPHY_H
+#define SPVS_HOMOGRAPHY_H
+
+#include "spvs/common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Index of each entry of H in the row-major array. */
+enum { SPVS_H11 = 0, SPVS_H12 = 1, SPVS_H13 = 2, SPVS_H22 = 4,
+       SPVS_H31 = 6, SPVS_H32 = 7, SPVS_H33 = 8 };
+
+/* Solve H from three matches (minimal solver).
+ * pts:   3 points (x_tgt, y_tgt, x_cur, y_cur), scaled units.
+ * H_out: 9 scalars, planar form, h22 = 1.
+ * Returns SPVS_OK, or SPVS_E_DEGENERATE when the target points are (nearly)
+ * collinear, a y-equation carries no information (all on the horizon), or the
+ * solution is non-finite or maps a sample point behind the camera. */
+SPVS_NODISCARD int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9]);
+
+/* Squared transfer error in the current image, scaled units squared:
+ * |p_cur - dehom(H p_tgt)|^2.  Returns a negative value when H p_tgt has a
+ * non-positive third coordinate (the point would be behind the camera). */
+spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4]);
+
+/* Least-squares refit of H on the points flagged in `use` (nonzero entries),
+ * minimising the sum of squared transfer errors in the current image
+ * (Gauss-Newton from the given H, at most SPVS_REFIT_MAX_ITERS iterations).
+ * pts: n points, scaled units; use: n flags; H: start value in, result out.
+ * Returns SPVS_OK, SPVS_E_TOO_FEW (fewer than 3 flagged points) or
+ * SPVS_E_DEGENERATE (singular normal equations); on error H is unchanged. */
+SPVS_NODISCARD int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use,
+                                uint16_t n, spvs_real H[9]);
+
+/* Convert H between scaled units and pixels: H_px = S H_scaled S^-1 with
+ * S = diag(s, s, 1), so h13 *= s and h31, h32 /= s.  scale = SPVS_COORD_SCALE
+ * goes from scaled to pixels, 1/SPVS_COORD_SCALE back. */
+void spvs_h_rescale(spvs_real H[9], spvs_real scale);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPVS_HOMOGRAPHY_H */

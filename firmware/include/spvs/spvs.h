@@ -1,0 +1,119 @@
+/*
+ * spvs.h - the update pipeline: one call per frame, matches in, command out.
+ *
+ *   matches -> homography (3-point planar RANSAC + refit, homography.h/ransac.h)
+ *           -> epipole / parallax (off-plane matches, epipole.h)
+ *           -> step logic and control law (control.h) -> (v, w)
+ *
+ * The instance is a plain struct the caller owns (usually static): no heap.
+ * Its size is sizeof(spvs_t), about
+ *   SPVS_MAX_MATCHES * (4 * sizeof(spvs_real) + 4) + SPVS_MAX_FEATURES
+ *   + SPVS_MAX_OFFPLANE * 3 + a few hundred bytes.
+ *
+ * Off-plane memory: a match the plane homography rejects with a large transfer
+ * error that also agrees with the epipole is counted as off-plane for its
+ * target feature.  Once a feature has been seen off the plane twice it is kept
+ * out of the homography estimate for good (until spvs_reset), so that near the
+ * target, where its parallax shrinks under the inlier threshold, it cannot bias
+ * H.  A plane inlier seen while the scene still shows clear parallax counts
+ * against it.
+ */
+#ifndef SPVS_SPVS_H
+#define SPVS_SPVS_H
+
+#include "spvs/common.h"
+#include "spvs/control.h"
+#include "spvs/epipole.h"
+#include "spvs/homography.h"
+#include "spvs/ransac.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    spvs_control_params_t ctl; /* control law, see control.h                 */
+    spvs_real inlier_px;       /* RANSAC inlier threshold, pixels            */
+    spvs_real confidence;      /* RANSAC confidence, (0, 1)                  */
+    uint32_t max_iters;        /* RANSAC cap, <= SPVS_RANSAC_MAX_ITERS       */
+    spvs_real offplane_px;     /* a rejected match is an off-plane candidate
+                                  when its transfer error exceeds this       */
+    spvs_real epipole_sin_tol; /* angle tolerance of epipole support (sine)  */
+    uint16_t min_support;      /* off-plane supporters needed for an epipole */
+    spvs_real max_frame_gap_s; /* a frame later than this after the last good
+                                  one is stale: stop and re-acquire          */
+    uint32_t seed;             /* PRNG seed: same seed, same result          */
+} spvs_params_t;
+
+/* Telemetry and command of one update. */
+typedef struct {
+    spvs_real v;            /* command, m/s                                   */
+    spvs_real w;            /* command, rad/s                                 */
+    spvs_real H[9];         /* H_cur_tgt, centred pixels, h22 = 1             */
+    spvs_real e_x_px;       /* x of the epipole, pixels (when e_valid)        */
+    spvs_real parallax_px;  /* median off-plane parallax, pixels              */
+    uint16_t n_matches;     /* matches given                                  */
+    uint16_t n_inliers;     /* plane inliers of H                             */
+    uint16_t n_offplane;    /* off-plane supporters of the epipole            */
+    uint16_t ransac_iters;  /* hypotheses tried                               */
+    int16_t status;         /* spvs_status_t of this update                   */
+    uint8_t step;           /* spvs_step_t after this update                  */
+    uint8_t h_valid;        /* H is this frame's estimate                     */
+    uint8_t e_valid;        /* e_x_px is this frame's estimate                */
+    uint8_t eq11;           /* Method III runs on eq. (11)                    */
+} spvs_output_t;
+
+typedef struct {
+    spvs_params_t p;
+    spvs_control_t ctl;
+    spvs_rng_t rng;
+    spvs_real last_t_s;       /* time of the last update                      */
+    spvs_real last_good_t_s;  /* time of the last frame with a valid H        */
+    uint8_t has_last;
+    uint8_t has_good;
+    /* Work buffers for one frame (scaled units). */
+    spvs_real pts[SPVS_MAX_MATCHES][4];
+    uint16_t feat[SPVS_MAX_MATCHES];
+    uint16_t idx[SPVS_MAX_MATCHES];     /* plane candidates for RANSAC      */
+    uint8_t mask[SPVS_MAX_MATCHES];     /* inlier flags, aligned with idx   */
+    uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates             */
+    uint8_t support[SPVS_MAX_OFFPLANE];
+    /* Off-plane memory, per target feature: >= 2 means off the plane. */
+    int8_t offplane[SPVS_MAX_FEATURES];
+} spvs_t;
+
+/* Parameters for a method: the defaults of docs/CONTROL.md. */
+void spvs_params_default(spvs_params_t *p, spvs_method_t method);
+
+/* Set up an instance (copies p) and reset it.
+ * Returns SPVS_OK, SPVS_E_ARG (NULL) or SPVS_E_CONFIG (p out of range). */
+SPVS_NODISCARD int spvs_init(spvs_t *s, const spvs_params_t *p);
+
+/* Forget all state (step, signs, off-plane memory, PRNG back to the seed). */
+void spvs_reset(spvs_t *s);
+
+/* Process one frame.
+ * m: n matches (n <= SPVS_MAX_MATCHES), centred pixels; t_s: frame time, s.
+ * out: command and telemetry; out->v = out->w = 0 whenever the return is an
+ * error.  Returns the status (also in out->status):
+ *   SPVS_OK, SPVS_E_ARG, SPVS_E_CAPACITY, SPVS_E_TOO_FEW, SPVS_E_NONFINITE,
+ *   SPVS_E_RANGE, SPVS_E_STALE, SPVS_E_DEGENERATE, SPVS_E_NO_CONSENSUS,
+ *   and those of spvs_control_step().
+ * The robot has converged when out->step == SPVS_STEP_DONE. */
+SPVS_NODISCARD int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n,
+                               spvs_real t_s, spvs_output_t *out);
+
+/* The estimation stage alone: validate the matches, run the planar RANSAC and
+ * the refit, and fill out->H (pixels), n_matches, n_inliers, ransac_iters,
+ * h_valid and status; the command is (0, 0).  Matches whose feature the
+ * off-plane memory holds are left out, as in spvs_update(); the memory itself
+ * and the controller are not touched.  This is what benchmarks time.
+ * Returns the same input and estimation statuses as spvs_update(). */
+SPVS_NODISCARD int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
+                                   spvs_output_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPVS_SPVS_H */

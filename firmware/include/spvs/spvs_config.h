@@ -1,0 +1,106 @@
+/*
+ * spvs_config.h - every buffer size and loop bound of the core, fixed at
+ * compile time.
+ *
+ * Each value has a default guarded by #ifndef, so a build may override it with
+ * -D flags or with a user file named by SPVS_USER_CONFIG_FILE (included first).
+ * Range checks at the bottom turn a bad choice into a compile error.
+ *
+ * Memory of one spvs_t instance (see spvs.h) grows with:
+ *   SPVS_MAX_MATCHES  x (4 scalars + 2 index bytes + 1 flag byte)
+ *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
+ *   SPVS_MAX_OFFPLANE x 3 scalars
+ */
+#ifndef SPVS_CONFIG_H
+#define SPVS_CONFIG_H
+
+#ifdef SPVS_USER_CONFIG_FILE
+#include SPVS_USER_CONFIG_FILE
+#endif
+
+/* 1: the core computes in double; 0 (default): float32, as on the MCU. */
+#ifndef SPVS_USE_DOUBLE
+#define SPVS_USE_DOUBLE 0
+#endif
+
+/* Largest number of matches one update accepts. */
+#ifndef SPVS_MAX_MATCHES
+#define SPVS_MAX_MATCHES 256
+#endif
+
+/* Target-image feature indices must be below this (off-plane memory size). */
+#ifndef SPVS_MAX_FEATURES
+#define SPVS_MAX_FEATURES 512
+#endif
+
+/* Most off-plane candidates the epipole estimator looks at in one frame.
+ * Its consensus is O(SPVS_MAX_OFFPLANE^2). */
+#ifndef SPVS_MAX_OFFPLANE
+#define SPVS_MAX_OFFPLANE 48
+#endif
+
+/* RANSAC hypotheses: min(adaptive count for the confidence, this cap). */
+#ifndef SPVS_RANSAC_MAX_ITERS
+#define SPVS_RANSAC_MAX_ITERS 200
+#endif
+
+/* Redraws allowed when a minimal sample is degenerate, per hypothesis. */
+#ifndef SPVS_RANSAC_MAX_REDRAWS
+#define SPVS_RANSAC_MAX_REDRAWS 4
+#endif
+
+/* Gauss-Newton iterations of the transfer-error refit. */
+#ifndef SPVS_REFIT_MAX_ITERS
+#define SPVS_REFIT_MAX_ITERS 4
+#endif
+
+/* Inlier re-selection rounds after the refit (refit -> re-score -> refit). */
+#ifndef SPVS_REFIT_ROUNDS
+#define SPVS_REFIT_ROUNDS 2
+#endif
+
+/* Pixel coordinates are multiplied by 1/SPVS_COORD_SCALE inside the core so
+ * that every intermediate stays in a bounded range (a power of two keeps the
+ * scaling exact in binary floating and fixed point). */
+#ifndef SPVS_COORD_SCALE
+#define SPVS_COORD_SCALE 512
+#endif
+
+/* Largest |coordinate| in pixels (centred) accepted as input. */
+#ifndef SPVS_MAX_COORD_PX
+#define SPVS_MAX_COORD_PX 8192
+#endif
+
+/* ---- range checks ------------------------------------------------------ */
+#if (SPVS_USE_DOUBLE != 0) && (SPVS_USE_DOUBLE != 1)
+#error "SPVS_USE_DOUBLE must be 0 or 1"
+#endif
+#if (SPVS_MAX_MATCHES < 8) || (SPVS_MAX_MATCHES > 4096)
+#error "SPVS_MAX_MATCHES must be in 8..4096"
+#endif
+#if (SPVS_MAX_FEATURES < SPVS_MAX_MATCHES) || (SPVS_MAX_FEATURES > 65535)
+#error "SPVS_MAX_FEATURES must be in SPVS_MAX_MATCHES..65535"
+#endif
+#if (SPVS_MAX_OFFPLANE < 4) || (SPVS_MAX_OFFPLANE > 128)
+#error "SPVS_MAX_OFFPLANE must be in 4..128"
+#endif
+#if (SPVS_RANSAC_MAX_ITERS < 1) || (SPVS_RANSAC_MAX_ITERS > 100000)
+#error "SPVS_RANSAC_MAX_ITERS must be in 1..100000"
+#endif
+#if (SPVS_RANSAC_MAX_REDRAWS < 0) || (SPVS_RANSAC_MAX_REDRAWS > 64)
+#error "SPVS_RANSAC_MAX_REDRAWS must be in 0..64"
+#endif
+#if (SPVS_REFIT_MAX_ITERS < 0) || (SPVS_REFIT_MAX_ITERS > 20)
+#error "SPVS_REFIT_MAX_ITERS must be in 0..20"
+#endif
+#if (SPVS_REFIT_ROUNDS < 1) || (SPVS_REFIT_ROUNDS > 8)
+#error "SPVS_REFIT_ROUNDS must be in 1..8"
+#endif
+#if (SPVS_COORD_SCALE < 1) || (SPVS_COORD_SCALE > 65536)
+#error "SPVS_COORD_SCALE must be in 1..65536"
+#endif
+#if (SPVS_MAX_COORD_PX < 64) || (SPVS_MAX_COORD_PX > 1000000)
+#error "SPVS_MAX_COORD_PX must be in 64..1000000"
+#endif
+
+#endif /* SPVS_CONFIG_H */
