@@ -176,6 +176,8 @@ static inline void golden_run_e(const spvs_golden_e_t *g, golden_e_result_t *r)
     uint16_t cand[SPVS_GOLDEN_N_OFF];
     uint8_t support[SPVS_GOLDEN_N_OFF + 1];
     spvs_epipole_t e;
+    /* Static, as the core's own instance keeps it: off the small MCU stack. */
+    static spvs_epipole_work_t work;
 
     golden_to_scaled(g->pts, SPVS_GOLDEN_N_OFF, pts);
     golden_h_copy(g->H, H);
@@ -189,7 +191,7 @@ static inline void golden_run_e(const spvs_golden_e_t *g, golden_e_result_t *r)
     e.n_support = 0;
     r->st = spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand,
                                   SPVS_GOLDEN_N_OFF, GOLDEN_EPI_SIN_TOL2,
-                                  GOLDEN_EPI_MIN_SUPPORT, &e, support);
+                                  GOLDEN_EPI_MIN_SUPPORT, &e, support, &work);
     spvs_real truth = (spvs_real)g->e_x_px;
     r->e_x_px = e.e_x_px;
     r->e_x_err_px = SPVS_FABS(e.e_x_px - truth);
