@@ -75,7 +75,7 @@ typedef struct {
     spvs_real e_x_px;    /* x of the epipole, pixels (when e_valid)         */
     spvs_real e_dir_x;   /* signed epipole direction (see epipole.h)        */
     spvs_real e_dir_z;
-    spvs_real parallax_px; /* median off-plane parallax, 0 when none        */
+    spvs_real parallax_px; /* median off-plane parallax, negative: unknown  */
     spvs_real t_s;       /* frame time, seconds                             */
     uint8_t e_valid;     /* the epipole estimate is usable this frame       */
 } spvs_control_input_t;
@@ -89,7 +89,7 @@ typedef struct {
     int8_t ahead;            /* +1 target in front, -1 behind, 0 unknown    */
     int8_t sign_sin_phit;    /* Method III: sign of sin(phi_t)              */
     int8_t trans_sign0;      /* sign of the step-2 signal at its start      */
-    int8_t align_sign0;      /* sign of h13 at the start of step 3          */
+    int8_t prev_sign;        /* sign of the step's signal last frame        */
     uint8_t use_eq11;        /* Method III: parallax gone, eq. (11) in use  */
     uint8_t checked_plane;   /* the plane check has been made               */
     uint16_t hold;           /* consecutive frames the step-end test held   */

@@ -40,6 +40,14 @@ typedef struct {
 /* Clamp for e_x when the epipole is near infinity (robot side-on to the line). */
 #define SPVS_EPIPOLE_MAX_PX SPVS_R(20000.0)
 
+/* Caller-owned scratch for one estimate (kept off the stack, which stays
+ * small on the MCU). */
+typedef struct {
+    spvs_real dx[SPVS_MAX_OFFPLANE];
+    spvs_real dz[SPVS_MAX_OFFPLANE];
+    spvs_real n2[SPVS_MAX_OFFPLANE];
+} spvs_epipole_work_t;
+
 /* Estimate the epipole.
  * H:        homography in scaled units (see homography.h).
  * pts:      all points of the frame, scaled units.
@@ -48,6 +56,7 @@ typedef struct {
  *           and the hypothesis for it to support it (e.g. 0.01 for ~5.7 deg).
  * min_support: fewer supporters than this is SPVS_E_NO_PARALLAX.
  * support_out: n_cand bytes (or NULL): 1 where the candidate supports.
+ * work:     scratch, see spvs_epipole_work_t.
  * Returns SPVS_OK, SPVS_E_ARG or SPVS_E_NO_PARALLAX (too few candidates or
  * supporters, or all candidates on the horizon row). */
 SPVS_NODISCARD int spvs_epipole_estimate(const spvs_real H[9],
@@ -56,7 +65,8 @@ SPVS_NODISCARD int spvs_epipole_estimate(const spvs_real H[9],
                                          spvs_real sin_tol2,
                                          uint16_t min_support,
                                          spvs_epipole_t *out,
-                                         uint8_t *support_out);
+                                         uint8_t *support_out,
+                                         spvs_epipole_work_t *work);
 
 #ifdef __cplusplus
 }

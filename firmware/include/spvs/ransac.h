@@ -5,8 +5,7 @@
  * Loop bounds:
  *   hypotheses  <= min(adaptive count for opts->confidence, opts->max_iters),
  *                  and opts->max_iters <= SPVS_RANSAC_MAX_ITERS;
- *   redraws     <= SPVS_RANSAC_MAX_REDRAWS per hypothesis when a sample is
- *                  degenerate (each redraw counts as an iteration);
+ *   a degenerate sample counts as one hypothesis (no redraw loop);
  *   sampling    is a partial Fisher-Yates over the index array: exactly
  *                  sample_size draws, no retry loop.
  * The adaptive count is ceil(log(1 - confidence) / log(1 - w^s)) with w the

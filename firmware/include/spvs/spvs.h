@@ -71,13 +71,20 @@ typedef struct {
     spvs_real last_good_t_s;  /* time of the last frame with a valid H        */
     uint8_t has_last;
     uint8_t has_good;
-    /* Work buffers for one frame (scaled units). */
+    /* Work buffers for one frame (scaled units).  pts[0..n_plane) are the
+     * matches of features not known to be off the plane, pts[n_plane..n_pts)
+     * the others. */
+    uint16_t n_pts;
+    uint16_t n_plane;
+    spvs_real H_sc[9];                  /* this frame's H, scaled units     */
     spvs_real pts[SPVS_MAX_MATCHES][4];
     uint16_t feat[SPVS_MAX_MATCHES];
-    uint16_t idx[SPVS_MAX_MATCHES];     /* plane candidates for RANSAC      */
-    uint8_t mask[SPVS_MAX_MATCHES];     /* inlier flags, aligned with idx   */
-    uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates             */
+    uint16_t idx[SPVS_MAX_MATCHES];     /* RANSAC index scratch             */
+    uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among pts          */
+    uint8_t idx_mask[SPVS_MAX_MATCHES]; /* inliers under a refitted H       */
+    uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates (pts index) */
     uint8_t support[SPVS_MAX_OFFPLANE];
+    spvs_epipole_work_t ework;
     /* Off-plane memory, per target feature: >= 2 means off the plane. */
     int8_t offplane[SPVS_MAX_FEATURES];
 } spvs_t;

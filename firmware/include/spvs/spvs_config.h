@@ -36,17 +36,12 @@
 /* Most off-plane candidates the epipole estimator looks at in one frame.
  * Its consensus is O(SPVS_MAX_OFFPLANE^2). */
 #ifndef SPVS_MAX_OFFPLANE
-#define SPVS_MAX_OFFPLANE 48
+#define SPVS_MAX_OFFPLANE 64
 #endif
 
 /* RANSAC hypotheses: min(adaptive count for the confidence, this cap). */
 #ifndef SPVS_RANSAC_MAX_ITERS
 #define SPVS_RANSAC_MAX_ITERS 200
-#endif
-
-/* Redraws allowed when a minimal sample is degenerate, per hypothesis. */
-#ifndef SPVS_RANSAC_MAX_REDRAWS
-#define SPVS_RANSAC_MAX_REDRAWS 4
 #endif
 
 /* Gauss-Newton iterations of the transfer-error refit. */
@@ -86,9 +81,6 @@
 #endif
 #if (SPVS_RANSAC_MAX_ITERS < 1) || (SPVS_RANSAC_MAX_ITERS > 100000)
 #error "SPVS_RANSAC_MAX_ITERS must be in 1..100000"
-#endif
-#if (SPVS_RANSAC_MAX_REDRAWS < 0) || (SPVS_RANSAC_MAX_REDRAWS > 64)
-#error "SPVS_RANSAC_MAX_REDRAWS must be in 0..64"
 #endif
 #if (SPVS_REFIT_MAX_ITERS < 0) || (SPVS_REFIT_MAX_ITERS > 20)
 #error "SPVS_REFIT_MAX_ITERS must be in 0..20"

@@ -1,0 +1,23 @@
+/* common.c - status names. */
+#include "spvs/common.h"
+
+const char *spvs_status_str(int status)
+{
+    switch (status) {
+    case SPVS_OK: return "ok";
+    case SPVS_E_ARG: return "bad_argument";
+    case SPVS_E_TOO_FEW: return "too_few_matches";
+    case SPVS_E_NONFINITE: return "non_finite_input";
+    case SPVS_E_RANGE: return "out_of_range_input";
+    case SPVS_E_CAPACITY: return "over_capacity";
+    case SPVS_E_DEGENERATE: return "degenerate";
+    case SPVS_E_NO_CONSENSUS: return "no_consensus";
+    case SPVS_E_STALE: return "stale_frame";
+    case SPVS_E_NO_PARALLAX: return "no_parallax";
+    case SPVS_E_PLANE_NZ: return "plane_normal_nz_zero";
+    case SPVS_E_PLANE_NY: return "plane_normal_ny_zero";
+    case SPVS_E_STEP_TIMEOUT: return "step_timeout";
+    case SPVS_E_CONFIG: return "bad_config";
+    default: return "unknown_status";
+    }
+}

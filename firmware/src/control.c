@@ -1,0 +1,410 @@
+/*
+ * control.c - Shortest Path Control, Methods I, II and III (paper, section 3).
+ *
+ * The derivations behind every sign and step-ending rule are in
+ * docs/CONTROL.md; the comments here name the result and the equation.
+ */
+#include <math.h>
+
+#include "spvs/control.h"
+#include "spvs/homography.h"
+
+static int8_t sgn(spvs_real x)
+{
+    return (int8_t)((x > SPVS_R(0.0)) - (x < SPVS_R(0.0)));
+}
+
+static spvs_real clamp(spvs_real x, spvs_real lim)
+{
+    if (x > lim) {
+        return lim;
+    }
+    if (x < -lim) {
+        return -lim;
+    }
+    return x;
+}
+
+void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
+{
+    SPVS_ASSERT(p != 0);
+    p->method = m;
+    p->alpha_x = SPVS_R(800.0);
+    p->alpha_y = SPVS_R(800.0);
+    p->k_w3 = SPVS_R(0.002);
+    p->k_w11 = SPVS_R(3.0);
+    p->v_max = SPVS_R(0.5);
+    p->w_max = SPVS_R(0.5);
+    p->w_min_escape = SPVS_R(0.05);
+    p->tol_h13_px = SPVS_R(0.5);
+    p->lock_ex_px = SPVS_R(28.0); /* alpha_x tan(2 deg) */
+    p->switch_parallax_px = SPVS_R(5.0);
+    p->min_signal_ratio = SPVS_R(0.1);
+    p->step_timeout_s = SPVS_R(120.0);
+    p->hold_frames = 3;
+    switch (m) {
+    case SPVS_METHOD_I:
+        /* f of eq. (19) changes by about 2 (r/d) |n_x cos phi + n_z sin phi|
+         * per radian: ~0.3 at r = 10 m, d = 45 m. */
+        p->k_w = SPVS_R(5.0);
+        p->k_v = SPVS_R(30.0);
+        p->tol_align = SPVS_R(3.0e-4);
+        p->tol_translate = SPVS_R(1.5e-4);
+        break;
+    case SPVS_METHOD_II:
+        /* h12 changes by about (r/d) n_y per radian; alpha_y h32 by n_y / d
+         * per metre. */
+        p->k_w = SPVS_R(10.0);
+        p->k_v = SPVS_R(40.0);
+        p->tol_align = SPVS_R(1.0e-4);
+        p->tol_translate = SPVS_R(1.5e-4);
+        break;
+    case SPVS_METHOD_III:
+    default:
+        /* e_x changes by alpha_x per radian. */
+        p->k_w = SPVS_R(0.002);
+        p->k_v = SPVS_R(30.0);
+        p->tol_align = SPVS_R(0.5);
+        p->tol_translate = SPVS_R(1.5e-4);
+        break;
+    }
+}
+
+int spvs_control_params_check(const spvs_control_params_t *p)
+{
+    if (p == 0) {
+        return SPVS_E_ARG;
+    }
+    if (p->method != SPVS_METHOD_I && p->method != SPVS_METHOD_II &&
+        p->method != SPVS_METHOD_III) {
+        return SPVS_E_CONFIG;
+    }
+    const spvs_real pos[] = {p->alpha_x, p->alpha_y, p->k_w, p->k_v, p->k_w3,
+                             p->k_w11, p->v_max, p->w_max, p->tol_align,
+                             p->tol_translate, p->tol_h13_px, p->lock_ex_px,
+                             p->step_timeout_s};
+    for (unsigned i = 0; i < sizeof pos / sizeof pos[0]; i++) {
+        /* Written so that NaN fails too. */
+        if (!(pos[i] > SPVS_R(0.0) && pos[i] < SPVS_REAL_MAX)) {
+            return SPVS_E_CONFIG;
+        }
+    }
+    if (!(p->w_min_escape >= SPVS_R(0.0) && p->w_min_escape <= p->w_max) ||
+        !(p->switch_parallax_px >= SPVS_R(0.0)) ||
+        !(p->min_signal_ratio >= SPVS_R(0.0) && p->min_signal_ratio < SPVS_R(1.0)) ||
+        p->hold_frames < 1u) {
+        return SPVS_E_CONFIG;
+    }
+    return SPVS_OK;
+}
+
+void spvs_control_reset(spvs_control_t *c)
+{
+    SPVS_ASSERT(c != 0);
+    c->step = SPVS_STEP_ROTATE;
+    c->status = SPVS_OK;
+    c->sign_w = 0;
+    c->sign_v = 0;
+    c->ahead = 0;
+    c->sign_sin_phit = 0;
+    c->trans_sign0 = 0;
+    c->prev_sign = 0;
+    c->use_eq11 = 0;
+    c->checked_plane = 0;
+    c->hold = 0;
+    c->step_t0 = SPVS_R(-1.0);
+    c->cos_phit = SPVS_R(1.0);
+    c->n_phit = 0;
+    for (int k = 0; k < 4; k++) {
+        c->t_step_end[k] = SPVS_R(-1.0);
+    }
+    for (int k = 0; k < 3; k++) {
+        c->normal_est[k] = SPVS_R(0.0);
+    }
+}
+
+static int fail(spvs_control_t *c, int status)
+{
+    c->step = SPVS_STEP_FAILED;
+    c->status = status;
+    return status;
+}
+
+static void next_step(spvs_control_t *c, spvs_step_t step, spvs_real t_s)
+{
+    c->t_step_end[c->step] = t_s;
+    c->step = step;
+    c->step_t0 = t_s;
+    c->hold = 0;
+    c->prev_sign = 0;
+}
+
+/* A step ends when its signal crosses zero between two frames (with noise the
+ * first crossing is where the signal meets the noise floor) or stays under
+ * tol for hold_frames frames (noise-free exponential approach).  prev holds
+ * the signal's sign on the previous frame. */
+static int step_done(spvs_control_t *c, const spvs_control_params_t *p,
+                     spvs_real signal, spvs_real tol, int8_t *prev)
+{
+    int8_t s = sgn(signal);
+    int crossed = (*prev != 0 && s != 0 && s != *prev);
+    *prev = s;
+    if (SPVS_FABS(signal) < tol) {
+        c->hold++;
+    } else {
+        c->hold = 0;
+    }
+    return crossed || c->hold >= p->hold_frames;
+}
+
+/* The plane check at the start (beyond the paper, which only reports the
+ * failure): with the epipole direction e^ = (e1, e3)/|e| known from the
+ * parallax, H gives (r/d) n without decomposing it:
+ *   (r/d) n_x = -e1 P - e3 Q,  (r/d) n_z = e3 P - e1 Q,
+ *   (r/d) n_y = -(e3 alpha_y h32 + e1 alpha_y h12 / alpha_x),
+ * with P = h11 - h33 and Q = h13 / alpha_x + alpha_x h31 (from eq. 5). */
+static int plane_check(spvs_control_t *c, const spvs_control_params_t *p,
+                       const spvs_control_input_t *in)
+{
+    const spvs_real *H = in->H;
+    spvs_real e1 = in->e_x_px / p->alpha_x;
+    spvs_real e3 = SPVS_R(1.0);
+    spvs_real en = SPVS_SQRT(e1 * e1 + e3 * e3);
+    spvs_real ahead = (spvs_real)c->ahead;
+    e1 = ahead * e1 / en;
+    e3 = ahead * e3 / en;
+    spvs_real P = H[SPVS_H11] - H[SPVS_H33];
+    spvs_real Q = H[SPVS_H13] / p->alpha_x + p->alpha_x * H[SPVS_H31];
+    spvs_real nx = -e1 * P - e3 * Q;
+    spvs_real nz = e3 * P - e1 * Q;
+    spvs_real ny = -(e3 * p->alpha_y * H[SPVS_H32] +
+                     e1 * p->alpha_y * H[SPVS_H12] / p->alpha_x);
+    c->normal_est[0] = nx;
+    c->normal_est[1] = ny;
+    c->normal_est[2] = nz;
+    spvs_real norm = SPVS_SQRT(nx * nx + ny * ny + nz * nz);
+    if (!(norm > SPVS_R(0.0))) {
+        return fail(c, p->method == SPVS_METHOD_II ? SPVS_E_PLANE_NY : SPVS_E_PLANE_NZ);
+    }
+    if (p->method == SPVS_METHOD_II) {
+        if (!(SPVS_FABS(ny) > p->min_signal_ratio * norm)) {
+            return fail(c, SPVS_E_PLANE_NY);
+        }
+    } else if (!(SPVS_FABS(nz) > p->min_signal_ratio * norm)) {
+        return fail(c, SPVS_E_PLANE_NZ);
+    }
+    return SPVS_OK;
+}
+
+/* Rotation command of steps 1 and 2 for each method. */
+static spvs_real rotation(spvs_control_t *c, const spvs_control_params_t *p,
+                          const spvs_control_input_t *in)
+{
+    const spvs_real *H = in->H;
+    switch (p->method) {
+    case SPVS_METHOD_I: {
+        /* Eq. (20): w = -k_w f, f = h11^2 + h13^2 / alpha_x^2 - 1 (eq. 19).
+         * f also vanishes at a false heading (DESIGN.md, docs/CONTROL.md);
+         * while the epipole says the robot is clearly not facing the target,
+         * the sign of k_w is taken so that the robot turns towards it, with a
+         * least rate, so it passes through a false zero. */
+        spvs_real h13n = H[SPVS_H13] / p->alpha_x;
+        spvs_real f = H[SPVS_H11] * H[SPVS_H11] + h13n * h13n - SPVS_R(1.0);
+        int misaligned = in->e_valid && SPVS_FABS(in->e_x_px) > p->lock_ex_px;
+        if (misaligned && sgn(f) != 0) {
+            c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
+        }
+        spvs_real w = -(spvs_real)c->sign_w * p->k_w * f;
+        if (misaligned && SPVS_FABS(w) < p->w_min_escape) {
+            w = -(spvs_real)sgn(in->e_x_px) * p->w_min_escape;
+        }
+        return w;
+    }
+    case SPVS_METHOD_II:
+        /* Eq. (21): w = -k_w h12. */
+        return -(spvs_real)c->sign_w * p->k_w * H[SPVS_H12];
+    case SPVS_METHOD_III:
+    default:
+        if (c->use_eq11) {
+            /* Eq. (11): w = k_w11 (h11 - cos phi_t), sign of k_w11 that of
+             * sin phi_t, as h11 - cos phi_t ~ -sin phi_t (phi - phi_t). */
+            return (spvs_real)c->sign_sin_phit * p->k_w11 *
+                   (H[SPVS_H11] - c->cos_phit);
+        }
+        /* Eq. (22): w = -k_w e_x; e_x = alpha_x tan(phi - phi_t). */
+        return -p->k_w * in->e_x_px;
+    }
+}
+
+/* The step-1 alignment signal of each method. */
+static spvs_real align_signal(const spvs_control_params_t *p,
+                              const spvs_control_input_t *in)
+{
+    const spvs_real *H = in->H;
+    if (p->method == SPVS_METHOD_I) {
+        spvs_real h13n = H[SPVS_H13] / p->alpha_x;
+        return H[SPVS_H11] * H[SPVS_H11] + h13n * h13n - SPVS_R(1.0);
+    }
+    if (p->method == SPVS_METHOD_II) {
+        return H[SPVS_H12];
+    }
+    return in->e_x_px;
+}
+
+/* The step-2 translation signal: h11 - h33 (eqs. 20, 22) or alpha_y h32
+ * (eq. 21; alpha_y only scales the gain). */
+static spvs_real translate_signal(const spvs_control_params_t *p,
+                                  const spvs_control_input_t *in)
+{
+    if (p->method == SPVS_METHOD_II) {
+        return p->alpha_y * in->H[SPVS_H32];
+    }
+    return in->H[SPVS_H11] - in->H[SPVS_H33];
+}
+
+/* Method III learns phi_t from eq. (8): on the line h11 = cos phi_t and
+ * h13 = alpha_x sin phi_t, whatever the distance. */
+static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
+                       const spvs_control_input_t *in)
+{
+    if (p->method != SPVS_METHOD_III || c->use_eq11 || !in->e_valid ||
+        SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
+        return;
+    }
+    /* Running mean, then an exponential one after 50 frames. */
+    if (c->n_phit < 50u) {
+        c->n_phit++;
+    }
+    spvs_real a = SPVS_R(1.0) / (spvs_real)c->n_phit;
+    c->cos_phit += a * (in->H[SPVS_H11] - c->cos_phit);
+    int8_t s = sgn(in->H[SPVS_H13]);
+    if (s != 0) {
+        c->sign_sin_phit = s;
+    }
+}
+
+int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
+                      const spvs_control_input_t *in, spvs_real *v, spvs_real *w)
+{
+    if (c == 0 || p == 0 || in == 0 || v == 0 || w == 0) {
+        return SPVS_E_ARG;
+    }
+    *v = SPVS_R(0.0);
+    *w = SPVS_R(0.0);
+    if (c->step == SPVS_STEP_DONE) {
+        return SPVS_OK;
+    }
+    if (c->step == SPVS_STEP_FAILED) {
+        return c->status;
+    }
+    if (c->step_t0 < SPVS_R(0.0)) {
+        c->step_t0 = in->t_s;
+    }
+    if (in->t_s - c->step_t0 > p->step_timeout_s) {
+        return fail(c, SPVS_E_STEP_TIMEOUT);
+    }
+
+    /* Start: the signs of the gains come from the parallax (paper, end of
+     * section 3.3), and the plane must give this method a signal. */
+    if (!c->checked_plane) {
+        if (!in->e_valid || sgn(in->e_dir_z) == 0) {
+            return SPVS_E_NO_PARALLAX;
+        }
+        c->ahead = sgn(in->e_dir_z);
+        int rc = plane_check(c, p, in);
+        if (rc != SPVS_OK) {
+            return rc;
+        }
+        switch (p->method) {
+        case SPVS_METHOD_I: {
+            spvs_real f = align_signal(p, in);
+            c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
+            if (c->sign_w == 0) {
+                c->sign_w = 1;
+            }
+            break;
+        }
+        case SPVS_METHOD_II:
+            /* sign(k_w) = -sign(n_y) sign(e_z) = sign(h32);
+             * sign(k_v) = sign(n_y) = -sign(h32) sign(e_z). */
+            c->sign_w = sgn(in->H[SPVS_H32]);
+            c->sign_v = (int8_t)(-c->sign_w * c->ahead);
+            break;
+        case SPVS_METHOD_III:
+        default:
+            c->sign_w = 1;
+            break;
+        }
+        c->checked_plane = 1;
+    }
+
+    /* Method III needs the epipole until it has switched to eq. (11). */
+    if (p->method == SPVS_METHOD_III && !c->use_eq11 && c->step != SPVS_STEP_ALIGN) {
+        if (c->step == SPVS_STEP_TRANSLATE && in->parallax_px >= SPVS_R(0.0) &&
+            in->parallax_px < p->switch_parallax_px) {
+            c->use_eq11 = 1;
+            if (c->n_phit == 0u) {
+                c->cos_phit = in->H[SPVS_H11];
+                c->sign_sin_phit = sgn(in->H[SPVS_H13]);
+            }
+        } else if (!in->e_valid) {
+            return SPVS_E_NO_PARALLAX;
+        }
+    }
+
+    spvs_real vc = SPVS_R(0.0);
+    spvs_real wc = SPVS_R(0.0);
+    switch (c->step) {
+    case SPVS_STEP_ROTATE: {
+        learn_phit(c, p, in);
+        wc = rotation(c, p, in);
+        spvs_real a = align_signal(p, in);
+        int done = step_done(c, p, a, p->tol_align, &c->prev_sign);
+        /* Method I: a zero of eq. (19) away from the target line is false. */
+        if (p->method == SPVS_METHOD_I && in->e_valid &&
+            SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
+            done = 0;
+        }
+        if (done) {
+            next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
+            c->trans_sign0 = 0;
+        }
+        break;
+    }
+    case SPVS_STEP_TRANSLATE: {
+        learn_phit(c, p, in);
+        spvs_real D = translate_signal(p, in);
+        if (c->trans_sign0 == 0) {
+            c->trans_sign0 = sgn(D);
+            if (p->method != SPVS_METHOD_II) {
+                /* Eqs. (20), (22): v = -k_v (h11 - h33) = k_v z n_z / (d cos
+                 * phi_t) on the line, so sign(k_v) = -sign(D) sign(e_z) makes
+                 * v drive towards the target. */
+                c->sign_v = (int8_t)(-c->trans_sign0 * c->ahead);
+            }
+        }
+        vc = -(spvs_real)c->sign_v * p->k_v * D;
+        wc = rotation(c, p, in);
+        if (step_done(c, p, D, p->tol_translate, &c->prev_sign)) {
+            next_step(c, SPVS_STEP_ALIGN, in->t_s);
+            vc = SPVS_R(0.0);
+            wc = SPVS_R(0.0);
+        }
+        break;
+    }
+    case SPVS_STEP_ALIGN: {
+        /* Eq. (17)/(18) as chosen by the paper: w = -k_w3 h13. */
+        wc = -p->k_w3 * in->H[SPVS_H13];
+        if (step_done(c, p, in->H[SPVS_H13], p->tol_h13_px, &c->prev_sign)) {
+            next_step(c, SPVS_STEP_DONE, in->t_s);
+            wc = SPVS_R(0.0);
+        }
+        break;
+    }
+    default:
+        break;
+    }
+    *v = clamp(vc, p->v_max);
+    *w = clamp(wc, p->w_max);
+    return SPVS_OK;
+}

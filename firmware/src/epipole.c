@@ -1,0 +1,170 @@
+/*
+ * epipole.c - the epipole from plane plus parallax (paper, section 3.3).
+ */
+#include <math.h>
+
+#include "spvs/epipole.h"
+#include "spvs/homography.h"
+
+/* A candidate whose line direction is shorter than this (scaled units) lies
+ * too close to the horizon row or has too little parallax to say anything. */
+#define DIR_MIN2 SPVS_R(1.0e-12)
+
+int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
+                          const uint16_t *cand, uint16_t n_cand,
+                          spvs_real sin_tol2, uint16_t min_support,
+                          spvs_epipole_t *out, uint8_t *support_out,
+                          spvs_epipole_work_t *work)
+{
+    if (H == 0 || pts == 0 || out == 0 || work == 0 || (cand == 0 && n_cand > 0) ||
+        n_cand > SPVS_MAX_OFFPLANE || min_support < 1u) {
+        return SPVS_E_ARG;
+    }
+    out->e_x_px = SPVS_R(0.0);
+    out->dir_x = SPVS_R(0.0);
+    out->dir_z = SPVS_R(0.0);
+    out->parallax_px = SPVS_R(0.0);
+    out->n_support = 0;
+
+    /* Per candidate: the line l = p_cur x (H p_tgt) holds the epipole
+     * e = (e_x, 0, e_z), so l1 e_x + l3 e_z = 0; with gamma > 0 the signed
+     * direction of (e_x, e_z) is sign(y_cur) (l3, -l1) (see epipole.h). */
+    spvs_real *dx = work->dx;
+    spvs_real *dz = work->dz;
+    spvs_real *n2 = work->n2;
+    for (uint16_t i = 0; i < n_cand; i++) {
+        const spvs_real *p = pts[cand[i]];
+        spvs_real q1 = H[0] * p[0] + H[1] * p[1] + H[2];
+        spvs_real q2 = p[1];
+        spvs_real q3 = H[6] * p[0] + H[7] * p[1] + H[8];
+        spvs_real l1 = p[3] * q3 - q2;
+        spvs_real l3 = p[2] * q2 - p[3] * q1;
+        spvs_real sg = p[3] < SPVS_R(0.0) ? SPVS_R(-1.0) : SPVS_R(1.0);
+        dx[i] = sg * l3;
+        dz[i] = -sg * l1;
+        n2[i] = dx[i] * dx[i] + dz[i] * dz[i];
+        if (support_out) {
+            support_out[i] = 0;
+        }
+    }
+
+    /* 1-point consensus: each usable candidate's direction is a hypothesis;
+     * a candidate supports it when it points the same way within the angle
+     * whose squared sine is sin_tol2 (no square roots, no divisions).
+     * Bound: n_cand^2 <= SPVS_MAX_OFFPLANE^2 pair tests. */
+    uint16_t best = 0;
+    uint16_t best_support = 0;
+    for (uint16_t j = 0; j < n_cand; j++) {
+        if (!(n2[j] > DIR_MIN2)) {
+            continue;
+        }
+        uint16_t support = 0;
+        for (uint16_t i = 0; i < n_cand; i++) {
+            if (!(n2[i] > DIR_MIN2)) {
+                continue;
+            }
+            spvs_real dot = dx[i] * dx[j] + dz[i] * dz[j];
+            spvs_real crs = dx[i] * dz[j] - dz[i] * dx[j];
+            if (dot > SPVS_R(0.0) && crs * crs <= sin_tol2 * n2[i] * n2[j]) {
+                support++;
+            }
+        }
+        if (support > best_support) {
+            best_support = support;
+            best = j;
+        }
+    }
+    if (best_support < min_support) {
+        return SPVS_E_NO_PARALLAX;
+    }
+
+    /* Least squares on the supporters: the direction e minimising
+     * sum (e x d_i)^2 is the principal eigenvector of sum d_i d_i^T. */
+    spvs_real a = SPVS_R(0.0), b = SPVS_R(0.0), c = SPVS_R(0.0);
+    spvs_real sx = SPVS_R(0.0), sz = SPVS_R(0.0);
+    /* The parallax values are stored over n2[]: entry n_par <= i is written
+     * only after n2[i] has been read, and n2[best] is kept aside. */
+    spvs_real *par = n2;
+    const spvs_real n2_best = n2[best];
+    uint16_t n_par = 0;
+    for (uint16_t i = 0; i < n_cand; i++) {
+        spvs_real n2_i = n2[i];
+        if (!(n2_i > DIR_MIN2)) {
+            continue;
+        }
+        spvs_real dot = dx[i] * dx[best] + dz[i] * dz[best];
+        spvs_real crs = dx[i] * dz[best] - dz[i] * dx[best];
+        if (!(dot > SPVS_R(0.0) && crs * crs <= sin_tol2 * n2_i * n2_best)) {
+            continue;
+        }
+        if (support_out) {
+            support_out[i] = 1;
+        }
+        a += dx[i] * dx[i];
+        b += dx[i] * dz[i];
+        c += dz[i] * dz[i];
+        sx += dx[i];
+        sz += dz[i];
+        spvs_real e2 = spvs_h_transfer_err2(H, pts[cand[i]]);
+        if (e2 >= SPVS_R(0.0)) {
+            par[n_par++] = e2;
+        }
+    }
+    spvs_real half = SPVS_R(0.5) * (a - c);
+    spvs_real lmax = SPVS_R(0.5) * (a + c) + SPVS_SQRT(half * half + b * b);
+    /* Two forms of the eigenvector; take the better conditioned one. */
+    spvs_real v1x = b, v1z = lmax - a;
+    spvs_real v2x = lmax - c, v2z = b;
+    spvs_real ex, ez;
+    if (v1x * v1x + v1z * v1z >= v2x * v2x + v2z * v2z) {
+        ex = v1x;
+        ez = v1z;
+    } else {
+        ex = v2x;
+        ez = v2z;
+    }
+    spvs_real en2 = ex * ex + ez * ez;
+    if (!(en2 > SPVS_R(0.0))) {
+        /* All supporters parallel to the axes in a way that cancels b: fall
+         * back on their mean direction. */
+        ex = sx;
+        ez = sz;
+        en2 = ex * ex + ez * ez;
+        if (!(en2 > SPVS_R(0.0))) {
+            return SPVS_E_NO_PARALLAX;
+        }
+    }
+    /* Orient along the supporters' summed direction (the sign of e). */
+    if (ex * sx + ez * sz < SPVS_R(0.0)) {
+        ex = -ex;
+        ez = -ez;
+    }
+    spvs_real inv = SPVS_R(1.0) / SPVS_SQRT(en2);
+    out->dir_x = ex * inv;
+    out->dir_z = ez * inv;
+
+    const spvs_real scale = (spvs_real)SPVS_COORD_SCALE;
+    const spvs_real lim = SPVS_EPIPOLE_MAX_PX / scale;
+    if (SPVS_FABS(ex) >= lim * SPVS_FABS(ez)) {
+        spvs_real sgn = ((ex < SPVS_R(0.0)) != (ez < SPVS_R(0.0))) ? SPVS_R(-1.0) : SPVS_R(1.0);
+        out->e_x_px = sgn * SPVS_EPIPOLE_MAX_PX;
+    } else {
+        out->e_x_px = scale * ex / ez;
+    }
+
+    /* Median parallax of the supporters (insertion sort, n_par bounded). */
+    for (uint16_t i = 1; i < n_par; i++) {
+        spvs_real key = par[i];
+        uint16_t k = i;
+        while (k > 0 && par[k - 1] > key) {
+            par[k] = par[k - 1];
+            k--;
+        }
+        par[k] = key;
+    }
+    if (n_par > 0) {
+        out->parallax_px = scale * SPVS_SQRT(par[n_par / 2]);
+    }
+    out->n_support = best_support;
+    return SPVS_OK;
+}

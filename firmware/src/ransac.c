@@ -1,0 +1,144 @@
+/*
+ * ransac.c - RANSAC against the estimator interface of ransac.h, and the
+ * SplitMix-style PRNG.
+ */
+#include <math.h>
+
+#include "spvs/ransac.h"
+
+void spvs_rng_seed(spvs_rng_t *rng, uint32_t seed)
+{
+    SPVS_ASSERT(rng != 0);
+    rng->state = seed;
+}
+
+uint32_t spvs_rng_next(spvs_rng_t *rng)
+{
+    /* A Weyl step followed by a 32-bit avalanche mix: every state gives a
+     * well-mixed output and the period is 2^32. */
+    uint32_t z = (rng->state += 0x9E3779B9u);
+    z = (z ^ (z >> 16)) * 0x85EBCA6Bu;
+    z = (z ^ (z >> 13)) * 0xC2B2AE35u;
+    return z ^ (z >> 16);
+}
+
+uint32_t spvs_rng_below(spvs_rng_t *rng, uint32_t bound)
+{
+    /* Multiply-shift maps 32 random bits onto [0, bound) with a bias below
+     * bound / 2^32, negligible for bound <= SPVS_MAX_MATCHES, and without the
+     * unbounded rejection loop of the exact method. */
+    uint64_t m = (uint64_t)spvs_rng_next(rng) * (uint64_t)bound;
+    return (uint32_t)(m >> 32);
+}
+
+uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
+                            uint32_t cap)
+{
+    if (cap < 1u) {
+        cap = 1u;
+    }
+    spvs_real ws = SPVS_R(1.0);
+    for (uint16_t k = 0; k < s; k++) {
+        ws *= w;
+    }
+    if (!(ws > SPVS_R(0.0))) {
+        return cap;
+    }
+    if (ws >= SPVS_R(1.0) - SPVS_REAL_EPS) {
+        return 1u;
+    }
+    spvs_real num = SPVS_LOG(SPVS_R(1.0) - confidence);
+    spvs_real den = SPVS_LOG(SPVS_R(1.0) - ws);
+    if (!(den < SPVS_R(0.0))) {
+        return cap;
+    }
+    spvs_real k = num / den;
+    if (!(k < (spvs_real)cap)) {
+        return cap;
+    }
+    uint32_t ki = (uint32_t)k;
+    if ((spvs_real)ki < k) {
+        ki++;
+    }
+    return ki < 1u ? 1u : ki;
+}
+
+int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
+                spvs_rng_t *rng, uint16_t *idx_scratch, spvs_real *model_out,
+                uint8_t *mask_out, spvs_ransac_stats_t *stats)
+{
+    if (est == 0 || opts == 0 || rng == 0 || idx_scratch == 0 || model_out == 0 ||
+        mask_out == 0 || stats == 0 || est->fit == 0 || est->score == 0) {
+        return SPVS_E_ARG;
+    }
+    stats->iters = 0;
+    stats->degenerate = 0;
+    stats->n_inliers = 0;
+    stats->cost = SPVS_R(0.0);
+    const uint16_t s = est->sample_size;
+    const uint16_t n = est->n;
+    if (s < 1u || s > SPVS_SAMPLE_MAX || opts->max_iters < 1u ||
+        opts->max_iters > SPVS_RANSAC_MAX_ITERS ||
+        !(opts->confidence > SPVS_R(0.0) && opts->confidence < SPVS_R(1.0)) ||
+        !(opts->threshold2 > SPVS_R(0.0))) {
+        return SPVS_E_ARG;
+    }
+    if (n < s || n < opts->min_inliers) {
+        return SPVS_E_TOO_FEW;
+    }
+
+    for (uint16_t i = 0; i < n; i++) {
+        idx_scratch[i] = i;
+    }
+
+    spvs_real model[SPVS_MODEL_MAX];
+    uint16_t sample[SPVS_SAMPLE_MAX];
+    uint16_t best_n = 0;
+    spvs_real best_cost = SPVS_REAL_MAX;
+    int have = 0;
+    uint32_t needed = opts->max_iters;
+
+    /* Bound: needed <= opts->max_iters <= SPVS_RANSAC_MAX_ITERS. */
+    for (uint32_t it = 0; it < needed; it++) {
+        /* Partial Fisher-Yates: exactly s draws, each without replacement. */
+        for (uint16_t k = 0; k < s; k++) {
+            uint32_t j = k + spvs_rng_below(rng, (uint32_t)(n - k));
+            uint16_t t = idx_scratch[k];
+            idx_scratch[k] = idx_scratch[j];
+            idx_scratch[j] = t;
+            sample[k] = idx_scratch[k];
+        }
+        stats->iters++;
+        if (est->fit(est->ctx, sample, model) != SPVS_OK) {
+            stats->degenerate++;
+            continue;
+        }
+        spvs_real cost = SPVS_R(0.0);
+        uint16_t cnt = est->score(est->ctx, model, opts->threshold2, best_n, 0, &cost);
+        if (cnt > best_n || (have && cnt == best_n && cost < best_cost) ||
+            (!have && cnt >= best_n)) {
+            best_n = cnt;
+            best_cost = cost;
+            have = 1;
+            for (int k = 0; k < SPVS_MODEL_MAX; k++) {
+                model_out[k] = model[k];
+            }
+            uint32_t k_needed = spvs_ransac_needed((spvs_real)best_n / (spvs_real)n, s,
+                                                   opts->confidence, opts->max_iters);
+            if (k_needed < needed) {
+                needed = k_needed;
+            }
+        }
+    }
+
+    if (!have) {
+        return SPVS_E_DEGENERATE;
+    }
+    spvs_real cost = SPVS_R(0.0);
+    stats->n_inliers = est->score(est->ctx, model_out, opts->threshold2, 0, mask_out, &cost);
+    stats->cost = cost;
+    if (stats->n_inliers < opts->min_inliers || stats->n_inliers < s) {
+        return SPVS_E_NO_CONSENSUS;
+    }
+    return SPVS_OK;
+}

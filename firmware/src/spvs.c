@@ -1,0 +1,422 @@
+/*
+ * spvs.c - the update pipeline: validate, estimate H, find the epipole and
+ * the parallax, remember off-plane features, run the controller.
+ */
+#include <math.h>
+
+#include "spvs/spvs.h"
+
+/* Off-plane memory: a feature counts as off the plane at this score. */
+#define OFFPLANE_ON 2
+#define OFFPLANE_MAX 3
+#define OFFPLANE_MIN (-3)
+/* Fewest plane inliers that make a consensus. */
+#define MIN_INLIERS 8u
+
+void spvs_params_default(spvs_params_t *p, spvs_method_t method)
+{
+    SPVS_ASSERT(p != 0);
+    spvs_control_params_default(&p->ctl, method);
+    p->inlier_px = SPVS_R(2.0);
+    p->confidence = SPVS_R(0.99);
+    p->max_iters = SPVS_RANSAC_MAX_ITERS;
+    p->offplane_px = SPVS_R(6.0);
+    p->epipole_sin_tol = SPVS_R(0.1);
+    p->min_support = 3;
+    p->max_frame_gap_s = SPVS_R(1.0);
+    p->seed = 0;
+}
+
+static int params_check(const spvs_params_t *p)
+{
+    int rc = spvs_control_params_check(&p->ctl);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    if (!(p->inlier_px > SPVS_R(0.0) && p->inlier_px < SPVS_R(1000.0)) ||
+        !(p->confidence > SPVS_R(0.0) && p->confidence < SPVS_R(1.0)) ||
+        p->max_iters < 1u || p->max_iters > SPVS_RANSAC_MAX_ITERS ||
+        !(p->offplane_px >= p->inlier_px) ||
+        !(p->epipole_sin_tol > SPVS_R(0.0) && p->epipole_sin_tol < SPVS_R(1.0)) ||
+        p->min_support < 1u ||
+        !(p->max_frame_gap_s > SPVS_R(0.0))) {
+        return SPVS_E_CONFIG;
+    }
+    return SPVS_OK;
+}
+
+int spvs_init(spvs_t *s, const spvs_params_t *p)
+{
+    if (s == 0 || p == 0) {
+        return SPVS_E_ARG;
+    }
+    int rc = params_check(p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    s->p = *p;
+    spvs_reset(s);
+    return SPVS_OK;
+}
+
+void spvs_reset(spvs_t *s)
+{
+    SPVS_ASSERT(s != 0);
+    spvs_control_reset(&s->ctl);
+    spvs_rng_seed(&s->rng, s->p.seed);
+    s->last_t_s = SPVS_R(0.0);
+    s->last_good_t_s = SPVS_R(0.0);
+    s->has_last = 0;
+    s->has_good = 0;
+    s->n_plane = 0;
+    s->n_pts = 0;
+    for (uint32_t i = 0; i < SPVS_MAX_FEATURES; i++) {
+        s->offplane[i] = 0;
+    }
+}
+
+/* ---- the planar-motion estimator for RANSAC ----------------------------- */
+
+static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
+{
+    const spvs_t *s = (const spvs_t *)ctx;
+    spvs_real pts[3][4];
+    for (int k = 0; k < 3; k++) {
+        for (int j = 0; j < 4; j++) {
+            pts[k][j] = s->pts[sample[k]][j];
+        }
+    }
+    return spvs_h_solve3(pts, model);
+}
+
+/* Counts inliers by the transfer error in the current image, compared
+ * without a division: |w p_cur - (h1.p, y_tgt)|^2 <= t^2 w^2 with w = h3.p > 0.
+ * The cost summed for ties is the same left side (an algebraic residual). */
+static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
+                          uint16_t need, uint8_t *mask, spvs_real *cost)
+{
+    const spvs_t *s = (const spvs_t *)ctx;
+    const uint16_t n = s->n_plane;
+    const uint16_t max_out = (uint16_t)(need <= n ? (uint16_t)(n - need) : 0u);
+    uint16_t inl = 0;
+    uint16_t outl = 0;
+    spvs_real c = SPVS_R(0.0);
+    for (uint16_t i = 0; i < n; i++) {
+        const spvs_real *q = s->pts[i];
+        spvs_real w = H[6] * q[0] + H[7] * q[1] + H[8];
+        spvs_real ex = q[2] * w - (H[0] * q[0] + H[1] * q[1] + H[2]);
+        spvs_real ey = q[3] * w - q[1];
+        spvs_real e2 = ex * ex + ey * ey;
+        int ok = (w > SPVS_R(0.0)) && (e2 <= t2 * w * w);
+        if (ok) {
+            inl++;
+            c += e2;
+        } else {
+            outl++;
+            /* Without a mask, stop once this model cannot reach `need`. */
+            if (mask == 0 && outl > max_out) {
+                *cost = c;
+                return inl;
+            }
+        }
+        if (mask) {
+            mask[i] = (uint8_t)ok;
+        }
+    }
+    *cost = c;
+    return inl;
+}
+
+/* ---- input validation and the estimation stage --------------------------- */
+
+static int is_finite(spvs_real x)
+{
+    return (x == x) && (x - x == SPVS_R(0.0));
+}
+
+/* Checks the frame and copies it into the work buffers in scaled units, the
+ * matches of features not known to be off the plane first (n_plane of them). */
+static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
+{
+    const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    for (uint16_t i = 0; i < n; i++) {
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int j = 0; j < 4; j++) {
+            if (!is_finite(c[j])) {
+                return SPVS_E_NONFINITE;
+            }
+            if (SPVS_FABS(c[j]) > lim) {
+                return SPVS_E_RANGE;
+            }
+        }
+        if (m[i].feature >= SPVS_MAX_FEATURES) {
+            return SPVS_E_RANGE;
+        }
+    }
+    uint16_t front = 0;
+    uint16_t back = n;
+    for (uint16_t i = 0; i < n; i++) {
+        uint16_t k;
+        if (s->offplane[m[i].feature] >= OFFPLANE_ON) {
+            k = --back;
+        } else {
+            k = front++;
+        }
+        s->pts[k][0] = m[i].x_tgt * inv;
+        s->pts[k][1] = m[i].y_tgt * inv;
+        s->pts[k][2] = m[i].x_cur * inv;
+        s->pts[k][3] = m[i].y_cur * inv;
+        s->feat[k] = m[i].feature;
+    }
+    s->n_plane = front;
+    s->n_pts = n;
+    return SPVS_OK;
+}
+
+static void clear_output(spvs_output_t *out, uint16_t n)
+{
+    out->v = SPVS_R(0.0);
+    out->w = SPVS_R(0.0);
+    for (int k = 0; k < 9; k++) {
+        out->H[k] = SPVS_R(0.0);
+    }
+    out->e_x_px = SPVS_R(0.0);
+    out->parallax_px = SPVS_R(-1.0);
+    out->n_matches = n;
+    out->n_inliers = 0;
+    out->n_offplane = 0;
+    out->ransac_iters = 0;
+    out->status = SPVS_OK;
+    out->step = 0;
+    out->h_valid = 0;
+    out->e_valid = 0;
+    out->eq11 = 0;
+}
+
+/* Validate, RANSAC and refit.  On success s->H_sc holds H in scaled units and
+ * s->mask the plane inliers among the first n_plane points. */
+static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+{
+    if (n > SPVS_MAX_MATCHES) {
+        return SPVS_E_CAPACITY;
+    }
+    if (m == 0 && n > 0) {
+        return SPVS_E_ARG;
+    }
+    if (n < 3u) {
+        return SPVS_E_TOO_FEW;
+    }
+    int rc = load_frame(s, m, n);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    if (s->n_plane < MIN_INLIERS) {
+        return SPVS_E_TOO_FEW;
+    }
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    spvs_real t = s->p.inlier_px * inv;
+    spvs_estimator_t est = {3u, s->n_plane, s, est_fit, est_score};
+    spvs_ransac_opts_t opts = {t * t, s->p.confidence, s->p.max_iters, MIN_INLIERS};
+    spvs_ransac_stats_t st;
+    spvs_real model[SPVS_MODEL_MAX];
+    rc = spvs_ransac(&est, &opts, &s->rng, s->idx, model, s->mask, &st);
+    out->ransac_iters = (uint16_t)(st.iters > 65535u ? 65535u : st.iters);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    /* Refit on the inliers, re-select them with the refined H, refit again.
+     * Bound: SPVS_REFIT_ROUNDS rounds. */
+    uint16_t n_inl = st.n_inliers;
+    for (int round = 0; round < SPVS_REFIT_ROUNDS; round++) {
+        spvs_real Hr[9];
+        for (int k = 0; k < 9; k++) {
+            Hr[k] = model[k];
+        }
+        if (spvs_h_refit((const spvs_real(*)[4])s->pts, s->mask, s->n_plane, Hr) != SPVS_OK) {
+            break;
+        }
+        spvs_real cost;
+        uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, s->idx_mask, &cost);
+        if (n_new < n_inl) {
+            break;
+        }
+        for (int k = 0; k < 9; k++) {
+            model[k] = Hr[k];
+        }
+        for (uint16_t i = 0; i < s->n_plane; i++) {
+            s->mask[i] = s->idx_mask[i];
+        }
+        n_inl = n_new;
+    }
+    for (int k = 0; k < 9; k++) {
+        s->H_sc[k] = model[k];
+        out->H[k] = model[k];
+    }
+    spvs_h_rescale(out->H, (spvs_real)SPVS_COORD_SCALE);
+    out->n_inliers = n_inl;
+    out->h_valid = 1;
+    return SPVS_OK;
+}
+
+int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+{
+    if (s == 0 || out == 0) {
+        return SPVS_E_ARG;
+    }
+    clear_output(out, n);
+    int rc = estimate(s, m, n, out);
+    out->status = (int16_t)rc;
+    return rc;
+}
+
+/* ---- off-plane points, epipole and parallax ------------------------------ */
+
+/* Collects the off-plane candidates: matches of remembered off-plane features
+ * first, then plane-set matches with a large transfer error.  Returns how many
+ * of the candidates are remembered features. */
+static uint16_t collect_candidates(spvs_t *s, uint16_t *n_cand)
+{
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    const spvs_real off = s->p.offplane_px * inv;
+    const spvs_real off2 = off * off;
+    uint16_t nc = 0;
+    for (uint16_t i = s->n_plane; i < s->n_pts && nc < SPVS_MAX_OFFPLANE; i++) {
+        s->cand[nc++] = i;
+    }
+    uint16_t n_known = nc;
+    for (uint16_t i = 0; i < s->n_plane && nc < SPVS_MAX_OFFPLANE; i++) {
+        if (s->mask[i]) {
+            continue;
+        }
+        spvs_real e2 = spvs_h_transfer_err2(s->H_sc, s->pts[i]);
+        if (e2 > off2) {
+            s->cand[nc++] = i;
+        }
+    }
+    *n_cand = nc;
+    return n_known;
+}
+
+/* Median transfer error (pixels) of the remembered off-plane features in this
+ * frame; negative when none is in view.  Bound: SPVS_MAX_OFFPLANE values. */
+static spvs_real known_parallax_px(spvs_t *s, uint16_t n_known)
+{
+    spvs_real *v = s->ework.n2;
+    uint16_t nv = 0;
+    for (uint16_t k = 0; k < n_known; k++) {
+        spvs_real e2 = spvs_h_transfer_err2(s->H_sc, s->pts[s->cand[k]]);
+        if (e2 < SPVS_R(0.0)) {
+            continue;
+        }
+        uint16_t j = nv++;
+        while (j > 0 && v[j - 1] > e2) {
+            v[j] = v[j - 1];
+            j--;
+        }
+        v[j] = e2;
+    }
+    if (nv == 0) {
+        return SPVS_R(-1.0);
+    }
+    return (spvs_real)SPVS_COORD_SCALE * SPVS_SQRT(v[nv / 2]);
+}
+
+static void remember(spvs_t *s, uint16_t n_cand, int e_ok, spvs_real parallax_px)
+{
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    const spvs_real off = s->p.offplane_px * inv;
+    const spvs_real off2 = off * off;
+    if (e_ok) {
+        for (uint16_t k = 0; k < n_cand; k++) {
+            uint16_t i = s->cand[k];
+            int8_t *score = &s->offplane[s->feat[i]];
+            if (s->support[k] && *score < OFFPLANE_MAX &&
+                spvs_h_transfer_err2(s->H_sc, s->pts[i]) > off2) {
+                (*score)++;
+            }
+        }
+    }
+    /* A plane inlier while the scene shows clear parallax is a plane point. */
+    if (parallax_px > SPVS_R(2.0) * s->p.offplane_px) {
+        for (uint16_t i = 0; i < s->n_plane; i++) {
+            int8_t *score = &s->offplane[s->feat[i]];
+            if (s->mask[i] && *score > OFFPLANE_MIN) {
+                (*score)--;
+            }
+        }
+    }
+}
+
+int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                spvs_output_t *out)
+{
+    if (s == 0 || out == 0) {
+        return SPVS_E_ARG;
+    }
+    clear_output(out, n);
+    int rc = SPVS_OK;
+    if (!is_finite(t_s)) {
+        rc = SPVS_E_NONFINITE;
+    } else if (s->has_last && !(t_s > s->last_t_s)) {
+        /* A frame not after the last one is a duplicate or out of order:
+         * its estimate would be stale. */
+        rc = SPVS_E_STALE;
+    }
+    if (rc == SPVS_OK) {
+        s->last_t_s = t_s;
+        s->has_last = 1;
+        rc = estimate(s, m, n, out);
+    }
+    if (rc != SPVS_OK) {
+        out->status = (int16_t)rc;
+        out->step = (uint8_t)s->ctl.step;
+        return rc;
+    }
+    /* A long gap since the last good frame: the step-end tests restart, as
+     * their consecutive-frame counts no longer describe continuous motion. */
+    if (s->has_good && t_s - s->last_good_t_s > s->p.max_frame_gap_s) {
+        s->ctl.hold = 0;
+        s->ctl.prev_sign = 0;
+    }
+    s->has_good = 1;
+    s->last_good_t_s = t_s;
+
+    uint16_t n_cand = 0;
+    uint16_t n_known = collect_candidates(s, &n_cand);
+    spvs_real parallax = known_parallax_px(s, n_known);
+    spvs_epipole_t ep;
+    const spvs_real sin_tol2 = s->p.epipole_sin_tol * s->p.epipole_sin_tol;
+    int erc = spvs_epipole_estimate(s->H_sc, (const spvs_real(*)[4])s->pts, s->cand,
+                                    n_cand, sin_tol2, s->p.min_support, &ep,
+                                    s->support, &s->ework);
+    int e_ok = (erc == SPVS_OK);
+    if (parallax < SPVS_R(0.0) && e_ok) {
+        parallax = ep.parallax_px;
+    }
+    remember(s, n_cand, e_ok, parallax);
+
+    spvs_control_input_t in;
+    for (int k = 0; k < 9; k++) {
+        in.H[k] = out->H[k];
+    }
+    in.e_x_px = e_ok ? ep.e_x_px : SPVS_R(0.0);
+    in.e_dir_x = e_ok ? ep.dir_x : SPVS_R(0.0);
+    in.e_dir_z = e_ok ? ep.dir_z : SPVS_R(0.0);
+    in.parallax_px = parallax;
+    in.t_s = t_s;
+    in.e_valid = (uint8_t)e_ok;
+
+    spvs_real v, w;
+    rc = spvs_control_step(&s->ctl, &s->p.ctl, &in, &v, &w);
+    out->v = rc == SPVS_OK ? v : SPVS_R(0.0);
+    out->w = rc == SPVS_OK ? w : SPVS_R(0.0);
+    out->e_x_px = in.e_x_px;
+    out->parallax_px = parallax;
+    out->n_offplane = e_ok ? ep.n_support : 0u;
+    out->e_valid = (uint8_t)e_ok;
+    out->eq11 = s->ctl.use_eq11;
+    out->status = (int16_t)rc;
+    out->step = (uint8_t)s->ctl.step;
+    return rc;
+}
