@@ -1,0 +1,529 @@
+/*
+ * spvs-sim - closed-loop simulation of Shortest Path Control: a simulated
+ * robot and camera drive a controller, in process or across a transport.
+ * Command line contract: DESIGN.md section 5; usage: docs/SIM.md.
+ *
+ * Exit status: 0 when the run took place (whatever its outcome), 1 when the
+ * link to the controller failed or an output file could not be written,
+ * 2 on bad options.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim/link_inproc.h"
+#include "sim/record.h"
+#include "sim/sim.h"
+
+#ifdef SPVS_HAVE_LCM
+#include "sim/link_lcm.h"
+#endif
+#ifdef SPVS_HAVE_ZENOH
+#include "sim/link_zenoh.h"
+#endif
+
+#define PI 3.14159265358979323846
+#define EXIT_LINK 1
+#define EXIT_USAGE 2
+
+typedef struct {
+    sim_config_t cfg;
+    int json;
+    int quiet;
+    const char *trace_path;
+    const char *record_path;
+    const char *transport;
+    const char *lcm_url;
+    const char *zenoh_endpoint;
+    double timeout_s;
+    uint32_t seed32;
+} options_t;
+
+static const char *const usage_text =
+    "usage: spvs-sim [options]\n"
+    "Closed-loop simulation of Shortest Path Control (Methods I, II, III).\n"
+    "\n"
+    "  --method 1|2|3        control method (3)\n"
+    "  --pose X,Z,PHI_DEG    start pose, metres and degrees (-3,-10,-30)\n"
+    "  --normal NX,NY,NZ     plane normal, normalised here (0.3,-0.6,-0.75)\n"
+    "  --distance D_M        plane distance d > 0, metres (45)\n"
+    "  --noise SIGMA_PX      Gaussian image noise, pixels (0)\n"
+    "  --outliers FRACTION   mismatched fraction of each frame, [0,1) (0)\n"
+    "  --drift DEG_PER_M     odometry drift in rotation, deg per metre (0)\n"
+    "  --focal-mm F          TRUE focal length, mm; the controller assumes 6 (6)\n"
+    "  --pp-offset PX        TRUE principal point x offset, pixels (0)\n"
+    "  --seed S              seed of scene, noise and RANSAC, 0..4294967295 (0)\n"
+    "  --dt S                control period, seconds (0.1)\n"
+    "  --max-time S          stop with status timeout after this, seconds (300)\n"
+    "  --clip                match only points inside the 640x480 frame\n"
+    "  --trace FILE.csv      write one CSV row per frame\n"
+    "  --record FILE         write a binary recording (docs/RECORDING.md)\n"
+    "  --transport T         inproc (default), lcm or zenoh\n"
+    "  --lcm-url URL         LCM provider (udpm://239.255.76.67:7667?ttl=0)\n"
+    "  --zenoh-endpoint E    Zenoh endpoint (tcp/127.0.0.1:7447)\n"
+    "  --timeout S           transport wait for each command, seconds (2)\n"
+    "  --realtime            pace frames at dt in wall-clock time\n"
+    "  --json                last stdout line: one JSON object with the result\n"
+    "  --quiet               no human-readable report\n"
+    "  --help                this text\n"
+    "\n"
+    "Exit status: 0 run completed (any outcome), 1 link or output error,\n"
+    "2 bad options.\n";
+
+/* One-line error on stderr and exit status 2. */
+static void usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    fputs("spvs-sim: ", stderr);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputs(" (see --help)\n", stderr);
+    exit(EXIT_USAGE);
+}
+
+static double parse_number(const char *opt, const char *s)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v)) {
+        usage_error("%s: '%s' is not a finite number", opt, s);
+    }
+    return v;
+}
+
+/* "A,B,C" -> three finite numbers. */
+static void parse_triple(const char *opt, const char *s, double v[3])
+{
+    const char *p = s;
+    for (int i = 0; i < 3; ++i) {
+        char *end = NULL;
+        errno = 0;
+        v[i] = strtod(p, &end);
+        if (end == p || errno == ERANGE || !isfinite(v[i])) {
+            usage_error("%s: '%s' is not three finite numbers A,B,C", opt, s);
+        }
+        if (i < 2) {
+            if (*end != ',') {
+                usage_error("%s: '%s' is not three numbers A,B,C", opt, s);
+            }
+            p = end + 1;
+        } else if (*end != '\0') {
+            usage_error("%s: '%s' is not three numbers A,B,C", opt, s);
+        }
+    }
+}
+
+static uint32_t parse_seed(const char *opt, const char *s)
+{
+    char *end = NULL;
+    errno = 0;
+    if (s[0] < '0' || s[0] > '9') {
+        usage_error("%s: '%s' is not an integer in 0..4294967295", opt, s);
+    }
+    unsigned long long v = strtoull(s, &end, 10);
+    if (*end != '\0' || errno == ERANGE || v > 4294967295ULL) {
+        usage_error("%s: '%s' is not an integer in 0..4294967295", opt, s);
+    }
+    return (uint32_t)v;
+}
+
+static void parse_options(int argc, char **argv, options_t *o)
+{
+    memset(o, 0, sizeof(*o));
+    sim_config_default(&o->cfg);
+    o->transport = "inproc";
+    o->lcm_url = "udpm://239.255.76.67:7667?ttl=0";
+    o->zenoh_endpoint = "tcp/127.0.0.1:7447";
+    o->timeout_s = 2.0;
+
+    for (int i = 1; i < argc; ++i) {
+        const char *arg = argv[i];
+        if (strncmp(arg, "--", 2) != 0) {
+            usage_error("unexpected argument '%s'", arg);
+        }
+        /* Accept both "--opt value" and "--opt=value". */
+        char name[32];
+        const char *val = NULL;
+        const char *eq = strchr(arg, '=');
+        size_t len = eq ? (size_t)(eq - arg) : strlen(arg);
+        if (len >= sizeof(name)) {
+            usage_error("unknown option '%.40s'", arg);
+        }
+        memcpy(name, arg, len);
+        name[len] = '\0';
+        if (eq) {
+            val = eq + 1;
+        }
+
+        /* Flags first: they take no value. */
+        static const char *const flags[] = { "--help", "--json", "--quiet",
+                                             "--clip", "--realtime" };
+        int is_flag = 0;
+        for (size_t k = 0; k < sizeof(flags) / sizeof(flags[0]); ++k) {
+            if (strcmp(name, flags[k]) == 0) {
+                is_flag = 1;
+            }
+        }
+        if (is_flag) {
+            if (val) {
+                usage_error("%s takes no value", name);
+            }
+            if (strcmp(name, "--help") == 0) {
+                fputs(usage_text, stdout);
+                exit(0);
+            } else if (strcmp(name, "--json") == 0) {
+                o->json = 1;
+            } else if (strcmp(name, "--quiet") == 0) {
+                o->quiet = 1;
+            } else if (strcmp(name, "--clip") == 0) {
+                o->cfg.clip = 1;
+            } else {
+                o->cfg.realtime = 1;
+            }
+            continue;
+        }
+
+        static const char *const valued[] = {
+            "--method", "--pose", "--normal", "--distance", "--noise",
+            "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
+            "--dt", "--max-time", "--trace", "--record", "--transport",
+            "--lcm-url", "--zenoh-endpoint", "--timeout" };
+        int known = 0;
+        for (size_t k = 0; k < sizeof(valued) / sizeof(valued[0]); ++k) {
+            if (strcmp(name, valued[k]) == 0) {
+                known = 1;
+            }
+        }
+        if (!known) {
+            usage_error("unknown option '%s'", name);
+        }
+        if (!val) {
+            if (i + 1 >= argc) {
+                usage_error("%s needs a value", name);
+            }
+            val = argv[++i];
+        }
+
+        sim_config_t *c = &o->cfg;
+        if (strcmp(name, "--method") == 0) {
+            if (strcmp(val, "1") == 0 || strcmp(val, "2") == 0 ||
+                strcmp(val, "3") == 0) {
+                c->method = val[0] - '0';
+            } else {
+                usage_error("--method: '%s' is not 1, 2 or 3", val);
+            }
+        } else if (strcmp(name, "--pose") == 0) {
+            double v[3];
+            parse_triple(name, val, v);
+            c->start.x_m = v[0];
+            c->start.z_m = v[1];
+            c->start.phi_rad = v[2] * PI / 180.0;
+        } else if (strcmp(name, "--normal") == 0) {
+            parse_triple(name, val, c->normal);
+            if (sqrt(c->normal[0] * c->normal[0] + c->normal[1] * c->normal[1] +
+                     c->normal[2] * c->normal[2]) < 1e-9) {
+                usage_error("--normal: '%s' is a zero vector", val);
+            }
+        } else if (strcmp(name, "--distance") == 0) {
+            c->distance_m = parse_number(name, val);
+            if (!(c->distance_m > 0.0)) {
+                usage_error("--distance: %s m is not positive", val);
+            }
+        } else if (strcmp(name, "--noise") == 0) {
+            c->noise_px = parse_number(name, val);
+            if (c->noise_px < 0.0) {
+                usage_error("--noise: %s px is negative", val);
+            }
+        } else if (strcmp(name, "--outliers") == 0) {
+            c->outliers = parse_number(name, val);
+            if (!(c->outliers >= 0.0 && c->outliers < 1.0)) {
+                usage_error("--outliers: %s is outside [0, 1)", val);
+            }
+        } else if (strcmp(name, "--drift") == 0) {
+            c->drift_deg_per_m = parse_number(name, val);
+        } else if (strcmp(name, "--focal-mm") == 0) {
+            c->focal_true_mm = parse_number(name, val);
+            if (!(c->focal_true_mm > 0.0)) {
+                usage_error("--focal-mm: %s mm is not positive", val);
+            }
+        } else if (strcmp(name, "--pp-offset") == 0) {
+            c->pp_offset_px = parse_number(name, val);
+        } else if (strcmp(name, "--seed") == 0) {
+            o->seed32 = parse_seed(name, val);
+            c->seed = o->seed32;
+        } else if (strcmp(name, "--dt") == 0) {
+            c->dt_s = parse_number(name, val);
+            if (!(c->dt_s > 0.0 && c->dt_s <= 10.0)) {
+                usage_error("--dt: %s s is outside (0, 10]", val);
+            }
+        } else if (strcmp(name, "--max-time") == 0) {
+            c->max_time_s = parse_number(name, val);
+            if (!(c->max_time_s > 0.0)) {
+                usage_error("--max-time: %s s is not positive", val);
+            }
+        } else if (strcmp(name, "--trace") == 0) {
+            o->trace_path = val;
+        } else if (strcmp(name, "--record") == 0) {
+            o->record_path = val;
+        } else if (strcmp(name, "--transport") == 0) {
+            if (strcmp(val, "inproc") != 0 && strcmp(val, "lcm") != 0 &&
+                strcmp(val, "zenoh") != 0) {
+                usage_error("--transport: '%s' is not inproc, lcm or zenoh",
+                            val);
+            }
+            o->transport = val;
+        } else if (strcmp(name, "--lcm-url") == 0) {
+            o->lcm_url = val;
+        } else if (strcmp(name, "--zenoh-endpoint") == 0) {
+            o->zenoh_endpoint = val;
+        } else if (strcmp(name, "--timeout") == 0) {
+            o->timeout_s = parse_number(name, val);
+            if (!(o->timeout_s > 0.0 && o->timeout_s <= 3600.0)) {
+                usage_error("--timeout: %s s is outside (0, 3600]", val);
+            }
+        }
+    }
+    /* Whatever the single checks missed (combinations, ranges). */
+    char err[160];
+    if (sim_config_check(&o->cfg, err, sizeof(err)) != 0) {
+        usage_error("%s", err);
+    }
+}
+
+/* ---- outputs ------------------------------------------------------------ */
+
+typedef struct {
+    FILE *trace;
+    FILE *record;
+    char err[160];
+} sinks_t;
+
+static int on_frame(const sim_frame_t *f, void *user)
+{
+    sinks_t *s = user;
+    const spvs_output_t *o = f->out;
+    if (s->trace) {
+        const spvs_real *H = o->H;
+        int bad = fprintf(s->trace,
+                          "%.3f,%.6f,%.6f,%.5f,%.6g,%.6g,%d,%d,"
+                          "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%u,%u\n",
+                          f->t_s, f->pose.x_m, f->pose.z_m,
+                          f->pose.phi_rad * 180.0 / PI, (double)o->v,
+                          (double)o->w, (int)o->step, (int)o->status,
+                          (double)H[0], (double)H[1], (double)H[2],
+                          (double)H[6], (double)H[7], (double)H[8],
+                          (double)o->e_x_px, (double)o->parallax_px,
+                          (unsigned)o->n_inliers, (unsigned)f->n) < 0;
+        if (bad) {
+            snprintf(s->err, sizeof(s->err), "cannot write the trace file");
+            return -1;
+        }
+    }
+    if (s->record) {
+        if (sim_record_write_frame(s->record, f->seq, f->t_s, f->m, f->n,
+                                   (double)o->v, (double)o->w, o->status,
+                                   o->step) != 0) {
+            snprintf(s->err, sizeof(s->err), "cannot write the recording");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* A JSON string with the characters JSON requires escaped. */
+static void json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)s; *p; ++p) {
+        if (*p == '"' || *p == '\\') {
+            fprintf(f, "\\%c", *p);
+        } else if (*p < 0x20) {
+            fprintf(f, "\\u%04x", *p);
+        } else {
+            fputc(*p, f);
+        }
+    }
+    fputc('"', f);
+}
+
+static void print_json(const options_t *o, const sim_result_t *r)
+{
+    const sim_config_t *c = &o->cfg;
+    printf("{\"method\":%d,\"status\":\"%s\",\"reason\":", c->method,
+           sim_status_str(r->status));
+    if (r->reason[0]) {
+        json_string(stdout, r->reason);
+    } else {
+        fputs("null", stdout);
+    }
+    printf(",\"final_error\":{\"x_m\":%.9g,\"z_m\":%.9g,\"phi_deg\":%.9g}",
+           r->err_x_m, r->err_z_m, r->err_phi_deg);
+    printf(",\"time_s\":%.9g,\"frames\":%u,\"steps\":[", r->time_s,
+           (unsigned)r->frames);
+    int first = 1;
+    for (int k = 1; k <= 3; ++k) {
+        if (!r->started[k]) {
+            continue;
+        }
+        printf("%s{\"step\":%d,\"start_s\":%.9g,\"end_s\":", first ? "" : ",",
+               k, r->step_start_s[k]);
+        if (r->step_end_s[k] >= 0.0) {
+            printf("%.9g}", r->step_end_s[k]);
+        } else {
+            fputs("null}", stdout);
+        }
+        first = 0;
+    }
+    printf("],\"seed\":%u,\"start\":{\"x_m\":%.9g,\"z_m\":%.9g,\"phi_deg\":%.9g}",
+           (unsigned)o->seed32, c->start.x_m, c->start.z_m,
+           c->start.phi_rad * 180.0 / PI);
+    printf(",\"noise_px\":%.9g,\"outliers\":%.9g,\"drift_deg_per_m\":%.9g"
+           ",\"focal_mm\":%.9g,\"pp_offset_px\":%.9g,\"dt_s\":%.9g"
+           ",\"path_m\":%.9g,\"transport\":",
+           c->noise_px, c->outliers, c->drift_deg_per_m, c->focal_true_mm,
+           c->pp_offset_px, c->dt_s, r->path_m);
+    json_string(stdout, o->transport);
+    fputs("}\n", stdout);
+}
+
+static void print_settings(const options_t *o)
+{
+    const sim_config_t *c = &o->cfg;
+    printf("spvs-sim: method %d, start (%.3f m, %.3f m, %.2f deg), "
+           "plane n=(%.3f,%.3f,%.3f) d=%.3g m, noise %.3g px, outliers %.3g, "
+           "drift %.3g deg/m, focal %.3g mm (assumed %.3g), pp offset %.3g px, "
+           "seed %u, dt %.3g s, transport %s\n",
+           c->method, c->start.x_m, c->start.z_m, c->start.phi_rad * 180.0 / PI,
+           c->normal[0], c->normal[1], c->normal[2], c->distance_m, c->noise_px,
+           c->outliers, c->drift_deg_per_m, c->focal_true_mm,
+           c->focal_assumed_mm, c->pp_offset_px, (unsigned)o->seed32, c->dt_s,
+           o->transport);
+}
+
+static void print_report(const sim_result_t *r)
+{
+    for (int k = 1; k <= 3; ++k) {
+        if (!r->started[k]) {
+            printf("step %d: not reached\n", k);
+        } else if (r->step_end_s[k] >= 0.0) {
+            printf("step %d: %8.2f s -> %8.2f s\n", k, r->step_start_s[k],
+                   r->step_end_s[k]);
+        } else {
+            printf("step %d: %8.2f s -> (not ended)\n", k, r->step_start_s[k]);
+        }
+    }
+    printf("final error: x %+.4f m, z %+.4f m, phi %+.3f deg\n", r->err_x_m,
+           r->err_z_m, r->err_phi_deg);
+    printf("status: %s%s%s after %.2f s (%u frames, %.2f m driven)\n",
+           sim_status_str(r->status), r->reason[0] ? ": " : "", r->reason,
+           r->time_s, (unsigned)r->frames, r->path_m);
+}
+
+/* ---- transports ---------------------------------------------------------- */
+
+static int open_link(const options_t *o, sim_link_t *link, char *err,
+                     unsigned err_len)
+{
+    if (strcmp(o->transport, "inproc") == 0) {
+        spvs_params_t p;
+        sim_inproc_params(&p, o->cfg.method,
+                          o->cfg.focal_assumed_mm / o->cfg.pixel_mm, o->seed32);
+        return sim_link_inproc_open(&p, link, err, err_len);
+    }
+    if (strcmp(o->transport, "lcm") == 0) {
+#ifdef SPVS_HAVE_LCM
+        return sim_link_lcm_open(o->lcm_url, o->timeout_s, link, err, err_len);
+#else
+        usage_error("--transport lcm: this build has no LCM support");
+#endif
+    }
+#ifdef SPVS_HAVE_ZENOH
+    return sim_link_zenoh_open(o->zenoh_endpoint, o->timeout_s, link, err,
+                               err_len);
+#else
+    usage_error("--transport zenoh: this build has no Zenoh support");
+#endif
+    return -1;
+}
+
+int main(int argc, char **argv)
+{
+    options_t o;
+    parse_options(argc, argv, &o);
+
+    sinks_t sinks;
+    memset(&sinks, 0, sizeof(sinks));
+    if (o.trace_path) {
+        sinks.trace = fopen(o.trace_path, "w");
+        if (!sinks.trace) {
+            usage_error("--trace: cannot open '%s': %s", o.trace_path,
+                        strerror(errno));
+        }
+        fputs("t,x,z,phi_deg,v,w,step,status,h11,h12,h13,h31,h32,h33,e_x,"
+              "parallax,n_inliers,n_matches\n", sinks.trace);
+    }
+    if (o.record_path) {
+        sinks.record = fopen(o.record_path, "wb");
+        if (!sinks.record) {
+            usage_error("--record: cannot open '%s': %s", o.record_path,
+                        strerror(errno));
+        }
+        if (sim_record_write_header(sinks.record) != 0) {
+            fprintf(stderr, "spvs-sim: cannot write the recording\n");
+            return EXIT_LINK;
+        }
+    }
+
+    char err[200] = "";
+    sim_link_t link;
+    if (open_link(&o, &link, err, sizeof(err)) != 0) {
+        fprintf(stderr, "spvs-sim: cannot open the %s link: %s\n",
+                o.transport, err);
+        return EXIT_LINK;
+    }
+    if (!o.quiet) {
+        print_settings(&o);
+        fflush(stdout);
+    }
+
+    sim_result_t res;
+    int rc = sim_run(&o.cfg, &link, &res, on_frame, &sinks, err, sizeof(err));
+    if (link.close) {
+        link.close(link.ctx);
+    }
+    int out_bad = 0;
+    if (sinks.trace && fclose(sinks.trace) != 0) {
+        out_bad = 1;
+    }
+    if (sinks.record && fclose(sinks.record) != 0) {
+        out_bad = 1;
+    }
+    if (rc != 0) {
+        /* The scene could not be built from these settings. */
+        fprintf(stderr, "spvs-sim: %s\n", err);
+        return EXIT_USAGE;
+    }
+    if (!o.quiet) {
+        print_report(&res);
+    }
+    if (o.json) {
+        print_json(&o, &res);
+    }
+    fflush(stdout);
+    if (res.status == SIM_ABORTED || out_bad) {
+        fprintf(stderr, "spvs-sim: %s\n",
+                sinks.err[0] ? sinks.err : "cannot write an output file");
+        return EXIT_LINK;
+    }
+    if (res.status == SIM_LINK_ERROR) {
+        fprintf(stderr, "spvs-sim: link error: %s\n", res.reason);
+        return EXIT_LINK;
+    }
+    return 0;
+}
