@@ -1,0 +1,592 @@
+/*
+ * bench_main.cpp - spvs-bench: times the core's homography estimator against
+ * OpenCV (and ViSP when built) on the same synthetic cases.  The whole-process
+ * comparison (closed-loop homing run) is spvs-bench-homing, homing.cpp.
+ *
+ * Modes (one per run; docs/BENCHMARKS.md gives the commands behind its tables):
+ *   --generate FILE            write the case matrix as a HOMBENCH v1 file
+ *   --cases FILE --json        time estimators on every record of FILE and
+ *                              print one JSON line per (case_id, estimator)
+ *   --full                     generate the matrix in memory, time every
+ *                              estimator, print JSON lines (--json) or tables
+ *   --short                    CI mode: one case, few repeats, JSON lines
+ *   --callgrind EST            run EST for --count K estimates (instruction
+ *                              counts: run with K and with 0, subtract)
+ * Options: --repeats K, --estimators a,b|all, --instances I, --poses P,
+ *   --seed S, --n N, --mismatch F, --sigma PX, --count K, --warmup K.
+ * Bad options print one line on stderr and exit with status 2.
+ */
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "estimators.h"
+#include "hombench.h"
+
+namespace {
+
+using bench::Estimator;
+
+/* The matrix of the issue: N x mismatch fraction x noise sigma. */
+const uint32_t kNs[] = {50, 100, 200, 500};
+const double kMismatch[] = {0.0, 0.2, 0.5};
+const double kSigma[] = {0.0, 1.0};
+
+/* The homing run the poses are sampled from: DESIGN.md's usual start. */
+const double kStartX = -3.0, kStartZ = -10.0, kStartPhiDeg = -30.0;
+
+[[noreturn]] void usage_error(const std::string &msg)
+{
+    std::fprintf(stderr, "spvs-bench: %s (see --help)\n", msg.c_str());
+    std::exit(2);
+}
+
+struct Options {
+    std::string mode;
+    std::string file;
+    std::string callgrind_est;
+    std::string jsonl_path;
+    bool json = false;
+    int repeats = -1;
+    int warmup = -1;
+    std::vector<std::string> estimators;
+    uint32_t instances = 8;
+    uint32_t poses = 8;
+    uint64_t seed = 1;
+    uint32_t n = 100;
+    double mismatch = 0.2;
+    double sigma = 1.0;
+    long count = 1000;
+};
+
+double parse_double(const char *opt, const char *s, double lo, double hi)
+{
+    char *end = nullptr;
+    double v = std::strtod(s, &end);
+    if (end == s || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
+        usage_error(std::string(opt) + " needs a number in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "], got '" + s + "'");
+    return v;
+}
+
+long parse_long(const char *opt, const char *s, long lo, long hi)
+{
+    char *end = nullptr;
+    long v = std::strtol(s, &end, 10);
+    if (end == s || *end != '\0' || v < lo || v > hi)
+        usage_error(std::string(opt) + " needs an integer in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "], got '" + s + "'");
+    return v;
+}
+
+std::vector<std::string> split_list(const std::string &s)
+{
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= s.size()) {
+        size_t comma = s.find(',', start);
+        if (comma == std::string::npos)
+            comma = s.size();
+        if (comma > start)
+            out.push_back(s.substr(start, comma - start));
+        start = comma + 1;
+    }
+    return out;
+}
+
+void print_help()
+{
+    std::printf(
+        "usage: spvs-bench MODE [options]\n"
+        "modes:\n"
+        "  --generate FILE        write the case matrix (HOMBENCH v1)\n"
+        "  --cases FILE --json    time estimators on FILE, one JSON line per (case_id, estimator)\n"
+        "  --full                 whole matrix, tables (or JSON lines with --json)\n"
+        "  --short                CI mode: one case, few repeats, JSON lines\n"
+        "  --callgrind EST        EST for --count K estimates at --n, --mismatch, --sigma\n"
+        "options:\n"
+        "  --repeats K            timed estimates per record and estimator\n"
+        "  --warmup K             untimed estimates per estimator before timing\n"
+        "  --estimators a,b|all   estimators (default: spvs for --cases, all otherwise)\n"
+        "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
+        "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
+        "  --n N --mismatch F --sigma PX --count K   callgrind mode\n"
+        "estimators in this build:");
+    for (const auto &e : bench::available_estimators())
+        std::printf(" %s", e.c_str());
+    std::printf("\n");
+}
+
+Options parse(int argc, char **argv)
+{
+    Options o;
+    auto need = [&](int &i) -> const char * {
+        if (i + 1 >= argc)
+            usage_error(std::string(argv[i]) + " needs a value");
+        return argv[++i];
+    };
+    auto set_mode = [&](const char *m) {
+        if (!o.mode.empty())
+            usage_error(std::string("only one mode per run (") + o.mode + " and " + m + ")");
+        o.mode = m;
+    };
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
+            print_help();
+            std::exit(0);
+        } else if (!std::strcmp(a, "--generate")) {
+            set_mode("--generate");
+            o.file = need(i);
+        } else if (!std::strcmp(a, "--cases")) {
+            set_mode("--cases");
+            o.file = need(i);
+        } else if (!std::strcmp(a, "--full")) {
+            set_mode("--full");
+        } else if (!std::strcmp(a, "--short")) {
+            set_mode("--short");
+        } else if (!std::strcmp(a, "--callgrind")) {
+            set_mode("--callgrind");
+            o.callgrind_est = need(i);
+        } else if (!std::strcmp(a, "--json")) {
+            o.json = true;
+        } else if (!std::strcmp(a, "--jsonl")) {
+            o.jsonl_path = need(i);
+        } else if (!std::strcmp(a, "--repeats")) {
+            o.repeats = (int)parse_long(a, need(i), 1, 100000);
+        } else if (!std::strcmp(a, "--warmup")) {
+            o.warmup = (int)parse_long(a, need(i), 0, 100000);
+        } else if (!std::strcmp(a, "--estimators")) {
+            o.estimators = split_list(need(i));
+            if (o.estimators.empty())
+                usage_error("--estimators needs a comma-separated list");
+        } else if (!std::strcmp(a, "--instances")) {
+            o.instances = (uint32_t)parse_long(a, need(i), 1, 10000);
+        } else if (!std::strcmp(a, "--poses")) {
+            o.poses = (uint32_t)parse_long(a, need(i), 1, 1000);
+        } else if (!std::strcmp(a, "--seed")) {
+            o.seed = (uint64_t)parse_long(a, need(i), 0, 2147483647L);
+        } else if (!std::strcmp(a, "--n")) {
+            o.n = (uint32_t)parse_long(a, need(i), 4, (long)HB_MAX_N);
+        } else if (!std::strcmp(a, "--mismatch")) {
+            o.mismatch = parse_double(a, need(i), 0.0, 0.9);
+        } else if (!std::strcmp(a, "--sigma")) {
+            o.sigma = parse_double(a, need(i), 0.0, 100.0);
+        } else if (!std::strcmp(a, "--count")) {
+            o.count = parse_long(a, need(i), 0, 100000000L);
+        } else {
+            usage_error(std::string("unknown option '") + a + "'");
+        }
+    }
+    if (o.mode.empty())
+        usage_error("no mode given");
+    if (o.mode == "--cases" && !o.json)
+        usage_error("--cases prints JSON lines only: add --json");
+    if (o.estimators.empty() || (o.estimators.size() == 1 && o.estimators[0] == "all")) {
+        if (o.mode == "--cases" && o.estimators.empty())
+            o.estimators = {"spvs"};
+        else
+            o.estimators = bench::available_estimators();
+    }
+    for (const auto &e : o.estimators)
+        if (!bench::make_estimator(e))
+            usage_error("unknown or unavailable estimator '" + e + "'");
+    return o;
+}
+
+/* ---- case generation --------------------------------------------------- */
+
+uint64_t record_seed(uint64_t base, uint32_t case_id, uint32_t inst, uint32_t pose)
+{
+    /* Mix the ids so that neighbouring records get unrelated streams. */
+    hb_rng_t r;
+    hb_rng_seed(&r, base ^ ((uint64_t)case_id << 40) ^ ((uint64_t)inst << 20) ^ pose);
+    return hb_rng_next(&r);
+}
+
+bool generate_case(hb_set_t &set, uint32_t case_id, uint32_t n, double mismatch, double sigma,
+                   uint32_t instances, uint32_t poses, uint64_t seed)
+{
+    for (uint32_t inst = 0; inst < instances; inst++)
+        for (uint32_t k = 0; k < poses; k++) {
+            hb_record_t &rec = set.rec[set.count];
+            double s = poses > 1 ? (double)k / (double)(poses - 1) : 0.5;
+            double x, z, phi;
+            hb_homing_pose(kStartX, kStartZ, kStartPhiDeg * M_PI / 180.0, s, &x, &z, &phi);
+            if (hb_record_alloc(&rec, n) != 0)
+                return false;
+            set.count++;
+            rec.case_id = case_id;
+            rec.instance = inst;
+            rec.pose = k;
+            if (hb_generate(&set.scene, n, mismatch, sigma, x, z, phi,
+                            record_seed(seed, case_id, inst, k), &rec) != 0)
+                return false;
+        }
+    return true;
+}
+
+/* The whole matrix; case_id = (iN * 3 + iMismatch) * 2 + iSigma. */
+bool generate_matrix(hb_set_t &set, uint32_t instances, uint32_t poses, uint64_t seed)
+{
+    hb_scene_default(&set.scene);
+    size_t total = 4 * 3 * 2 * (size_t)instances * poses;
+    set.rec = (hb_record_t *)std::calloc(total, sizeof(hb_record_t));
+    set.count = 0;
+    if (!set.rec)
+        return false;
+    uint32_t id = 0;
+    for (uint32_t n : kNs)
+        for (double m : kMismatch)
+            for (double s : kSigma)
+                if (!generate_case(set, id++, n, m, s, instances, poses, seed))
+                    return false;
+    return true;
+}
+
+/* ---- timing ------------------------------------------------------------ */
+
+struct Cell {
+    uint32_t case_id = 0, n = 0;
+    double mismatch = 0, sigma = 0;
+    uint32_t records = 0;
+    std::vector<double> us;      /* one per timed estimate              */
+    std::vector<double> err_px;  /* corner error of estimates returning H */
+    uint32_t estimates = 0, successes = 0, returned = 0;
+};
+
+double quantile(std::vector<double> v, double q)
+{
+    if (v.empty())
+        return NAN;
+    std::sort(v.begin(), v.end());
+    double pos = q * (double)(v.size() - 1);
+    size_t lo = (size_t)std::floor(pos);
+    size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (pos - (double)lo) * (v[hi] - v[lo]);
+}
+
+struct Summary {
+    double median_us, q1_us, q3_us, success_rate, mean_err, median_err, mean_err_ok;
+};
+
+Summary summarise(const Cell &c)
+{
+    Summary s;
+    s.median_us = quantile(c.us, 0.5);
+    s.q1_us = quantile(c.us, 0.25);
+    s.q3_us = quantile(c.us, 0.75);
+    s.success_rate = c.estimates ? (double)c.successes / c.estimates : 0.0;
+    double sum = 0, sum_ok = 0;
+    size_t n_fin = 0, n_ok = 0;
+    for (double e : c.err_px) {
+        if (std::isfinite(e)) {
+            sum += e;
+            n_fin++;
+        }
+        if (e < 2.0) {
+            sum_ok += e;
+            n_ok++;
+        }
+    }
+    s.mean_err = n_fin ? sum / n_fin : NAN;
+    s.median_err = quantile(c.err_px, 0.5);
+    s.mean_err_ok = n_ok ? sum_ok / n_ok : NAN;
+    return s;
+}
+
+std::string jnum(double v, const char *fmt = "%.4g")
+{
+    if (!std::isfinite(v))
+        return "null";
+    char b[64];
+    std::snprintf(b, sizeof b, fmt, v);
+    return b;
+}
+
+std::string json_line(const std::string &est, const Cell &c)
+{
+    Summary s = summarise(c);
+    char b[1024];
+    std::snprintf(b, sizeof b,
+                  "{\"case_id\": %u, \"estimator\": \"%s\", \"N\": %u, \"mismatch\": %s, "
+                  "\"sigma_px\": %s, \"records\": %u, \"estimates\": %u, \"median_us\": %s, "
+                  "\"q1_us\": %s, \"q3_us\": %s, \"iqr_us\": %s, \"success_rate\": %s, "
+                  "\"returned_rate\": %s, \"mean_corner_err_px\": %s, "
+                  "\"median_corner_err_px\": %s, \"mean_corner_err_ok_px\": %s}",
+                  c.case_id, est.c_str(), c.n, jnum(c.mismatch).c_str(), jnum(c.sigma).c_str(),
+                  c.records, c.estimates, jnum(s.median_us).c_str(), jnum(s.q1_us).c_str(),
+                  jnum(s.q3_us).c_str(), jnum(s.q3_us - s.q1_us).c_str(),
+                  jnum(s.success_rate).c_str(),
+                  jnum(c.estimates ? (double)c.returned / c.estimates : 0.0).c_str(),
+                  jnum(s.mean_err).c_str(), jnum(s.median_err).c_str(),
+                  jnum(s.mean_err_ok).c_str());
+    return b;
+}
+
+using Results = std::vector<std::pair<uint32_t, std::map<std::string, Cell>>>;
+
+/* Time every estimator on every record.  Records run in file order; on each
+ * record the estimators take turns, repeat by repeat, so that slow drifts of
+ * the machine (frequency, other load) hit all of them alike. */
+Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int repeats,
+                int warmup)
+{
+    using clock = std::chrono::steady_clock;
+    std::vector<std::unique_ptr<Estimator>> est;
+    for (const auto &n : names)
+        est.push_back(bench::make_estimator(n));
+
+    /* Warm-up on the first record: caches, lazy initialisation, branch
+     * predictors. */
+    double Hw[9];
+    for (auto &e : est)
+        if (e->prepare(set.rec[0]))
+            for (int k = 0; k < warmup; k++)
+                (void)e->estimate(Hw);
+
+    Results res;
+    std::map<uint32_t, size_t> pos;
+    bool warned_capacity = false;
+    for (uint32_t r = 0; r < set.count; r++) {
+        const hb_record_t &rec = set.rec[r];
+        auto it = pos.find(rec.case_id);
+        if (it == pos.end()) {
+            it = pos.emplace(rec.case_id, res.size()).first;
+            res.emplace_back(rec.case_id, std::map<std::string, Cell>());
+        }
+        auto &cells = res[it->second].second;
+        std::vector<bool> ready(est.size());
+        for (size_t e = 0; e < est.size(); e++) {
+            ready[e] = est[e]->prepare(rec);
+            if (!ready[e] && !warned_capacity) {
+                std::fprintf(stderr, "spvs-bench: note: %s cannot take record %u (N=%u); counted as failed\n",
+                             est[e]->name(), r, rec.n);
+                warned_capacity = true;
+            }
+            Cell &c = cells[names[e]];
+            if (c.records == 0) {
+                c.case_id = rec.case_id;
+                c.n = rec.n;
+                c.mismatch = rec.mismatch;
+                c.sigma = rec.sigma_px;
+            }
+            c.records++;
+        }
+        for (int k = 0; k < repeats; k++)
+            for (size_t e = 0; e < est.size(); e++) {
+                Cell &c = cells[names[e]];
+                c.estimates++;
+                if (!ready[e])
+                    continue;
+                double H[9];
+                auto t0 = clock::now();
+                bool ok = est[e]->estimate(H);
+                auto t1 = clock::now();
+                c.us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+                if (!ok)
+                    continue;
+                c.returned++;
+                double err = hb_corner_err(&set.scene, rec.H, H);
+                c.err_px.push_back(err);
+                if (err < 2.0)
+                    c.successes++;
+            }
+    }
+    return res;
+}
+
+void print_json(const Results &res, const std::vector<std::string> &names, FILE *f)
+{
+    for (const auto &cr : res)
+        for (const auto &n : names) {
+            auto it = cr.second.find(n);
+            if (it != cr.second.end())
+                std::fprintf(f, "%s\n", json_line(n, it->second).c_str());
+        }
+    std::fflush(f);
+}
+
+void print_tables(const Results &res, const std::vector<std::string> &names)
+{
+    std::printf("| N | mismatch | sigma px | estimator | median us | IQR us | success | "
+                "median err px | mean err (ok) px | peer/ours time |\n");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+    for (const auto &cr : res) {
+        const auto &cells = cr.second;
+        auto ours = cells.find("spvs");
+        double ours_med = ours != cells.end() ? summarise(ours->second).median_us : NAN;
+        for (const auto &n : names) {
+            auto it = cells.find(n);
+            if (it == cells.end())
+                continue;
+            const Cell &c = it->second;
+            Summary s = summarise(c);
+            std::printf("| %u | %.1f | %.0f | %s | %.1f | %.1f | %.1f %% | %s | %s | %s |\n", c.n,
+                        c.mismatch, c.sigma, n.c_str(), s.median_us, s.q3_us - s.q1_us,
+                        100.0 * s.success_rate, jnum(s.median_err, "%.3f").c_str(),
+                        jnum(s.mean_err_ok, "%.3f").c_str(),
+                        n == "spvs" ? "1" : jnum(s.median_us / ours_med, "%.1f").c_str());
+        }
+    }
+
+    /* Compact view: ours against the fastest OpenCV estimator whose success
+     * rate is at least ours. */
+    std::printf("\n| N | mismatch | sigma px | ours us (success) | fastest OpenCV at >= our success | "
+                "its us (success) | speed-up | ours vs cv_ransac |\n");
+    std::printf("|---|---|---|---|---|---|---|---|\n");
+    for (const auto &cr : res) {
+        const auto &cells = cr.second;
+        auto ours = cells.find("spvs");
+        if (ours == cells.end())
+            continue;
+        Summary so = summarise(ours->second);
+        std::string best;
+        Summary sb{};
+        double best_us = INFINITY;
+        for (const auto &kv : cells) {
+            if (kv.first.rfind("cv_", 0) != 0)
+                continue;
+            Summary s = summarise(kv.second);
+            if (s.success_rate + 1e-12 >= so.success_rate && s.median_us < best_us) {
+                best_us = s.median_us;
+                best = kv.first;
+                sb = s;
+            }
+        }
+        auto rans = cells.find("cv_ransac");
+        double rans_us = rans != cells.end() ? summarise(rans->second).median_us : NAN;
+        const Cell &c = ours->second;
+        std::printf("| %u | %.1f | %.0f | %.1f (%.1f %%) | %s | %s | %s | %s |\n", c.n, c.mismatch,
+                    c.sigma, so.median_us, 100.0 * so.success_rate,
+                    best.empty() ? "none" : best.c_str(),
+                    best.empty() ? "-"
+                                 : (jnum(sb.median_us, "%.1f") + " (" +
+                                    jnum(100.0 * sb.success_rate, "%.1f") + " %)")
+                                       .c_str(),
+                    best.empty() ? "-" : (jnum(sb.median_us / so.median_us, "%.1f") + "x").c_str(),
+                    (jnum(rans_us / so.median_us, "%.1f") + "x").c_str());
+    }
+}
+
+int mode_callgrind(const Options &o)
+{
+    /* One estimator, K estimates, cycling over a few records of one case.
+     * The records are generated and prepared whatever K is, so a run with
+     * K = 0 measures everything but the estimates. */
+    hb_set_t set{};
+    hb_scene_default(&set.scene);
+    const uint32_t poses = 6;
+    set.rec = (hb_record_t *)std::calloc(poses, sizeof(hb_record_t));
+    if (!set.rec || !generate_case(set, 0, o.n, o.mismatch, o.sigma, 1, poses, o.seed)) {
+        std::fprintf(stderr, "spvs-bench: case generation failed\n");
+        hb_set_free(&set);
+        return 1;
+    }
+    std::vector<std::unique_ptr<Estimator>> est;
+    for (uint32_t r = 0; r < set.count; r++) {
+        est.push_back(bench::make_estimator(o.callgrind_est));
+        if (!est.back()->prepare(set.rec[r])) {
+            std::fprintf(stderr, "spvs-bench: %s cannot take N=%u\n", o.callgrind_est.c_str(), o.n);
+            hb_set_free(&set);
+            return 1;
+        }
+    }
+    long ok = 0;
+    for (long k = 0; k < o.count; k++) {
+        uint32_t r = (uint32_t)(k % set.count);
+        double H[9];
+        if (est[r]->estimate(H) && hb_corner_err(&set.scene, set.rec[r].H, H) < 2.0)
+            ok++;
+    }
+    std::printf("{\"estimator\": \"%s\", \"N\": %u, \"estimates\": %ld, \"successes\": %ld}\n",
+                o.callgrind_est.c_str(), o.n, o.count, ok);
+    hb_set_free(&set);
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    Options o = parse(argc, argv);
+    /* One thread everywhere: OpenCV's own pool off. */
+    cv::setNumThreads(1);
+    char err[256] = "";
+
+    if (o.mode == "--generate") {
+        hb_set_t set{};
+        if (!generate_matrix(set, o.instances, o.poses, o.seed)) {
+            std::fprintf(stderr, "spvs-bench: case generation failed\n");
+            hb_set_free(&set);
+            return 1;
+        }
+        int rc = hb_write(o.file.c_str(), &set, err, sizeof err);
+        if (rc != 0)
+            std::fprintf(stderr, "spvs-bench: %s\n", err);
+        else
+            std::fprintf(stderr, "spvs-bench: wrote %u records to %s\n", set.count, o.file.c_str());
+        hb_set_free(&set);
+        return rc == 0 ? 0 : 1;
+    }
+    if (o.mode == "--cases") {
+        hb_set_t set{};
+        if (hb_read(o.file.c_str(), &set, err, sizeof err) != 0) {
+            std::fprintf(stderr, "spvs-bench: %s\n", err);
+            return 1;
+        }
+        Results res = run_set(set, o.estimators, o.repeats > 0 ? o.repeats : 5,
+                              o.warmup >= 0 ? o.warmup : 20);
+        print_json(res, o.estimators, stdout);
+        hb_set_free(&set);
+        return 0;
+    }
+    if (o.mode == "--full" || o.mode == "--short") {
+        hb_set_t set{};
+        bool ok;
+        if (o.mode == "--short") {
+            /* N = 200, 20 % mismatches, 1 px noise: the issue's headline case. */
+            hb_scene_default(&set.scene);
+            set.rec = (hb_record_t *)std::calloc(2 * 6, sizeof(hb_record_t));
+            ok = set.rec && generate_case(set, 13, 200, 0.2, 1.0, 2, 6, o.seed);
+        } else {
+            ok = generate_matrix(set, o.instances, o.poses, o.seed);
+        }
+        if (!ok) {
+            std::fprintf(stderr, "spvs-bench: case generation failed\n");
+            hb_set_free(&set);
+            return 1;
+        }
+        int repeats = o.repeats > 0 ? o.repeats : (o.mode == "--short" ? 3 : 5);
+        int warmup = o.warmup >= 0 ? o.warmup : (o.mode == "--short" ? 3 : 20);
+        Results res = run_set(set, o.estimators, repeats, warmup);
+        if (!o.jsonl_path.empty()) {
+            FILE *f = std::fopen(o.jsonl_path.c_str(), "w");
+            if (!f) {
+                std::fprintf(stderr, "spvs-bench: cannot write %s\n", o.jsonl_path.c_str());
+                hb_set_free(&set);
+                return 1;
+            }
+            print_json(res, o.estimators, f);
+            std::fclose(f);
+        }
+        if (o.json || o.mode == "--short")
+            print_json(res, o.estimators, stdout);
+        else
+            print_tables(res, o.estimators);
+        hb_set_free(&set);
+        return 0;
+    }
+    if (o.mode == "--callgrind")
+        return mode_callgrind(o);
+    return 2;
+}

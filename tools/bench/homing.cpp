@@ -1,0 +1,291 @@
+/*
+ * homing.cpp - spvs-bench-homing: the whole-process comparison.
+ *
+ * One closed-loop homing run of the simulator (sim_host's sim_run: scene,
+ * camera, noise, kinematics; DESIGN.md section 5's defaults) is timed end to
+ * end twice: with the core's pipeline behind the in-process link
+ * (spvs_update), and with a link in which OpenCV's findHomography estimates H
+ * while the core's epipole and control law do the rest, on the same matches
+ * and with the same parameters.  The OpenCV loop has no off-plane memory
+ * (that is part of our estimation stage), so it is the loop a user would
+ * write around findHomography with our controller.
+ *
+ * usage: spvs-bench-homing [--method 1|2|3] [--noise PX] [--outliers F]
+ *                          [--seed S] [--runs R] [--cv-method NAME] [--json]
+ * Bad options: one line on stderr, exit status 2.
+ */
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+
+extern "C" {
+#include "sim/link_inproc.h"
+#include "sim/sim.h"
+#include "spvs/spvs.h"
+}
+
+namespace {
+
+[[noreturn]] void usage_error(const std::string &msg)
+{
+    std::fprintf(stderr, "spvs-bench-homing: %s\n", msg.c_str());
+    std::exit(2);
+}
+
+/* The OpenCV link: H from cv::findHomography, then the core's epipole on the
+ * matches it rejects, then the core's controller. */
+struct CvLink {
+    int method = cv::USAC_DEFAULT;
+    spvs_params_t p{};
+    spvs_control_t ctl{};
+    std::vector<cv::Point2f> src, dst;
+    std::vector<uint8_t> inl;
+    spvs_real pts[SPVS_MAX_MATCHES][4];
+    uint16_t cand[SPVS_MAX_OFFPLANE];
+    spvs_epipole_work_t work;
+};
+
+int cv_exchange(void *ctx, uint32_t seq, double t_s, const spvs_match_t *m, uint16_t n,
+                spvs_output_t *out, char *err, unsigned err_len)
+{
+    (void)seq;
+    (void)err;
+    (void)err_len;
+    CvLink &L = *static_cast<CvLink *>(ctx);
+    std::memset(out, 0, sizeof *out);
+    out->parallax_px = SPVS_R(-1.0);
+    out->n_matches = n;
+    const spvs_control_input_t *inp = nullptr;
+    spvs_control_input_t in{};
+    if (n >= 4 && n <= SPVS_MAX_MATCHES) {
+        L.src.resize(n);
+        L.dst.resize(n);
+        for (uint16_t i = 0; i < n; i++) {
+            L.src[i] = cv::Point2f((float)m[i].x_tgt, (float)m[i].y_tgt);
+            L.dst[i] = cv::Point2f((float)m[i].x_cur, (float)m[i].y_cur);
+        }
+        cv::Mat Hm;
+        try {
+            Hm = cv::findHomography(L.src, L.dst, L.method, (double)L.p.inlier_px, L.inl, 2000,
+                                    (double)L.p.confidence);
+        } catch (const cv::Exception &) {
+            Hm.release();
+        }
+        if (!Hm.empty() && std::fabs(Hm.at<double>(1, 1)) > 1e-12) {
+            /* The core's convention: h22 (row 1, column 1) = 1. */
+            const double h22 = Hm.at<double>(1, 1);
+            for (int k = 0; k < 9; k++)
+                in.H[k] = (spvs_real)(Hm.at<double>(k / 3, k % 3) / h22);
+            /* The epipole stage of the core, fed as spvs_update feeds it:
+             * scaled units, candidates = rejected matches with a transfer
+             * error above offplane_px. */
+            const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+            spvs_real Hs[9];
+            for (int k = 0; k < 9; k++)
+                Hs[k] = in.H[k];
+            spvs_h_rescale(Hs, inv);
+            const spvs_real off = L.p.offplane_px * inv;
+            uint16_t nc = 0;
+            for (uint16_t i = 0; i < n; i++) {
+                L.pts[i][0] = m[i].x_tgt * inv;
+                L.pts[i][1] = m[i].y_tgt * inv;
+                L.pts[i][2] = m[i].x_cur * inv;
+                L.pts[i][3] = m[i].y_cur * inv;
+                if (i < L.inl.size() && L.inl[i])
+                    continue;
+                if (nc < SPVS_MAX_OFFPLANE && spvs_h_transfer_err2(Hs, L.pts[i]) > off * off)
+                    L.cand[nc++] = i;
+            }
+            spvs_epipole_t ep{};
+            int erc = spvs_epipole_estimate(Hs, (const spvs_real(*)[4])L.pts, L.cand, nc,
+                                            L.p.epipole_sin_tol * L.p.epipole_sin_tol,
+                                            L.p.min_support, &ep, nullptr, &L.work);
+            bool e_ok = erc == SPVS_OK;
+            in.e_valid = (uint8_t)e_ok;
+            in.e_x_px = e_ok ? ep.e_x_px : SPVS_R(0.0);
+            in.e_dir_x = e_ok ? ep.dir_x : SPVS_R(0.0);
+            in.e_dir_z = e_ok ? ep.dir_z : SPVS_R(0.0);
+            in.parallax_px = e_ok ? ep.parallax_px : SPVS_R(-1.0);
+            in.t_s = (spvs_real)t_s;
+            inp = &in;
+            for (int k = 0; k < 9; k++)
+                out->H[k] = in.H[k];
+            out->h_valid = 1;
+            out->e_valid = in.e_valid;
+            out->e_x_px = in.e_x_px;
+            out->parallax_px = in.parallax_px;
+        }
+    }
+    spvs_real v = 0, w = 0;
+    int rc = spvs_control_step(&L.ctl, &L.p.ctl, inp, &v, &w);
+    out->v = rc == SPVS_OK ? v : SPVS_R(0.0);
+    out->w = rc == SPVS_OK ? w : SPVS_R(0.0);
+    out->status = (int16_t)(inp ? rc : SPVS_E_NO_CONSENSUS);
+    out->step = (uint8_t)L.ctl.step;
+    return 0;
+}
+
+void cv_close(void *ctx) { delete static_cast<CvLink *>(ctx); }
+
+int cv_method_of(const std::string &name)
+{
+    if (name == "cv_ransac")
+        return cv::RANSAC;
+    if (name == "cv_usac_default")
+        return cv::USAC_DEFAULT;
+    if (name == "cv_usac_fast")
+        return cv::USAC_FAST;
+    if (name == "cv_usac_accurate")
+        return cv::USAC_ACCURATE;
+    if (name == "cv_usac_prosac")
+        return cv::USAC_PROSAC;
+    if (name == "cv_usac_magsac")
+        return cv::USAC_MAGSAC;
+    return -1;
+}
+
+double parse_num(const char *opt, const char *s, double lo, double hi)
+{
+    char *end = nullptr;
+    double v = std::strtod(s, &end);
+    if (end == s || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
+        usage_error(std::string(opt) + " needs a number in [" + std::to_string(lo) + ", " +
+                    std::to_string(hi) + "], got '" + s + "'");
+    return v;
+}
+
+struct Loop {
+    std::string name;
+    std::vector<double> wall_ms;
+    sim_result_t res{};
+};
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+    sim_config_t cfg;
+    sim_config_default(&cfg);
+    int runs = 5;
+    bool json = false;
+    std::string cv_name = "cv_usac_default";
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        auto val = [&]() -> const char * {
+            if (i + 1 >= argc)
+                usage_error(std::string(a) + " needs a value");
+            return argv[++i];
+        };
+        if (!std::strcmp(a, "--method"))
+            cfg.method = (int)parse_num(a, val(), 1, 3);
+        else if (!std::strcmp(a, "--noise"))
+            cfg.noise_px = parse_num(a, val(), 0, 100);
+        else if (!std::strcmp(a, "--outliers"))
+            cfg.outliers = parse_num(a, val(), 0, 0.9);
+        else if (!std::strcmp(a, "--seed"))
+            cfg.seed = (uint64_t)parse_num(a, val(), 0, 4294967295.0);
+        else if (!std::strcmp(a, "--runs"))
+            runs = (int)parse_num(a, val(), 1, 1000);
+        else if (!std::strcmp(a, "--cv-method"))
+            cv_name = val();
+        else if (!std::strcmp(a, "--json"))
+            json = true;
+        else if (!std::strcmp(a, "--help")) {
+            std::printf("usage: spvs-bench-homing [--method 1|2|3] [--noise PX] [--outliers F] "
+                        "[--seed S] [--runs R] [--cv-method NAME] [--json]\n");
+            return 0;
+        } else
+            usage_error(std::string("unknown option '") + a + "'");
+    }
+    const int cv_method = cv_method_of(cv_name);
+    if (cv_method < 0)
+        usage_error("unknown --cv-method '" + cv_name + "'");
+    char err[256] = "";
+    if (sim_config_check(&cfg, err, sizeof err) != 0)
+        usage_error(err);
+    cv::setNumThreads(1);
+
+    spvs_params_t p;
+    sim_inproc_params(&p, cfg.method, cfg.focal_assumed_mm / cfg.pixel_mm, (uint32_t)cfg.seed);
+
+    Loop loops[2];
+    loops[0].name = "spvs";
+    loops[1].name = cv_name;
+    /* One untimed run of each warms caches and OpenCV's lazy set-up; then the
+     * two loops alternate so that machine drift hits both alike. */
+    for (int k = -1; k < runs; k++)
+        for (int li = 0; li < 2; li++) {
+            sim_link_t link;
+            if (li == 0) {
+                if (sim_link_inproc_open(&p, &link, err, sizeof err) != 0) {
+                    std::fprintf(stderr, "spvs-bench-homing: %s\n", err);
+                    return 1;
+                }
+            } else {
+                CvLink *L = new CvLink();
+                L->method = cv_method;
+                L->p = p;
+                if (spvs_control_params_check(&p.ctl) != SPVS_OK) {
+                    std::fprintf(stderr, "spvs-bench-homing: control parameters rejected\n");
+                    delete L;
+                    return 1;
+                }
+                spvs_control_reset(&L->ctl);
+                link.ctx = L;
+                link.exchange = cv_exchange;
+                link.close = cv_close;
+            }
+            sim_result_t res;
+            auto t0 = std::chrono::steady_clock::now();
+            int rc = sim_run(&cfg, &link, &res, nullptr, nullptr, err, sizeof err);
+            auto t1 = std::chrono::steady_clock::now();
+            link.close(link.ctx);
+            if (rc != 0) {
+                std::fprintf(stderr, "spvs-bench-homing: %s\n", err);
+                return 1;
+            }
+            if (k >= 0) {
+                loops[li].wall_ms.push_back(
+                    std::chrono::duration<double, std::milli>(t1 - t0).count());
+                loops[li].res = res;
+            }
+        }
+
+    double med[2];
+    if (!json) {
+        std::printf("| loop | status | frames | final x m | final z m | final phi deg | "
+                    "wall ms (median of %d) | min..max ms | us/frame |\n", runs);
+        std::printf("|---|---|---|---|---|---|---|---|---|\n");
+    }
+    for (int li = 0; li < 2; li++) {
+        auto w = loops[li].wall_ms;
+        std::sort(w.begin(), w.end());
+        med[li] = w[w.size() / 2];
+        const sim_result_t &r = loops[li].res;
+        if (json)
+            std::printf("{\"loop\": \"%s\", \"method\": %d, \"noise_px\": %g, \"outliers\": %g, "
+                        "\"status\": \"%s\", \"frames\": %u, \"final_error\": {\"x_m\": %.5f, "
+                        "\"z_m\": %.5f, \"phi_deg\": %.4f}, \"wall_ms_median\": %.3f, "
+                        "\"wall_ms_min\": %.3f, \"wall_ms_max\": %.3f, \"runs\": %d}\n",
+                        loops[li].name.c_str(), cfg.method, cfg.noise_px, cfg.outliers,
+                        sim_status_str(r.status), r.frames, r.err_x_m, r.err_z_m, r.err_phi_deg,
+                        med[li], w.front(), w.back(), runs);
+        else
+            std::printf("| %s | %s | %u | %.4f | %.4f | %.3f | %.1f | %.1f..%.1f | %.1f |\n",
+                        loops[li].name.c_str(), sim_status_str(r.status), r.frames, r.err_x_m,
+                        r.err_z_m, r.err_phi_deg, med[li], w.front(), w.back(),
+                        1e3 * med[li] / (r.frames ? r.frames : 1));
+    }
+    if (!json)
+        std::printf("\nwhole run, %s / spvs wall time: %.1fx\n", cv_name.c_str(), med[1] / med[0]);
+    return 0;
+}
