@@ -1,0 +1,3 @@
+# Simulator tests: the sim library (unit), closed loops through the
+# in-process link (closedloop) and the spvs-sim command line (cli).
+spvs_add_test(NAME test_sim SOURCES test_sim.c LIBS spvs_sim LABELS unit)
