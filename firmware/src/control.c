@@ -42,6 +42,8 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     p->min_signal_ratio = SPVS_R(0.1);
     p->step_timeout_s = SPVS_R(120.0);
     p->hold_frames = 3;
+    p->fit_min_frames = 10;
+    p->fit_min_span_m = SPVS_R(0.5);
     switch (m) {
     case SPVS_METHOD_I:
         /* f of eq. (19) changes by about 2 (r/d) |n_x cos phi + n_z sin phi|
@@ -92,7 +94,8 @@ int spvs_control_params_check(const spvs_control_params_t *p)
     if (!(p->w_min_escape >= SPVS_R(0.0) && p->w_min_escape <= p->w_max) ||
         !(p->switch_parallax_px >= SPVS_R(0.0)) ||
         !(p->min_signal_ratio >= SPVS_R(0.0) && p->min_signal_ratio < SPVS_R(1.0)) ||
-        p->hold_frames < 1u) {
+        p->hold_frames < 1u || p->fit_min_frames < 2u ||
+        !(p->fit_min_span_m > SPVS_R(0.0))) {
         return SPVS_E_CONFIG;
     }
     return SPVS_OK;
@@ -121,6 +124,10 @@ void spvs_control_reset(spvs_control_t *c)
     for (int k = 0; k < 3; k++) {
         c->normal_est[k] = SPVS_R(0.0);
     }
+    c->odo_s = SPVS_R(0.0);
+    c->last_v = SPVS_R(0.0);
+    c->last_t = SPVS_R(-1.0);
+    c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
 }
 
 static int fail(spvs_control_t *c, int status)
@@ -283,6 +290,35 @@ static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
     }
 }
 
+/* Step 2 under noise (beyond the paper).  On the straight line the signal is
+ * linear in the distance to the target (eq. 8: row 3 of H moves by
+ * (s / d)(n_x / alpha_x, n_y / alpha_y, n_z)), so a least-squares line of D
+ * against the distance driven averages the per-frame noise of H away; its
+ * value at the current distance replaces the raw D in v = -k_v D and in the
+ * step-end test.  Until the fit has fit_min_frames frames over at least
+ * fit_min_span_m metres the raw signal is used. */
+static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p,
+                               spvs_real t_s, spvs_real D)
+{
+    (void)t_s;
+    spvs_real s = c->odo_s;
+    c->fit_n += SPVS_R(1.0);
+    c->fit_s += s;
+    c->fit_ss += s * s;
+    c->fit_d += D;
+    c->fit_sd += s * D;
+    if (c->fit_n < (spvs_real)p->fit_min_frames || s < p->fit_min_span_m) {
+        return D;
+    }
+    spvs_real den = c->fit_n * c->fit_ss - c->fit_s * c->fit_s;
+    if (!(den > SPVS_R(1.0e-9) * c->fit_n * c->fit_n)) {
+        return D;
+    }
+    spvs_real b = (c->fit_n * c->fit_sd - c->fit_s * c->fit_d) / den;
+    spvs_real a = (c->fit_d - b * c->fit_s) / c->fit_n;
+    return a + b * s;
+}
+
 int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
                       const spvs_control_input_t *in, spvs_real *v, spvs_real *w)
 {
@@ -291,6 +327,13 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
     }
     *v = SPVS_R(0.0);
     *w = SPVS_R(0.0);
+    /* Odometry from the commands: the last command held since the last
+     * frame (a stop wherever this call returns early). */
+    if (c->last_t >= SPVS_R(0.0) && in->t_s > c->last_t) {
+        c->odo_s += SPVS_FABS(c->last_v) * (in->t_s - c->last_t);
+    }
+    c->last_v = SPVS_R(0.0);
+    c->last_t = in->t_s;
     if (c->step == SPVS_STEP_DONE) {
         return SPVS_OK;
     }
@@ -368,6 +411,8 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
         if (done) {
             next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
             c->trans_sign0 = 0;
+            c->odo_s = SPVS_R(0.0);
+            c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
         }
         break;
     }
@@ -383,9 +428,10 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
                 c->sign_v = (int8_t)(-c->trans_sign0 * c->ahead);
             }
         }
-        vc = -(spvs_real)c->sign_v * p->k_v * D;
+        spvs_real Df = fitted_signal(c, p, in->t_s, D);
+        vc = -(spvs_real)c->sign_v * p->k_v * Df;
         wc = rotation(c, p, in);
-        if (step_done(c, p, D, p->tol_translate, &c->prev_sign)) {
+        if (step_done(c, p, Df, p->tol_translate, &c->prev_sign)) {
             next_step(c, SPVS_STEP_ALIGN, in->t_s);
             vc = SPVS_R(0.0);
             wc = SPVS_R(0.0);
@@ -406,5 +452,6 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
     }
     *v = clamp(vc, p->v_max);
     *w = clamp(wc, p->w_max);
+    c->last_v = *v;
     return SPVS_OK;
 }

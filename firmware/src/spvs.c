@@ -17,10 +17,10 @@ void spvs_params_default(spvs_params_t *p, spvs_method_t method)
 {
     SPVS_ASSERT(p != 0);
     spvs_control_params_default(&p->ctl, method);
-    p->inlier_px = SPVS_R(2.0);
+    p->inlier_px = SPVS_R(3.0);
     p->confidence = SPVS_R(0.99);
     p->max_iters = SPVS_RANSAC_MAX_ITERS;
-    p->offplane_px = SPVS_R(6.0);
+    p->offplane_px = SPVS_R(8.0);
     p->epipole_sin_tol = SPVS_R(0.1);
     p->min_support = 3;
     p->max_frame_gap_s = SPVS_R(1.0);
@@ -369,6 +369,8 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
         rc = estimate(s, m, n, out);
     }
     if (rc != SPVS_OK) {
+        /* The robot is told to stop: the controller's odometry must know. */
+        s->ctl.last_v = SPVS_R(0.0);
         out->status = (int16_t)rc;
         out->step = (uint8_t)s->ctl.step;
         return rc;

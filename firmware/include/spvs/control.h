@@ -67,6 +67,8 @@ typedef struct {
                                      method relies on, relative, must exceed */
     spvs_real step_timeout_s; /* a step longer than this fails                */
     uint16_t hold_frames;     /* consecutive frames a step-end test must hold */
+    uint16_t fit_min_frames;  /* step 2: frames before the fitted signal is used */
+    spvs_real fit_min_span_m; /* step 2: distance driven before it is used, m */
 } spvs_control_params_t;
 
 /* What the estimation stages hand to the controller for one frame. */
@@ -98,6 +100,12 @@ typedef struct {
     uint32_t n_phit;         /* frames averaged into cos_phit               */
     spvs_real t_step_end[4]; /* time each step ended (index 1..3), s        */
     spvs_real normal_est[3]; /* (r/d) n estimated at the plane check        */
+    /* Step 2: the translation signal D against the distance driven s (from
+     * the commanded v), fitted by least squares D ~ a + b s (docs/CONTROL.md). */
+    spvs_real odo_s;         /* distance commanded since step 2 began, m    */
+    spvs_real last_v;        /* last commanded v, m/s                       */
+    spvs_real last_t;        /* time of the last frame, s                   */
+    spvs_real fit_n, fit_s, fit_ss, fit_d, fit_sd; /* LS sums               */
 } spvs_control_t;
 
 /* Defaults for a method: the gains and tolerances of docs/CONTROL.md for the
