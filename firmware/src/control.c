@@ -56,7 +56,7 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     case SPVS_METHOD_II:
         /* h12 changes by about (r/d) n_y per radian; alpha_y h32 by n_y / d
          * per metre. */
-        p->k_w = SPVS_R(10.0);
+        p->k_w = SPVS_R(30.0);
         p->k_v = SPVS_R(40.0);
         p->tol_align = SPVS_R(1.0e-4);
         p->tol_translate = SPVS_R(1.5e-4);
