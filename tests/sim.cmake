@@ -3,3 +3,48 @@
 spvs_add_test(NAME test_sim SOURCES test_sim.c LIBS spvs_sim LABELS unit)
 spvs_add_test(NAME test_closed_loop SOURCES test_closed_loop.c LIBS spvs_sim
               LABELS closedloop TIMEOUT 120)
+
+# The command line contract of spvs-sim, checked by a small script.
+set(sim_cli_check /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_sim_cli.py)
+add_test(NAME sim_cli_json
+         COMMAND ${sim_cli_check} json -- $<TARGET_FILE:spvs-sim>
+                 --method 3 --pose -3,-10,-30 --json)
+add_test(NAME sim_cli_help
+         COMMAND ${sim_cli_check} help -- $<TARGET_FILE:spvs-sim> --help)
+add_test(NAME sim_cli_files
+         COMMAND ${sim_cli_check} files -- $<TARGET_FILE:spvs-sim> --method 2
+                 --json --quiet --trace ${CMAKE_CURRENT_BINARY_DIR}/sim_cli_trace.csv
+                 --record ${CMAKE_CURRENT_BINARY_DIR}/sim_cli_record.bin)
+# Bad options: exit 2 and exactly one line on stderr.
+set(sim_cli_bad
+  "method_7|--method|7"
+  "noise_negative|--noise|-1"
+  "outliers_one|--outliers|1"
+  "distance_zero|--distance|0"
+  "focal_negative|--focal-mm|-6"
+  "normal_zero|--normal|0,0,0"
+  "pose_two_values|--pose|1,2"
+  "pose_not_numbers|--pose|a,b,c"
+  "seed_negative|--seed|-1"
+  "unknown_option|--bogus"
+  "missing_value|--noise"
+  "plane_behind_camera|--normal|0,0,1"
+  "transport_unknown|--transport|carrier-pigeon")
+foreach(case IN LISTS sim_cli_bad)
+  string(REPLACE "|" ";" case_args "${case}")
+  list(POP_FRONT case_args case_name)
+  add_test(NAME sim_cli_bad_${case_name}
+           COMMAND ${sim_cli_check} usage -- $<TARGET_FILE:spvs-sim> ${case_args})
+endforeach()
+if(NOT TARGET spvs_zenoh_link)
+  add_test(NAME sim_cli_bad_no_zenoh
+           COMMAND ${sim_cli_check} usage -- $<TARGET_FILE:spvs-sim> --transport zenoh)
+endif()
+get_property(sim_cli_tests DIRECTORY PROPERTY TESTS)
+list(FILTER sim_cli_tests INCLUDE REGEX "^sim_cli_")
+if(SPVS_DOUBLE)
+  set(sim_variant double)
+else()
+  set(sim_variant float)
+endif()
+set_tests_properties(${sim_cli_tests} PROPERTIES LABELS "${sim_variant};cli" TIMEOUT 60)

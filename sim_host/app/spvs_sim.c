@@ -457,6 +457,16 @@ int main(int argc, char **argv)
     options_t o;
     parse_options(argc, argv, &o);
 
+    /* Build the scene once before anything is opened or printed, so that
+     * settings that give no usable scene are a plain usage error. */
+    {
+        static sim_world_t probe;
+        char werr[200];
+        if (sim_config_world(&o.cfg, &probe, werr, sizeof(werr)) != 0) {
+            usage_error("%s", werr);
+        }
+    }
+
     sinks_t sinks;
     memset(&sinks, 0, sizeof(sinks));
     if (o.trace_path) {

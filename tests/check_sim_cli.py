@@ -1,0 +1,175 @@
+#!/usr/bin/python3
+"""Checks of the spvs-sim command line contract (DESIGN.md section 5).
+
+usage: check_sim_cli.py MODE -- COMMAND [ARGS...]
+
+MODE
+  json       exit 0; the last stdout line is one JSON object with the required
+             keys, status "converged" and a final error under 0.05 m / 0.2 deg
+  usage      exit 2; stderr is exactly one line starting "spvs-sim: "
+  help       exit 0; stdout describes every option of the contract
+  files      with --trace T --record R in COMMAND: exit 0, and T has one row
+             per frame of the JSON result, R one frame per frame, both ending
+             on step 4 (converged)
+"""
+import json
+import math
+import struct
+import subprocess
+import sys
+
+REQUIRED = ("method", "status", "final_error", "time_s", "reason", "frames",
+            "steps", "seed")
+CONTRACT_OPTIONS = ("--method", "--pose", "--normal", "--distance", "--noise",
+                    "--outliers", "--drift", "--focal-mm", "--pp-offset",
+                    "--seed", "--json")
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def run(cmd):
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    except subprocess.TimeoutExpired:
+        fail("command did not finish in 120 s: %s" % " ".join(cmd))
+    return p
+
+
+def last_json(p):
+    lines = [l for l in p.stdout.splitlines() if l.strip()]
+    if not lines:
+        fail("no stdout")
+    try:
+        obj = json.loads(lines[-1])
+    except ValueError as e:
+        fail("last stdout line is not JSON (%s): %r" % (e, lines[-1][:200]))
+    if not isinstance(obj, dict):
+        fail("last stdout line is not a JSON object")
+    for k in REQUIRED:
+        if k not in obj:
+            fail("JSON lacks key %r: %s" % (k, lines[-1][:300]))
+    for k in ("x_m", "z_m", "phi_deg"):
+        if not isinstance(obj["final_error"].get(k), (int, float)):
+            fail("final_error.%s missing or not a number" % k)
+    return obj
+
+
+def check_converged(obj):
+    fe = obj["final_error"]
+    if obj["status"] != "converged":
+        fail("status %r (reason %r), expected converged" %
+             (obj["status"], obj["reason"]))
+    if abs(fe["x_m"]) >= 0.05 or abs(fe["z_m"]) >= 0.05 or \
+            abs(fe["phi_deg"]) >= 0.2:
+        fail("final error too large: %s" % fe)
+    steps = [s["step"] for s in obj["steps"]]
+    if steps != [1, 2, 3]:
+        fail("steps %s, expected 1, 2, 3" % steps)
+    prev_end = 0.0
+    for s in obj["steps"]:
+        if s["end_s"] is None or not (prev_end <= s["start_s"] <= s["end_s"]):
+            fail("step times out of order: %s" % obj["steps"])
+        prev_end = s["end_s"]
+    if not math.isclose(obj["steps"][-1]["end_s"], obj["time_s"]):
+        fail("step 3 ends at %s, run at %s" % (obj["steps"][-1]["end_s"],
+                                               obj["time_s"]))
+
+
+def option_value(cmd, name):
+    i = cmd.index(name)
+    return cmd[i + 1]
+
+
+def read_record(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    if data[:8] != b"SPVSREC1":
+        fail("recording does not start with SPVSREC1")
+    pos, frames = 8, []
+    while pos < len(data):
+        if pos + 14 > len(data):
+            fail("recording ends inside a frame header")
+        seq, t, n = struct.unpack_from("<IdH", data, pos)
+        pos += 14 + 18 * n
+        if pos + 11 > len(data):
+            fail("recording ends inside frame %d" % seq)
+        v, w, status, step = struct.unpack_from("<ffhB", data, pos)
+        pos += 11
+        frames.append((seq, t, n, v, w, status, step))
+    return frames
+
+
+def main():
+    if len(sys.argv) < 4 or sys.argv[2] != "--":
+        print(__doc__)
+        sys.exit(2)
+    mode, cmd = sys.argv[1], sys.argv[3:]
+    p = run(cmd)
+    if mode == "json":
+        if p.returncode != 0:
+            fail("exit %d, expected 0; stderr: %s" % (p.returncode, p.stderr))
+        check_converged(last_json(p))
+    elif mode == "usage":
+        if p.returncode != 2:
+            fail("exit %d, expected 2" % p.returncode)
+        lines = p.stderr.splitlines()
+        if len(lines) != 1:
+            fail("stderr has %d lines, expected 1: %r" % (len(lines), p.stderr))
+        if not lines[0].startswith("spvs-sim: "):
+            fail("stderr line does not start with 'spvs-sim: ': %r" % lines[0])
+        if p.stdout:
+            fail("a usage error printed to stdout: %r" % p.stdout[:200])
+    elif mode == "help":
+        if p.returncode != 0:
+            fail("exit %d, expected 0" % p.returncode)
+        for opt in CONTRACT_OPTIONS:
+            if opt not in p.stdout:
+                fail("--help does not mention %s" % opt)
+    elif mode == "files":
+        if p.returncode != 0:
+            fail("exit %d, expected 0; stderr: %s" % (p.returncode, p.stderr))
+        obj = last_json(p)
+        check_converged(obj)
+        with open(option_value(cmd, "--trace")) as f:
+            rows = [l.rstrip("\n").split(",") for l in f if l.strip()]
+        header = rows[0]
+        if header[:8] != ["t", "x", "z", "phi_deg", "v", "w", "step", "status"] \
+                or len(header) != 18:
+            fail("unexpected trace header %s" % header)
+        body = rows[1:]
+        if len(body) != obj["frames"]:
+            fail("trace has %d rows, JSON says %d frames" %
+                 (len(body), obj["frames"]))
+        if any(len(r) != 18 for r in body):
+            fail("a trace row does not have 18 columns")
+        if int(body[-1][6]) != 4:
+            fail("last trace row is step %s, expected 4" % body[-1][6])
+        # The last row's pose is the final pose of the run.
+        fe = obj["final_error"]
+        if abs(float(body[-1][1]) - fe["x_m"]) > 1e-5 or \
+                abs(float(body[-1][2]) - fe["z_m"]) > 1e-5:
+            fail("last trace pose differs from the JSON final error")
+        frames = read_record(option_value(cmd, "--record"))
+        if len(frames) != obj["frames"]:
+            fail("recording has %d frames, JSON says %d" %
+                 (len(frames), obj["frames"]))
+        if [fr[0] for fr in frames] != list(range(len(frames))):
+            fail("recording sequence numbers are not 0, 1, 2, ...")
+        if frames[-1][6] != 4 or frames[0][2] < 100:
+            fail("recording: last step %d, first frame %d matches" %
+                 (frames[-1][6], frames[0][2]))
+        # Commands agree between the two outputs (trace v column).
+        for fr, row in zip(frames, body):
+            if abs(fr[3] - float(row[4])) > 1e-4 * max(1.0, abs(fr[3])):
+                fail("frame %d: v %g in the recording, %s in the trace" %
+                     (fr[0], fr[3], row[4]))
+    else:
+        fail("unknown mode %r" % mode)
+    print("ok: %s" % mode)
+
+
+if __name__ == "__main__":
+    main()
