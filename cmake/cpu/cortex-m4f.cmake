@@ -1,0 +1,4 @@
+# Cortex-M4 with the single-precision FPU (FPv4-SP-D16), hard-float ABI:
+# float arithmetic in hardware, double in software (so the float build of the
+# core must contain no double operation).
+set(SPVS_CPU_FLAGS "-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16")
