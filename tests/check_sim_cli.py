@@ -8,6 +8,7 @@ MODE
              keys, status "converged" and a final error under 0.05 m / 0.2 deg
   usage      exit 2; stderr is exactly one line starting "spvs-sim: "
   help       exit 0; stdout describes every option of the contract
+  failed     exit 0 (the run took place); status "failed" with a reason
   files      with --trace T --record R in COMMAND: exit 0, and T has one row
              per frame of the JSON result, R one frame per frame, both ending
              on step 4 (converged)
@@ -112,6 +113,14 @@ def main():
         if p.returncode != 0:
             fail("exit %d, expected 0; stderr: %s" % (p.returncode, p.stderr))
         check_converged(last_json(p))
+    elif mode == "failed":
+        if p.returncode != 0:
+            fail("exit %d, expected 0 for a failed run" % p.returncode)
+        obj = last_json(p)
+        if obj["status"] != "failed" or not isinstance(obj["reason"], str) \
+                or not obj["reason"]:
+            fail("status %r reason %r, expected failed with a reason" %
+                 (obj["status"], obj["reason"]))
     elif mode == "usage":
         if p.returncode != 2:
             fail("exit %d, expected 2" % p.returncode)

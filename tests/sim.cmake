@@ -48,3 +48,9 @@ else()
   set(sim_variant float)
 endif()
 set_tests_properties(${sim_cli_tests} PROPERTIES LABELS "${sim_variant};cli" TIMEOUT 60)
+# A vertical plane gives Method II no signal (paper, Table 1): the run still
+# completes, exit 0, with status failed and the core's reason.
+add_test(NAME sim_cli_failed_run_exits_0
+         COMMAND ${sim_cli_check} failed -- $<TARGET_FILE:spvs-sim> --method 2
+                 --normal 0,0,-1 --json --quiet)
+set_tests_properties(sim_cli_failed_run_exits_0 PROPERTIES LABELS "${sim_variant};cli" TIMEOUT 60)
