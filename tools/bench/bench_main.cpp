@@ -56,6 +56,7 @@ struct Options {
     std::string callgrind_est;
     std::string jsonl_path;
     bool json = false;
+    bool per_record = false;
     int repeats = -1;
     int warmup = -1;
     std::vector<std::string> estimators;
@@ -118,6 +119,7 @@ void print_help()
         "  --warmup K             untimed estimates per estimator before timing\n"
         "  --estimators a,b|all   estimators (default: spvs for --cases, all otherwise)\n"
         "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
+        "  --per-record           also print one JSON line per (record, estimator) on stderr\n"
         "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
         "  --n N --mismatch F --sigma PX --count K   callgrind mode\n"
         "estimators in this build:");
@@ -159,6 +161,8 @@ Options parse(int argc, char **argv)
             o.callgrind_est = need(i);
         } else if (!std::strcmp(a, "--json")) {
             o.json = true;
+        } else if (!std::strcmp(a, "--per-record")) {
+            o.per_record = true;
         } else if (!std::strcmp(a, "--jsonl")) {
             o.jsonl_path = need(i);
         } else if (!std::strcmp(a, "--repeats")) {
@@ -339,7 +343,7 @@ using Results = std::vector<std::pair<uint32_t, std::map<std::string, Cell>>>;
  * record the estimators take turns, repeat by repeat, so that slow drifts of
  * the machine (frequency, other load) hit all of them alike. */
 Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int repeats,
-                int warmup)
+                int warmup, bool per_record)
 {
     using clock = std::chrono::steady_clock;
     std::vector<std::unique_ptr<Estimator>> est;
@@ -400,6 +404,12 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
                 c.err_px.push_back(err);
                 if (err < 2.0)
                     c.successes++;
+                if (per_record)
+                    std::fprintf(stderr,
+                                 "{\"record\": %u, \"case_id\": %u, \"instance\": %u, \"pose\": %u, "
+                                 "\"estimator\": \"%s\", \"us\": %.2f, \"corner_err_px\": %s}\n",
+                                 r, rec.case_id, rec.instance, rec.pose, names[e].c_str(),
+                                 c.us.back(), jnum(err).c_str());
             }
     }
     return res;
@@ -545,7 +555,7 @@ int main(int argc, char **argv)
             return 1;
         }
         Results res = run_set(set, o.estimators, o.repeats > 0 ? o.repeats : 5,
-                              o.warmup >= 0 ? o.warmup : 20);
+                              o.warmup >= 0 ? o.warmup : 20, o.per_record);
         print_json(res, o.estimators, stdout);
         hb_set_free(&set);
         return 0;
@@ -568,7 +578,7 @@ int main(int argc, char **argv)
         }
         int repeats = o.repeats > 0 ? o.repeats : (o.mode == "--short" ? 3 : 5);
         int warmup = o.warmup >= 0 ? o.warmup : (o.mode == "--short" ? 3 : 20);
-        Results res = run_set(set, o.estimators, repeats, warmup);
+        Results res = run_set(set, o.estimators, repeats, warmup, o.per_record);
         if (!o.jsonl_path.empty()) {
             FILE *f = std::fopen(o.jsonl_path.c_str(), "w");
             if (!f) {

@@ -1,0 +1,14 @@
+# The benchmark's short mode in CI, so that it cannot rot: one case (N = 200,
+# 20 % mismatches, 1 px noise), few repeats, every estimator; the checker
+# asserts that the output parses and that ours succeeds on every estimate
+# with a mean corner transfer error under 2 px.  The full run is a documented
+# command (docs/BENCHMARKS.md), not a test.
+if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt)
+  add_test(NAME bench_short
+    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short | /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/bench/check_short.py")
+  set_tests_properties(bench_short PROPERTIES LABELS "bench" TIMEOUT 60)
+
+  # The case file reader and writer: round trip, and bad files rejected.
+  spvs_add_test(NAME test_bench_cases SOURCES test_bench_cases.c
+                LIBS spvs_hombench LABELS bench TIMEOUT 60)
+endif()
