@@ -1,0 +1,285 @@
+/* test_homography.c - the planar 3-point solver, the transfer-error refit and
+ * the pixel <-> scaled conversion (homography.h). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include <cmocka.h>
+
+#include "spvs/homography.h"
+#include "synth.h"
+
+#define SENTINEL 0xA5C3F00Du
+#define S ((double)SPVS_COORD_SCALE)
+
+/* Tolerances, pixels.  Float carries ~7 digits; a minimal solution is only a
+ * RANSAC hypothesis, and the refit (TOL_EXACT_PX) is what the controller
+ * uses, so the solver's float bounds are looser. */
+#if SPVS_USE_DOUBLE
+#define TOL_EXACT_PX 1e-6
+#define TOL_SOLVE_PX 1e-6
+#define TOL_SAMPLE_PX 1e-8
+#else
+#define TOL_EXACT_PX 2e-2
+#define TOL_SOLVE_PX 0.25
+#define TOL_SAMPLE_PX 0.05
+#endif
+
+typedef struct {
+    spvs_real H[9];
+    uint32_t guard;
+} guarded_h_t;
+
+static void random_case(uint64_t *rng, synth_pose_t *pose, synth_plane_t *pl)
+{
+    pose->x = -8 + 16 * synth_uniform(rng);
+    pose->z = -12 + 20 * synth_uniform(rng);
+    pose->phi = (-60 + 120 * synth_uniform(rng)) * SYNTH_PI / 180;
+    double nx = -0.6 + 1.2 * synth_uniform(rng), ny = -0.8 + 1.6 * synth_uniform(rng);
+    synth_plane(pl, nx, ny, -(0.3 + synth_uniform(rng)), 10 + 50 * synth_uniform(rng));
+}
+
+static void to_pixels(const spvs_real Hs[9], double Hp[9])
+{
+    spvs_real t[9];
+    for (int k = 0; k < 9; k++) {
+        t[k] = Hs[k];
+    }
+    spvs_h_rescale(t, (spvs_real)SPVS_COORD_SCALE);
+    for (int k = 0; k < 9; k++) {
+        Hp[k] = (double)t[k];
+    }
+}
+
+static void load_pt(spvs_real pt[4], const spvs_match_t *m)
+{
+    pt[0] = (spvs_real)(m->x_tgt / S);
+    pt[1] = (spvs_real)(m->y_tgt / S);
+    pt[2] = (spvs_real)(m->x_cur / S);
+    pt[3] = (spvs_real)(m->y_cur / S);
+}
+
+/* Eq. (2) built by matrix products equals the closed form of eq. (5). */
+static void test_eq2_equals_eq5(void **state)
+{
+    (void)state;
+    uint64_t rng = 11;
+    for (int t = 0; t < 100; t++) {
+        synth_pose_t p;
+        synth_plane_t pl;
+        random_case(&rng, &p, &pl);
+        double H[9], a = 800;
+        synth_H(&p, &pl, a, H);
+        double c = cos(p.phi), s = sin(p.phi), A = p.x * c + p.z * s, B = -p.x * s + p.z * c;
+        double e5[9] = {c + A * pl.n[0] / pl.d, A * pl.n[1] / pl.d, a * (s + A * pl.n[2] / pl.d),
+                        0, 1, 0,
+                        (-s + B * pl.n[0] / pl.d) / a, B * pl.n[1] / pl.d / a, c + B * pl.n[2] / pl.d};
+        for (int k = 0; k < 9; k++) {
+            assert_true(fabs(H[k] - e5[k]) <= 1e-12 * (1 + fabs(e5[k])));
+        }
+    }
+}
+
+/* The minimal solver recovers H from three exact matches of random
+ * poses and planes. */
+static void test_solve3_exact(void **state)
+{
+    (void)state;
+    uint64_t rng = 1;
+    int solved = 0, spread = 0;
+    double worst_sample = 0;
+    double worst = 0;
+    for (int t = 0; t < 300; t++) {
+        synth_pose_t p;
+        synth_plane_t pl;
+        random_case(&rng, &p, &pl);
+        spvs_match_t m[3];
+        if (synth_frame(&p, &pl, 800, 3, 0, 0.0, &rng, m, NULL) != 3) {
+            continue;
+        }
+        spvs_real pts[3][4];
+        for (int i = 0; i < 3; i++) {
+            load_pt(pts[i], &m[i]);
+        }
+        guarded_h_t g;
+        g.guard = SENTINEL;
+        int rc = spvs_h_solve3((const spvs_real(*)[4])pts, g.H);
+        assert_int_equal(g.guard, SENTINEL);
+        if (rc != SPVS_OK) {
+            continue; /* nearly collinear draws are refused, see below */
+        }
+        solved++;
+        double Ht[9], He[9];
+        synth_H(&p, &pl, 800, Ht);
+        to_pixels(g.H, He);
+        assert_true(He[3] == 0.0 && He[4] == 1.0 && He[5] == 0.0);
+        /* The sample itself is matched exactly. */
+        for (int i = 0; i < 3; i++) {
+            double es = sqrt((double)spvs_h_transfer_err2(g.H, pts[i])) * S;
+            if (es > worst_sample) {
+                worst_sample = es;
+            }
+        }
+        /* Over the whole image the error grows as the sample shrinks; judge
+         * samples spanning a triangle of at least 20000 px^2 (a fifth of
+         * the frame's width on each side). */
+        double area = 0.5 * fabs((double)((m[1].x_tgt - m[0].x_tgt) * (m[2].y_tgt - m[0].y_tgt) -
+                                          (m[2].x_tgt - m[0].x_tgt) * (m[1].y_tgt - m[0].y_tgt)));
+        if (area < 20000) {
+            continue;
+        }
+        spread++;
+        double e = synth_corner_err(He, Ht);
+        if (e > worst) {
+            worst = e;
+        }
+    }
+    print_message("solve3: %d solved, %d well spread, worst corner error %.3g px, worst sample error %.3g px\n", solved, spread, worst, worst_sample);
+    assert_true(worst_sample < TOL_SAMPLE_PX);
+    assert_true(solved >= 280);
+    assert_true(spread >= 100);
+    assert_true(worst < TOL_SOLVE_PX);
+}
+
+static void test_solve3_degenerate(void **state)
+{
+    (void)state;
+    /* Collinear target points. */
+    spvs_real col[3][4] = {{SPVS_R(-0.2), SPVS_R(0.1), SPVS_R(-0.21), SPVS_R(0.11)},
+                           {SPVS_R(0.0), SPVS_R(0.2), SPVS_R(0.01), SPVS_R(0.22)},
+                           {SPVS_R(0.2), SPVS_R(0.3), SPVS_R(0.22), SPVS_R(0.33)}};
+    spvs_real H[9];
+    assert_int_equal(spvs_h_solve3((const spvs_real(*)[4])col, H), SPVS_E_DEGENERATE);
+    /* All three on the horizon row: the y-equations say nothing. */
+    spvs_real hor[3][4] = {{SPVS_R(-0.3), 0, SPVS_R(-0.2), 0},
+                           {SPVS_R(0.1), 0, SPVS_R(0.2), 0},
+                           {SPVS_R(0.3), 0, SPVS_R(0.5), 0}};
+    assert_int_equal(spvs_h_solve3((const spvs_real(*)[4])hor, H), SPVS_E_DEGENERATE);
+    /* Coincident points. */
+    spvs_real same[3][4] = {{SPVS_R(0.1), SPVS_R(0.1), SPVS_R(0.1), SPVS_R(0.1)},
+                            {SPVS_R(0.1), SPVS_R(0.1), SPVS_R(0.1), SPVS_R(0.1)},
+                            {SPVS_R(0.1), SPVS_R(0.1), SPVS_R(0.1), SPVS_R(0.1)}};
+    assert_int_equal(spvs_h_solve3((const spvs_real(*)[4])same, H), SPVS_E_DEGENERATE);
+    /* A solution that puts a sample point behind the camera (w < 0). */
+    spvs_real flip[3][4] = {{SPVS_R(-0.3), SPVS_R(-0.2), SPVS_R(0.3), SPVS_R(0.2)},
+                            {SPVS_R(0.3), SPVS_R(-0.2), SPVS_R(-0.3), SPVS_R(0.2)},
+                            {SPVS_R(0.0), SPVS_R(0.3), SPVS_R(0.0), SPVS_R(-0.3)}};
+    assert_int_equal(spvs_h_solve3((const spvs_real(*)[4])flip, H), SPVS_E_DEGENERATE);
+}
+
+/* The refit recovers H exactly from exact matches, starting from a wrong H,
+ * and with 1 px noise on 100 matches its corner error is well under 1 px and
+ * its cost no higher than the true H's (it is a least-squares minimum). */
+static void test_refit(void **state)
+{
+    (void)state;
+    uint64_t rng = 7;
+    double worst_exact = 0, sum_noisy = 0;
+    int n_cases = 0;
+    for (int t = 0; t < 40; t++) {
+        synth_pose_t p;
+        synth_plane_t pl;
+        random_case(&rng, &p, &pl);
+        for (int noisy = 0; noisy < 2; noisy++) {
+            spvs_match_t m[100];
+            uint16_t n = synth_frame(&p, &pl, 800, 100, 0, noisy ? 1.0 : 0.0, &rng, m, NULL);
+            assert_true(n >= 90);
+            static spvs_real pts[100][4];
+            uint8_t use[100];
+            for (int i = 0; i < n; i++) {
+                load_pt(pts[i], &m[i]);
+                use[i] = 1;
+            }
+            double Ht[9];
+            synth_H(&p, &pl, 800, Ht);
+            guarded_h_t g;
+            g.guard = SENTINEL;
+            /* Start: the true H, perturbed by a few pixels' worth. */
+            for (int k = 0; k < 9; k++) {
+                g.H[k] = (spvs_real)Ht[k];
+            }
+            g.H[0] += SPVS_R(0.01);
+            g.H[2] += SPVS_R(3.0);
+            g.H[8] -= SPVS_R(0.01);
+            spvs_h_rescale(g.H, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+            assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, g.H), SPVS_OK);
+            assert_int_equal(g.guard, SENTINEL);
+            double He[9];
+            to_pixels(g.H, He);
+            double e = synth_corner_err(He, Ht);
+            if (!noisy) {
+                if (e > worst_exact) {
+                    worst_exact = e;
+                }
+            } else {
+                sum_noisy += e;
+                n_cases++;
+                spvs_real Hts[9];
+                for (int k = 0; k < 9; k++) {
+                    Hts[k] = (spvs_real)Ht[k];
+                }
+                spvs_h_rescale(Hts, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+                double c_fit = 0, c_true = 0;
+                for (int i = 0; i < n; i++) {
+                    c_fit += (double)spvs_h_transfer_err2(g.H, pts[i]);
+                    c_true += (double)spvs_h_transfer_err2(Hts, pts[i]);
+                }
+                assert_true(c_fit <= c_true * 1.0001);
+            }
+        }
+    }
+    print_message("refit: exact worst %.3g px, 1 px noise mean %.3f px\n", worst_exact, sum_noisy / n_cases);
+    assert_true(worst_exact < TOL_EXACT_PX);
+    assert_true(sum_noisy / n_cases < 0.5);
+}
+
+static void test_refit_too_few(void **state)
+{
+    (void)state;
+    spvs_real pts[4][4] = {{0}};
+    uint8_t use[4] = {1, 1, 0, 0};
+    spvs_real H[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, 4, H), SPVS_E_TOO_FEW);
+    assert_true(H[0] == SPVS_R(1.0) && H[2] == SPVS_R(0.0));
+}
+
+static void test_transfer_and_rescale(void **state)
+{
+    (void)state;
+    spvs_real H[9] = {SPVS_R(1.0), 0, SPVS_R(0.1), 0, 1, 0, SPVS_R(0.2), 0, SPVS_R(1.0)};
+    spvs_real pt[4] = {SPVS_R(0.5), SPVS_R(0.25), 0, 0};
+    /* w = 1.1: u = 0.6 / 1.1, v = 0.25 / 1.1. */
+    double e2 = (double)spvs_h_transfer_err2(H, pt);
+    double u = 0.6 / 1.1, v = 0.25 / 1.1;
+    assert_true(fabs(e2 - (u * u + v * v)) < 1e-6);
+    /* Behind the camera: negative. */
+    spvs_real behind[4] = {SPVS_R(-10.0), 0, 0, 0};
+    assert_true(spvs_h_transfer_err2(H, behind) < SPVS_R(0.0));
+    /* Scaling keeps the (0, 1, 0) row and round-trips. */
+    spvs_real G[9];
+    for (int k = 0; k < 9; k++) {
+        G[k] = H[k];
+    }
+    spvs_h_rescale(G, SPVS_R(512.0));
+    assert_true(fabs((double)G[2] - 51.2) < 1e-4 && fabs((double)G[6] - 0.2 / 512) < 1e-9);
+    assert_true(G[3] == 0 && G[4] == 1 && G[5] == 0);
+    spvs_h_rescale(G, SPVS_R(1.0) / SPVS_R(512.0));
+    for (int k = 0; k < 9; k++) {
+        assert_true(fabs((double)(G[k] - H[k])) < 1e-6);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_eq2_equals_eq5),
+        cmocka_unit_test(test_solve3_exact),
+        cmocka_unit_test(test_solve3_degenerate),
+        cmocka_unit_test(test_refit),
+        cmocka_unit_test(test_refit_too_few),
+        cmocka_unit_test(test_transfer_and_rescale),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
