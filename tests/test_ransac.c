@@ -1,0 +1,220 @@
+/* test_ransac.c - RANSAC's loop bound, adaptive count, tie-break, PRNG and
+ * the planar estimator recovering the inlier set (ransac.h, spvs.h). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "spvs/ransac.h"
+#include "spvs/spvs.h"
+#include "synth.h"
+
+#define SENTINEL 0x5EA1C0DEu
+
+/* A mock estimator: every fit succeeds (or none does), every model scores
+ * `count` inliers with cost = model[0], which is the running number of the
+ * fit call, so the tie-break is observable. */
+typedef struct {
+    uint32_t fits;
+    uint32_t scores;
+    uint16_t count;
+    int degenerate;
+    int cost_down; /* 1: later models cost less */
+} mock_t;
+
+static int mock_fit(void *ctx, const uint16_t *sample, spvs_real *model)
+{
+    mock_t *m = (mock_t *)ctx;
+    (void)sample;
+    m->fits++;
+    if (m->degenerate) {
+        return SPVS_E_DEGENERATE;
+    }
+    model[0] = (spvs_real)m->fits;
+    return SPVS_OK;
+}
+
+static uint16_t mock_score(void *ctx, const spvs_real *model, spvs_real t2, uint16_t need,
+                           uint8_t *mask, spvs_real *cost)
+{
+    mock_t *m = (mock_t *)ctx;
+    (void)t2;
+    (void)need;
+    m->scores++;
+    *cost = m->cost_down ? SPVS_R(1000.0) - model[0] : model[0];
+    if (mask) {
+        for (uint16_t i = 0; i < 100; i++) {
+            mask[i] = (uint8_t)(i < m->count);
+        }
+    }
+    return m->count;
+}
+
+static void test_needed(void **state)
+{
+    (void)state;
+    /* log(0.01) / log(1 - 0.5^3) = 34.5 -> 35. */
+    assert_int_equal(spvs_ransac_needed(SPVS_R(0.5), 3, SPVS_R(0.99), 1000), 35);
+    /* log(0.001) / log(1 - 0.8^3) = 9.63 -> 10. */
+    assert_int_equal(spvs_ransac_needed(SPVS_R(0.8), 3, SPVS_R(0.999), 1000), 10);
+    assert_int_equal(spvs_ransac_needed(SPVS_R(1.0), 3, SPVS_R(0.99), 1000), 1);
+    assert_int_equal(spvs_ransac_needed(SPVS_R(0.0), 3, SPVS_R(0.99), 77), 77);
+    assert_int_equal(spvs_ransac_needed(SPVS_R(0.05), 3, SPVS_R(0.99), 200), 200);
+}
+
+/* With half the data inliers the loop stops at exactly the adaptive count. */
+static void test_exact_iterations(void **state)
+{
+    (void)state;
+    mock_t mk = {0, 0, 50, 0, 0};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score};
+    spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 200, 8};
+    spvs_rng_t rng;
+    spvs_rng_seed(&rng, 1);
+    uint16_t idx[100];
+    struct {
+        spvs_real model[SPVS_MODEL_MAX];
+        uint32_t guard;
+    } out;
+    struct {
+        uint8_t mask[100];
+        uint32_t guard;
+    } mk_out;
+    out.guard = SENTINEL;
+    mk_out.guard = SENTINEL;
+    spvs_ransac_stats_t st;
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(st.iters, 35);
+    assert_int_equal(mk.fits, 35);
+    assert_int_equal(mk.scores, 36); /* 35 hypotheses + the final mask */
+    assert_int_equal(st.n_inliers, 50);
+    assert_int_equal(out.guard, SENTINEL);
+    assert_int_equal(mk_out.guard, SENTINEL);
+    /* Ties (always 50 inliers): the first, cheapest model is kept. */
+    assert_true(out.model[0] == SPVS_R(1.0));
+
+    /* The cap bounds the loop. */
+    mk = (mock_t){0, 0, 10, 0, 0};
+    o.max_iters = 20;
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(st.iters, 20);
+    assert_int_equal(mk.fits, 20);
+
+    /* Ties broken by the lower cost: here later models are cheaper. */
+    mk = (mock_t){0, 0, 10, 0, 1};
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_true(out.model[0] == SPVS_R(20.0));
+}
+
+static void test_statuses(void **state)
+{
+    (void)state;
+    mock_t mk = {0, 0, 50, 1, 0};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score};
+    spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 30, 8};
+    spvs_rng_t rng;
+    spvs_rng_seed(&rng, 1);
+    uint16_t idx[100];
+    spvs_real model[SPVS_MODEL_MAX];
+    uint8_t mask[100];
+    spvs_ransac_stats_t st;
+    /* Every sample degenerate: the cap, then a status. */
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_DEGENERATE);
+    assert_int_equal(st.iters, 30);
+    assert_int_equal(st.degenerate, 30);
+    /* Too few inliers for a consensus. */
+    mk = (mock_t){0, 0, 5, 0, 0};
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_NO_CONSENSUS);
+    /* Too few data. */
+    est.n = 2;
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_TOO_FEW);
+    est.n = 100;
+    /* Bad options. */
+    o.confidence = SPVS_R(1.0);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_ARG);
+    o.confidence = SPVS_R(0.99);
+    o.max_iters = SPVS_RANSAC_MAX_ITERS + 1;
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_ARG);
+    assert_int_equal(spvs_ransac(NULL, &o, &rng, idx, model, mask, &st), SPVS_E_ARG);
+}
+
+static void test_rng(void **state)
+{
+    (void)state;
+    spvs_rng_t a, b;
+    spvs_rng_seed(&a, 42);
+    spvs_rng_seed(&b, 42);
+    uint32_t hist[10] = {0};
+    for (int i = 0; i < 100000; i++) {
+        uint32_t x = spvs_rng_below(&a, 10);
+        assert_int_equal(x, spvs_rng_below(&b, 10));
+        assert_true(x < 10);
+        hist[x]++;
+    }
+    /* Uniform within 5 standard deviations (sd ~ 95). */
+    for (int k = 0; k < 10; k++) {
+        assert_true(hist[k] > 10000 - 475 && hist[k] < 10000 + 475);
+    }
+}
+
+/* The planar estimator with 50% mismatches returns exactly the plane points,
+ * and the same seed gives the same result. */
+static void test_planar_half_outliers(void **state)
+{
+    (void)state;
+    static spvs_t s;
+    uint64_t rng = 3;
+    for (int t = 0; t < 10; t++) {
+        synth_pose_t p = {-3 + synth_uniform(&rng), -10 + 4 * synth_uniform(&rng), -0.5 + synth_uniform(&rng)};
+        synth_plane_t pl;
+        synth_plane(&pl, 0.3, -0.6, -0.75, 45);
+        spvs_match_t m[200];
+        uint16_t n = synth_frame(&p, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
+        assert_int_equal(n, 100);
+        for (int i = 0; i < 100; i++) {
+            m[n] = m[i];
+            m[n].x_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 640);
+            m[n].y_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
+            m[n].feature = (uint16_t)(100 + i);
+            n++;
+        }
+        spvs_params_t prm;
+        spvs_params_default(&prm, SPVS_METHOD_III);
+        prm.seed = (uint32_t)t;
+        assert_int_equal(spvs_init(&s, &prm), SPVS_OK);
+        spvs_output_t o1, o2;
+        assert_int_equal(spvs_estimate_h(&s, m, n, &o1), SPVS_OK);
+        assert_int_equal(o1.n_inliers, 100);
+        for (int i = 0; i < n; i++) {
+            assert_int_equal(s.mask[i], i < 100 ? 1 : 0);
+        }
+        double Ht[9], He[9];
+        synth_H(&p, &pl, 800, Ht);
+        for (int k = 0; k < 9; k++) {
+            He[k] = (double)o1.H[k];
+        }
+        assert_true(synth_corner_err(He, Ht) < 0.05);
+        /* Determinism: same seed, same hypotheses, same H. */
+        spvs_reset(&s);
+        assert_int_equal(spvs_estimate_h(&s, m, n, &o2), SPVS_OK);
+        assert_int_equal(o1.ransac_iters, o2.ransac_iters);
+        assert_memory_equal(o1.H, o2.H, sizeof o1.H);
+        assert_true(o1.ransac_iters <= SPVS_RANSAC_MAX_ITERS);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_needed),
+        cmocka_unit_test(test_exact_iterations),
+        cmocka_unit_test(test_statuses),
+        cmocka_unit_test(test_rng),
+        cmocka_unit_test(test_planar_half_outliers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
