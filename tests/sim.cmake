@@ -54,3 +54,16 @@ add_test(NAME sim_cli_failed_run_exits_0
          COMMAND ${sim_cli_check} failed -- $<TARGET_FILE:spvs-sim> --method 2
                  --normal 0,0,-1 --json --quiet)
 set_tests_properties(sim_cli_failed_run_exits_0 PROPERTIES LABELS "${sim_variant};cli" TIMEOUT 60)
+
+# The same run in process and across LCM (spvs-node) gives the same result.
+# Runs in a private network namespace with only loopback; skipped (77) where
+# the machine cannot make one.
+if(TARGET spvs-node AND TARGET spvs_lcm_link)
+  foreach(method 1 2 3)
+    add_test(NAME sim_lcm_matches_inproc_m${method}
+             COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_sim_lcm.py
+                     $<TARGET_FILE:spvs-sim> $<TARGET_FILE:spvs-node> ${method} 1 1)
+    set_tests_properties(sim_lcm_matches_inproc_m${method} PROPERTIES
+                         LABELS "${sim_variant};lcm" TIMEOUT 240 SKIP_RETURN_CODE 77)
+  endforeach()
+endif()
