@@ -226,8 +226,8 @@ static void parse_options(int argc, char **argv, options_t *o)
             c->start.phi_rad = v[2] * PI / 180.0;
         } else if (strcmp(name, "--normal") == 0) {
             parse_triple(name, val, c->normal);
-            if (sqrt(c->normal[0] * c->normal[0] + c->normal[1] * c->normal[1] +
-                     c->normal[2] * c->normal[2]) < 1e-9) {
+            if (hypot(hypot(c->normal[0], c->normal[1]), c->normal[2]) <
+                1e-9) {
                 usage_error("--normal: '%s' is a zero vector", val);
             }
         } else if (strcmp(name, "--distance") == 0) {

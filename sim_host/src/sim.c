@@ -48,9 +48,8 @@ void sim_config_default(sim_config_t *c)
 
 int sim_config_check(const sim_config_t *c, char *err, unsigned err_len)
 {
-    double nn = sqrt(c->normal[0] * c->normal[0] +
-                     c->normal[1] * c->normal[1] +
-                     c->normal[2] * c->normal[2]);
+    /* hypot keeps huge or tiny components from overflowing the length. */
+    double nn = hypot(hypot(c->normal[0], c->normal[1]), c->normal[2]);
     if (c->method < 1 || c->method > 3) {
         snprintf(err, err_len, "method must be 1, 2 or 3, got %d", c->method);
     } else if (!isfinite(c->start.x_m) || !isfinite(c->start.z_m) ||
@@ -98,9 +97,8 @@ int sim_config_world(const sim_config_t *c, sim_world_t *w, char *err,
     }
     sim_camera_t cam;
     sim_camera_make(&cam, c->focal_true_mm, c->pixel_mm, c->pp_offset_px);
-    double nn = sqrt(c->normal[0] * c->normal[0] +
-                     c->normal[1] * c->normal[1] +
-                     c->normal[2] * c->normal[2]);
+    /* hypot keeps huge or tiny components from overflowing the length. */
+    double nn = hypot(hypot(c->normal[0], c->normal[1]), c->normal[2]);
     sim_plane_t pl = { { c->normal[0] / nn, c->normal[1] / nn,
                          c->normal[2] / nn }, c->distance_m };
     return sim_world_init(w, &cam, &pl, &c->scene, c->noise_px, c->outliers,
