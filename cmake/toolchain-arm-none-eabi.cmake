@@ -36,6 +36,10 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 
 # Each function and object in its own section, so the linker drops what the
 # image does not use and the link map shows the core's size per function.
-set(CMAKE_C_FLAGS_INIT "${SPVS_CPU_FLAGS} -ffunction-sections -fdata-sections")
+# SPVS_EXTRA_C_FLAGS adds flags without replacing these (setting
+# CMAKE_C_FLAGS on the command line would drop the CPU flags), e.g.
+# "-fstack-usage -fcallgraph-info=su" for tools/embedded_measure.sh.
+set(SPVS_EXTRA_C_FLAGS "" CACHE STRING "Extra C flags for the cross build")
+set(CMAKE_C_FLAGS_INIT "${SPVS_CPU_FLAGS} -ffunction-sections -fdata-sections ${SPVS_EXTRA_C_FLAGS}")
 set(CMAKE_ASM_FLAGS_INIT "${SPVS_CPU_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${SPVS_CPU_FLAGS} -Wl,--gc-sections")
