@@ -351,8 +351,23 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
      * section 3.3), and the plane must give this method a signal. */
     if (!c->checked_plane) {
         if (!in->e_valid || sgn(in->e_dir_z) == 0) {
-            return SPVS_E_NO_PARALLAX;
+            /* No parallax at the start: if H also shows no translation (the
+             * step-2 signals of both kinds under their tolerance), the robot
+             * is already at the target up to a rotation, eq. (9): only step
+             * 3 is left.  Otherwise the signs cannot be chosen: stop. */
+            spvs_real D = in->H[SPVS_H11] - in->H[SPVS_H33];
+            spvs_real Dy = p->alpha_y * in->H[SPVS_H32];
+            if (c->step == SPVS_STEP_ROTATE && SPVS_FABS(D) < p->tol_translate &&
+                SPVS_FABS(Dy) < p->tol_translate) {
+                next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
+                next_step(c, SPVS_STEP_ALIGN, in->t_s);
+                c->checked_plane = 1;
+            } else {
+                return SPVS_E_NO_PARALLAX;
+            }
         }
+    }
+    if (!c->checked_plane) {
         c->ahead = sgn(in->e_dir_z);
         int rc = plane_check(c, p, in);
         if (rc != SPVS_OK) {

@@ -10,6 +10,20 @@
  * too close to the horizon row or has too little parallax to say anything. */
 #define DIR_MIN2 SPVS_R(1.0e-12)
 
+/* Insertion sort of at most SPVS_MAX_OFFPLANE values. */
+static void sort_small(spvs_real *v, uint16_t n)
+{
+    for (uint16_t i = 1; i < n; i++) {
+        spvs_real key = v[i];
+        uint16_t k = i;
+        while (k > 0 && v[k - 1] > key) {
+            v[k] = v[k - 1];
+            k--;
+        }
+        v[k] = key;
+    }
+}
+
 int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
                           const uint16_t *cand, uint16_t n_cand,
                           spvs_real sin_tol2, uint16_t min_support,
@@ -78,68 +92,52 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
         return SPVS_E_NO_PARALLAX;
     }
 
-    /* Least squares on the supporters: the direction e minimising
-     * sum (e x d_i)^2 is the principal eigenvector of sum d_i d_i^T. */
-    spvs_real a = SPVS_R(0.0), b = SPVS_R(0.0), c = SPVS_R(0.0);
-    spvs_real sx = SPVS_R(0.0), sz = SPVS_R(0.0);
-    /* The parallax values are stored over n2[]: entry n_par <= i is written
-     * only after n2[i] has been read, and n2[best] is kept aside. */
-    spvs_real *par = n2;
+    /* Refine robustly: each supporter's angle from the hypothesis b, as
+     * tan(delta_i) = cross(b, d_i) / dot(b, d_i); the median angle turns b
+     * onto the estimate.  A mismatch that fell inside the consensus cone
+     * moves a median by one rank at most.  Storage: the tangents go to n2[]
+     * and the squared parallaxes to dz[], entry k <= i written only after
+     * entry i was read; the hypothesis is kept in locals. */
+    const spvs_real hx = dx[best];
+    const spvs_real hz = dz[best];
     const spvs_real n2_best = n2[best];
+    const spvs_real bn = SPVS_SQRT(n2_best);
+    const spvs_real bx = hx / bn;
+    const spvs_real bz = hz / bn;
+    spvs_real *tans = n2;
+    spvs_real *par = dz;
+    uint16_t n_t = 0;
     uint16_t n_par = 0;
     for (uint16_t i = 0; i < n_cand; i++) {
-        spvs_real n2_i = n2[i];
+        const spvs_real n2_i = n2[i];
+        const spvs_real dxi = dx[i];
+        const spvs_real dzi = dz[i];
         if (!(n2_i > DIR_MIN2)) {
             continue;
         }
-        spvs_real dot = dx[i] * dx[best] + dz[i] * dz[best];
-        spvs_real crs = dx[i] * dz[best] - dz[i] * dx[best];
+        spvs_real dot = dxi * hx + dzi * hz;
+        spvs_real crs = dxi * hz - dzi * hx;
         if (!(dot > SPVS_R(0.0) && crs * crs <= sin_tol2 * n2_i * n2_best)) {
             continue;
         }
         if (support_out) {
             support_out[i] = 1;
         }
-        a += dx[i] * dx[i];
-        b += dx[i] * dz[i];
-        c += dz[i] * dz[i];
-        sx += dx[i];
-        sz += dz[i];
+        /* dot(b, d_i) > 0 here, so the division is safe. */
+        tans[n_t++] = (bx * dzi - bz * dxi) / (bx * dxi + bz * dzi);
         spvs_real e2 = spvs_h_transfer_err2(H, pts[cand[i]]);
         if (e2 >= SPVS_R(0.0)) {
             par[n_par++] = e2;
         }
     }
-    spvs_real half = SPVS_R(0.5) * (a - c);
-    spvs_real lmax = SPVS_R(0.5) * (a + c) + SPVS_SQRT(half * half + b * b);
-    /* Two forms of the eigenvector; take the better conditioned one. */
-    spvs_real v1x = b, v1z = lmax - a;
-    spvs_real v2x = lmax - c, v2z = b;
-    spvs_real ex, ez;
-    if (v1x * v1x + v1z * v1z >= v2x * v2x + v2z * v2z) {
-        ex = v1x;
-        ez = v1z;
-    } else {
-        ex = v2x;
-        ez = v2z;
-    }
-    spvs_real en2 = ex * ex + ez * ez;
-    if (!(en2 > SPVS_R(0.0))) {
-        /* All supporters parallel to the axes in a way that cancels b: fall
-         * back on their mean direction. */
-        ex = sx;
-        ez = sz;
-        en2 = ex * ex + ez * ez;
-        if (!(en2 > SPVS_R(0.0))) {
-            return SPVS_E_NO_PARALLAX;
-        }
-    }
-    /* Orient along the supporters' summed direction (the sign of e). */
-    if (ex * sx + ez * sz < SPVS_R(0.0)) {
-        ex = -ex;
-        ez = -ez;
-    }
-    spvs_real inv = SPVS_R(1.0) / SPVS_SQRT(en2);
+    sort_small(tans, n_t);
+    spvs_real tmed = (n_t & 1u) ? tans[n_t / 2]
+                                : SPVS_R(0.5) * (tans[n_t / 2 - 1] + tans[n_t / 2]);
+    /* The direction at angle atan(tmed) from b: b + tmed b_perp, with b_perp
+     * b turned by +90 degrees. */
+    spvs_real ex = bx - tmed * bz;
+    spvs_real ez = bz + tmed * bx;
+    spvs_real inv = SPVS_R(1.0) / SPVS_SQRT(ex * ex + ez * ez);
     out->dir_x = ex * inv;
     out->dir_z = ez * inv;
 
@@ -152,16 +150,7 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
         out->e_x_px = scale * ex / ez;
     }
 
-    /* Median parallax of the supporters (insertion sort, n_par bounded). */
-    for (uint16_t i = 1; i < n_par; i++) {
-        spvs_real key = par[i];
-        uint16_t k = i;
-        while (k > 0 && par[k - 1] > key) {
-            par[k] = par[k - 1];
-            k--;
-        }
-        par[k] = key;
-    }
+    sort_small(par, n_par);
     if (n_par > 0) {
         out->parallax_px = scale * SPVS_SQRT(par[n_par / 2]);
     }
