@@ -50,7 +50,7 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
          * per radian: ~0.3 at r = 10 m, d = 45 m. */
         p->k_w = SPVS_R(5.0);
         p->k_v = SPVS_R(30.0);
-        p->tol_align = SPVS_R(3.0e-4);
+        p->tol_align = SPVS_R(1.0e-4);
         p->tol_translate = SPVS_R(1.5e-4);
         break;
     case SPVS_METHOD_II:

@@ -1,0 +1,303 @@
+/* test_control.c - the Shortest Path Control laws, gain signs, step logic
+ * and latched failures (control.h), fed with exact geometry. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include <cmocka.h>
+
+#include "spvs/control.h"
+#include "synth.h"
+
+#define DEG (SYNTH_PI / 180.0)
+
+static synth_plane_t default_plane(void)
+{
+    synth_plane_t pl;
+    synth_plane(&pl, 0.3, -0.6, -0.75, 45);
+    return pl;
+}
+
+/* The controller's input for a pose: H of eq. (2), the signed epipole
+ * e = K(-R c) and a parallax that shrinks with the distance (pixels). */
+static void make_input(const synth_pose_t *p, const synth_plane_t *pl, double t,
+                       spvs_control_input_t *in)
+{
+    double H[9];
+    synth_H(p, pl, 800, H);
+    for (int k = 0; k < 9; k++) {
+        in->H[k] = (spvs_real)H[k];
+    }
+    double c = cos(p->phi), s = sin(p->phi);
+    double e1 = -(c * p->x + s * p->z), e3 = -(-s * p->x + c * p->z);
+    double r = sqrt(p->x * p->x + p->z * p->z);
+    in->e_valid = r > 0.05;
+    double ex = 800 * e1 / e3;
+    if (fabs(ex) > 20000) {
+        ex = ex > 0 ? 20000 : -20000;
+    }
+    in->e_x_px = (spvs_real)ex;
+    in->e_dir_x = (spvs_real)(800 * e1);
+    in->e_dir_z = (spvs_real)e3;
+    in->parallax_px = (spvs_real)(20.0 * r);
+    in->t_s = (spvs_real)t;
+}
+
+typedef struct {
+    spvs_step_t step;
+    int status;
+    double t_end[4];
+    double phi_end[4];
+    synth_pose_t pose;
+    double min_v, max_v;
+} loop_result_t;
+
+/* The control law alone on the unicycle of eq. (7), dt = 0.1 s. */
+static void run_loop(spvs_method_t m, synth_pose_t pose, const synth_plane_t *pl,
+                     loop_result_t *res)
+{
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, m);
+    assert_int_equal(spvs_control_params_check(&p), SPVS_OK);
+    spvs_control_t c;
+    spvs_control_reset(&c);
+    res->min_v = 1e9;
+    res->max_v = -1e9;
+    for (int k = 1; k < 4; k++) {
+        res->t_end[k] = -1;
+    }
+    double dt = 0.1;
+    for (int k = 0; k < 3000; k++) {
+        spvs_control_input_t in;
+        make_input(&pose, pl, k * dt, &in);
+        spvs_real v, w;
+        spvs_step_t before = c.step;
+        int rc = spvs_control_step(&c, &p, &in, &v, &w);
+        res->status = rc;
+        if (rc != SPVS_OK) {
+            assert_true(v == 0 && w == 0);
+        }
+        assert_true(fabs((double)v) <= (double)p.v_max && fabs((double)w) <= (double)p.w_max);
+        if (c.step != before && before >= SPVS_STEP_ROTATE && before <= SPVS_STEP_ALIGN) {
+            res->t_end[before] = k * dt;
+            res->phi_end[before] = pose.phi;
+        }
+        if (c.step == SPVS_STEP_TRANSLATE || before == SPVS_STEP_TRANSLATE) {
+            if (v < res->min_v) {
+                res->min_v = v;
+            }
+            if (v > res->max_v) {
+                res->max_v = v;
+            }
+        }
+        if (c.step == SPVS_STEP_DONE || c.step == SPVS_STEP_FAILED) {
+            break;
+        }
+        /* Exact integration of eq. (7). */
+        double vv = v, ww = w;
+        if (fabs(ww) > 1e-12) {
+            pose.x += vv / ww * (cos(pose.phi + ww * dt) - cos(pose.phi));
+            pose.z += vv / ww * (sin(pose.phi + ww * dt) - sin(pose.phi));
+        } else {
+            pose.x += -vv * dt * sin(pose.phi);
+            pose.z += vv * dt * cos(pose.phi);
+        }
+        pose.phi += ww * dt;
+    }
+    res->step = c.step;
+    res->pose = pose;
+}
+
+/* All three methods, from the paper's first pose and from behind the target:
+ * step 1 ends facing the target line (phi_t = -atan(x / z)), step 2 drives
+ * forwards or backwards as needed, and the robot ends at the target. */
+static void test_closed_loop_law(void **state)
+{
+    (void)state;
+    synth_plane_t pl = default_plane();
+    const double poses[][3] = {{-3, -10, -30}, {5, 2, -50}, {6, -6, 0}, {-6, 4, 20}};
+    for (int m = 1; m <= 3; m++) {
+        for (int i = 0; i < 4; i++) {
+            synth_pose_t p = {poses[i][0], poses[i][1], poses[i][2] * DEG};
+            double phit = -atan(p.x / p.z);
+            loop_result_t r;
+            run_loop((spvs_method_t)m, p, &pl, &r);
+            print_message("method %d from (%g,%g,%g): step ends %.1f %.1f %.1f s, final (%.4f, %.4f, %.3f deg)\n",
+                          m, poses[i][0], poses[i][1], poses[i][2], r.t_end[1], r.t_end[2], r.t_end[3],
+                          r.pose.x, r.pose.z, r.pose.phi / DEG);
+            assert_int_equal(r.step, SPVS_STEP_DONE);
+            assert_int_equal(r.status, SPVS_OK);
+            /* Facing the target line within 0.1 deg when step 1 ends. */
+            print_message("  step-1 end heading error %.3f deg\n", (r.phi_end[1] - phit) / DEG);
+            assert_true(fabs(r.phi_end[1] - phit) < 0.1 * DEG);
+            assert_true(r.t_end[1] > 0 && r.t_end[2] > r.t_end[1] && r.t_end[3] > r.t_end[2]);
+            assert_true(fabs(r.pose.x) < 0.02 && fabs(r.pose.z) < 0.02);
+            assert_true(fabs(r.pose.phi) < 0.1 * DEG);
+            if (p.z < 0) {
+                assert_true(r.min_v >= 0 && r.max_v > 0.1); /* forwards */
+            } else {
+                assert_true(r.max_v <= 0 && r.min_v < -0.1); /* backwards */
+            }
+        }
+    }
+}
+
+/* First command from (-3, -10, -30 deg): v = 0 and the robot turns towards
+ * phi_t = -16.7 deg (w > 0) with every method; from (5, 2, -50 deg) it turns
+ * towards phi_t = -68.2 deg (w < 0). */
+static void test_first_command_signs(void **state)
+{
+    (void)state;
+    synth_plane_t pl = default_plane();
+    for (int m = 1; m <= 3; m++) {
+        spvs_control_params_t p;
+        spvs_control_params_default(&p, (spvs_method_t)m);
+        spvs_control_t c;
+        spvs_control_input_t in;
+        spvs_real v, w;
+        synth_pose_t a = {-3, -10, -30 * DEG};
+        spvs_control_reset(&c);
+        make_input(&a, &pl, 0, &in);
+        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        assert_true(v == 0 && w > 0);
+        assert_int_equal(c.ahead, 1);
+        synth_pose_t b = {5, 2, -50 * DEG};
+        spvs_control_reset(&c);
+        make_input(&b, &pl, 0, &in);
+        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        assert_true(v == 0 && w < 0);
+        assert_int_equal(c.ahead, -1);
+    }
+}
+
+/* Table 1's failures, said by a status: Methods I and III need n_z, Method
+ * II needs n_y.  The failure is latched and commands a stop. */
+static void test_plane_check(void **state)
+{
+    (void)state;
+    synth_plane_t wall, floor_pl;
+    synth_plane(&wall, 1.0, 0.0, 0.0, 45);       /* n_z = 0, n_y = 0 */
+    synth_plane(&floor_pl, 0.8, -0.6, 0.0, 45);  /* n_z = 0          */
+    synth_plane_t front;
+    synth_plane(&front, 0.0, 0.0, -1.0, 45);     /* n_y = 0          */
+    synth_pose_t p = {-3, -10, -30 * DEG};
+    const struct {
+        int method;
+        const synth_plane_t *pl;
+        int expect;
+    } cases[] = {{1, &wall, SPVS_E_PLANE_NZ}, {3, &floor_pl, SPVS_E_PLANE_NZ},
+                 {2, &front, SPVS_E_PLANE_NY}, {2, &wall, SPVS_E_PLANE_NY},
+                 {2, &floor_pl, SPVS_OK},      {1, &front, SPVS_OK}};
+    for (unsigned i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        spvs_control_params_t prm;
+        spvs_control_params_default(&prm, (spvs_method_t)cases[i].method);
+        spvs_control_t c;
+        spvs_control_reset(&c);
+        spvs_control_input_t in;
+        make_input(&p, cases[i].pl, 0, &in);
+        spvs_real v = 1, w = 1;
+        assert_int_equal(spvs_control_step(&c, &prm, &in, &v, &w), cases[i].expect);
+        if (cases[i].expect != SPVS_OK) {
+            assert_true(v == 0 && w == 0);
+            assert_int_equal(c.step, SPVS_STEP_FAILED);
+            in.t_s = 1;
+            assert_int_equal(spvs_control_step(&c, &prm, &in, &v, &w), cases[i].expect);
+            assert_true(v == 0 && w == 0);
+        }
+    }
+}
+
+static void test_no_parallax_and_timeout(void **state)
+{
+    (void)state;
+    synth_plane_t pl = default_plane();
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_III);
+    spvs_control_t c;
+    spvs_control_reset(&c);
+    synth_pose_t a = {-3, -10, -30 * DEG};
+    spvs_control_input_t in;
+    make_input(&a, &pl, 0, &in);
+    in.e_valid = 0;
+    spvs_real v = 1, w = 1;
+    assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_E_NO_PARALLAX);
+    assert_true(v == 0 && w == 0);
+    /* A robot that never turns (stuck wheels): the step times out. */
+    in.e_valid = 1;
+    int rc = SPVS_OK;
+    for (int k = 1; k < 2000 && rc == SPVS_OK; k++) {
+        in.t_s = (spvs_real)(0.1 * k);
+        rc = spvs_control_step(&c, &p, &in, &v, &w);
+    }
+    assert_int_equal(rc, SPVS_E_STEP_TIMEOUT);
+    assert_true(v == 0 && w == 0);
+    assert_true((double)in.t_s > (double)p.step_timeout_s);
+    assert_true((double)in.t_s < (double)p.step_timeout_s + 0.25);
+}
+
+/* Method III: near the target the parallax falls under 5 px and the rotation
+ * switches to eq. (11) with cos(phi_t) learnt on the line (eq. 8). */
+static void test_method3_eq11(void **state)
+{
+    (void)state;
+    synth_plane_t pl = default_plane();
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_III);
+    spvs_control_t c;
+    spvs_control_reset(&c);
+    double phit = -atan(-3.0 / -10.0);
+    int switched_at = -1;
+    for (int k = 0; k < 400; k++) {
+        double z = -10 + 0.03 * k;
+        synth_pose_t pose = {-z * tan(phit), z, phit};
+        spvs_control_input_t in;
+        make_input(&pose, &pl, 0.1 * k, &in);
+        spvs_real v, w;
+        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        if (c.use_eq11 && switched_at < 0) {
+            switched_at = k;
+            /* The parallax model here is 20 px per metre: 5 px at 0.25 m. */
+            double r = sqrt(pose.x * pose.x + pose.z * pose.z);
+            assert_true(r < 0.26 && r > 0.2);
+        }
+        if (c.step == SPVS_STEP_ALIGN) {
+            break;
+        }
+    }
+    assert_true(switched_at > 0);
+    assert_true(fabs((double)c.cos_phit - cos(phit)) < 1e-4);
+    assert_int_equal(c.sign_sin_phit, -1);
+}
+
+static void test_params_check(void **state)
+{
+    (void)state;
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_II);
+    assert_int_equal(spvs_control_params_check(&p), SPVS_OK);
+    volatile spvs_real zero = 0;
+    p.k_w = zero / zero; /* NaN, made at run time */
+    assert_int_equal(spvs_control_params_check(&p), SPVS_E_CONFIG);
+    spvs_control_params_default(&p, SPVS_METHOD_II);
+    p.v_max = -1;
+    assert_int_equal(spvs_control_params_check(&p), SPVS_E_CONFIG);
+    spvs_control_params_default(&p, SPVS_METHOD_II);
+    p.method = (spvs_method_t)7;
+    assert_int_equal(spvs_control_params_check(&p), SPVS_E_CONFIG);
+    assert_int_equal(spvs_control_params_check(NULL), SPVS_E_ARG);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_closed_loop_law),
+        cmocka_unit_test(test_first_command_signs),
+        cmocka_unit_test(test_plane_check),
+        cmocka_unit_test(test_no_parallax_and_timeout),
+        cmocka_unit_test(test_method3_eq11),
+        cmocka_unit_test(test_params_check),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
