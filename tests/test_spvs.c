@@ -1,0 +1,228 @@
+/* test_spvs.c - the update pipeline: every status commands a stop, output
+ * buffers are not overrun, off-plane features are remembered (spvs.h). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "spvs/spvs.h"
+#include "synth.h"
+
+#define SENTINEL 0xC0FFEE11u
+#define DEG (SYNTH_PI / 180.0)
+
+typedef struct {
+    spvs_output_t out;
+    uint32_t guard;
+} guarded_out_t;
+
+static spvs_t s;
+static spvs_match_t m[SPVS_MAX_MATCHES + 8];
+static int seen[SPVS_STATUS_COUNT];
+
+static void init(spvs_method_t method)
+{
+    spvs_params_t p;
+    spvs_params_default(&p, method);
+    assert_int_equal(spvs_init(&s, &p), SPVS_OK);
+}
+
+/* One update; checks the stop on error and the sentinel; records the status. */
+static int update(uint16_t n, double t, guarded_out_t *g)
+{
+    g->guard = SENTINEL;
+    g->out.v = SPVS_R(9.0);
+    g->out.w = SPVS_R(9.0);
+    int rc = spvs_update(&s, m, n, (spvs_real)t, &g->out);
+    assert_int_equal(g->guard, SENTINEL);
+    assert_int_equal(rc, g->out.status);
+    if (rc != SPVS_OK) {
+        assert_true(g->out.v == 0 && g->out.w == 0);
+    }
+    assert_true(rc <= 0 && rc > -SPVS_STATUS_COUNT);
+    seen[-rc] = 1;
+    return rc;
+}
+
+static uint16_t default_frame(const synth_pose_t *p, double sigma, uint64_t *rng, uint8_t *on_plane)
+{
+    synth_plane_t pl;
+    synth_plane(&pl, 0.3, -0.6, -0.75, 45);
+    return synth_frame(p, &pl, 800, 100, 25, sigma, rng, m, on_plane);
+}
+
+static void test_ok_and_remember(void **state)
+{
+    (void)state;
+    init(SPVS_METHOD_III);
+    uint64_t rng = 1;
+    synth_pose_t p = {-3, -10, -30 * DEG};
+    guarded_out_t g;
+    uint8_t on_plane[SPVS_MAX_MATCHES];
+    for (int k = 0; k < 3; k++) {
+        rng = 1; /* the same scene every frame */
+        uint16_t n = default_frame(&p, 0.0, &rng, on_plane);
+        assert_int_equal(update(n, 0.1 * k, &g), SPVS_OK);
+        assert_true(g.out.h_valid && g.out.e_valid);
+        assert_int_equal(g.out.step, SPVS_STEP_ROTATE);
+        assert_true(g.out.v == 0 && g.out.w > 0);
+        assert_int_equal(g.out.n_offplane, 25);
+    }
+    /* Every off-plane feature is remembered, no plane feature is. */
+    for (int i = 0; i < 125; i++) {
+        assert_int_equal(s.offplane[i] >= 2, i >= 100);
+    }
+    /* The epipole: alpha_x tan(phi - phi_t), phi_t = -atan(3/10). */
+    double expect = 800 * tan(-30 * DEG + atan(0.3));
+    assert_true(fabs((double)g.out.e_x_px - expect) < 0.05);
+    /* A reset forgets everything. */
+    spvs_reset(&s);
+    assert_int_equal(s.offplane[110], 0);
+    assert_int_equal(s.ctl.step, SPVS_STEP_ROTATE);
+}
+
+static void test_every_status_stops(void **state)
+{
+    (void)state;
+    guarded_out_t g;
+    uint64_t rng = 4;
+    synth_pose_t p = {-3, -10, -30 * DEG};
+    volatile spvs_real zero = 0;
+
+    init(SPVS_METHOD_III);
+    uint16_t n = default_frame(&p, 0.0, &rng, NULL);
+    assert_int_equal(update(2, 0.0, &g), SPVS_E_TOO_FEW);
+    assert_int_equal(update(SPVS_MAX_MATCHES + 1, 0.1, &g), SPVS_E_CAPACITY);
+    spvs_match_t keep = m[7];
+    m[7].x_cur = zero / zero; /* NaN made at run time */
+    assert_int_equal(update(n, 0.2, &g), SPVS_E_NONFINITE);
+    m[7].x_cur = SPVS_R(1.0) / zero; /* +Inf */
+    assert_int_equal(update(n, 0.3, &g), SPVS_E_NONFINITE);
+    m[7] = keep;
+    m[7].y_tgt = SPVS_R(1.0e6);
+    assert_int_equal(update(n, 0.4, &g), SPVS_E_RANGE);
+    m[7] = keep;
+    m[7].feature = SPVS_MAX_FEATURES;
+    assert_int_equal(update(n, 0.5, &g), SPVS_E_RANGE);
+    m[7] = keep;
+    /* A good frame, then the same time again and an older time: stale. */
+    assert_int_equal(update(n, 0.6, &g), SPVS_OK);
+    assert_int_equal(update(n, 0.6, &g), SPVS_E_STALE);
+    assert_int_equal(update(n, 0.5, &g), SPVS_E_STALE);
+    assert_int_equal(update(n, zero / zero, &g), SPVS_E_NONFINITE);
+
+    /* All matches at one point: every sample is degenerate. */
+    init(SPVS_METHOD_III);
+    for (int i = 0; i < 50; i++) {
+        m[i].x_tgt = m[i].x_cur = SPVS_R(10.0);
+        m[i].y_tgt = m[i].y_cur = SPVS_R(20.0);
+        m[i].feature = (uint16_t)i;
+    }
+    assert_int_equal(update(50, 0.0, &g), SPVS_E_DEGENERATE);
+
+    /* Random pairs: no homography explains 8 of them. */
+    init(SPVS_METHOD_III);
+    for (int i = 0; i < 60; i++) {
+        m[i].x_tgt = (spvs_real)((synth_uniform(&rng) - 0.5) * 640);
+        m[i].y_tgt = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
+        m[i].x_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 640);
+        m[i].y_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
+        m[i].feature = (uint16_t)i;
+    }
+    assert_int_equal(update(60, 0.0, &g), SPVS_E_NO_CONSENSUS);
+
+    /* Plane points only, away from the target: no parallax, no signs. */
+    init(SPVS_METHOD_III);
+    synth_plane_t pl;
+    synth_plane(&pl, 0.3, -0.6, -0.75, 45);
+    n = synth_frame(&p, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
+    assert_int_equal(update(n, 0.0, &g), SPVS_E_NO_PARALLAX);
+    assert_true(g.out.h_valid); /* H was fine; the controller could not act */
+
+    /* Table 1: a plane without n_z for Method I, without n_y for II. */
+    synth_plane_t wall, front;
+    synth_plane(&wall, 0.8, -0.6, 0.0, 45);
+    synth_plane(&front, 0.0, 0.0, -1.0, 45);
+    init(SPVS_METHOD_I);
+    n = synth_frame(&p, &wall, 800, 100, 25, 0.0, &rng, m, NULL);
+    assert_int_equal(update(n, 0.0, &g), SPVS_E_PLANE_NZ);
+    assert_int_equal(update(n, 0.1, &g), SPVS_E_PLANE_NZ); /* latched */
+    assert_int_equal(g.out.step, SPVS_STEP_FAILED);
+    init(SPVS_METHOD_II);
+    n = synth_frame(&p, &front, 800, 100, 25, 0.0, &rng, m, NULL);
+    assert_int_equal(update(n, 0.0, &g), SPVS_E_PLANE_NY);
+
+    /* A robot that never turns: step 1 times out (latched). */
+    init(SPVS_METHOD_III);
+    uint64_t r0 = rng;
+    int rc = SPVS_OK;
+    for (int k = 0; k < 1300 && rc == SPVS_OK; k++) {
+        rng = r0;
+        n = default_frame(&p, 0.0, &rng, NULL);
+        rc = update(n, 0.1 * k, &g);
+    }
+    assert_int_equal(rc, SPVS_E_STEP_TIMEOUT);
+
+    /* Bad parameters and NULL arguments. */
+    spvs_params_t bad;
+    spvs_params_default(&bad, SPVS_METHOD_III);
+    bad.inlier_px = -1;
+    assert_int_equal(spvs_init(&s, &bad), SPVS_E_CONFIG);
+    seen[-SPVS_E_CONFIG] = 1;
+    init(SPVS_METHOD_III);
+    assert_int_equal(spvs_update(&s, NULL, 10, SPVS_R(0.0), &g.out), SPVS_E_ARG);
+    assert_true(g.out.v == 0 && g.out.w == 0);
+    seen[-SPVS_E_ARG] = 1;
+    assert_int_equal(spvs_update(NULL, m, 10, SPVS_R(0.0), &g.out), SPVS_E_ARG);
+
+    /* Every status of the enum has been produced above. */
+    for (int k = 0; k < SPVS_STATUS_COUNT; k++) {
+        if (!seen[k]) {
+            print_message("status %d (%s) not produced\n", -k, spvs_status_str(-k));
+        }
+        assert_true(seen[k]);
+        assert_string_not_equal(spvs_status_str(-k), "unknown_status");
+    }
+}
+
+/* spvs_estimate_h on exact matches with 20% mismatches: H to 0.05 px. */
+static void test_estimate_h(void **state)
+{
+    (void)state;
+    init(SPVS_METHOD_II);
+    uint64_t rng = 8;
+    synth_plane_t pl;
+    synth_plane(&pl, 0.3, -0.6, -0.75, 45);
+    synth_pose_t p = {-2, -6, -20 * DEG};
+    uint16_t n = synth_frame(&p, &pl, 800, 200, 0, 0.0, &rng, m, NULL);
+    for (int i = 0; i < n / 5; i++) {
+        m[i].x_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 640);
+        m[i].y_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
+    }
+    guarded_out_t g;
+    g.guard = SENTINEL;
+    assert_int_equal(spvs_estimate_h(&s, m, n, &g.out), SPVS_OK);
+    assert_int_equal(g.guard, SENTINEL);
+    assert_int_equal(g.out.n_inliers, n - n / 5);
+    assert_true(g.out.v == 0 && g.out.w == 0);
+    double Ht[9], He[9];
+    synth_H(&p, &pl, 800, Ht);
+    for (int k = 0; k < 9; k++) {
+        He[k] = (double)g.out.H[k];
+    }
+    assert_true(synth_corner_err(He, Ht) < 0.05);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_ok_and_remember),
+        cmocka_unit_test(test_every_status_stops),
+        cmocka_unit_test(test_estimate_h),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
