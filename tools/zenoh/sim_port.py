@@ -1,0 +1,179 @@
+"""The Zenoh end of `spvs-sim --transport zenoh`.
+
+spvs-sim has no Zenoh library to link (none is in a reachable registry), so
+its link (sim_host/zenoh/link_zenoh.c) starts this process and talks to it
+over its standard input and output:
+
+  stdin  (from spvs-sim): frames  u32 length (big-endian) + payload
+         payload = one LCM-encoded matches_t, put on spvs/<robot>/matches
+  stdout (to spvs-sim):   records u8 kind + u32 length (big-endian) + payload
+         kind 'R': ready (payload: a line of text), sent once, first
+         kind 'C': a sample of spvs/<robot>/cmd   (LCM-encoded cmd_t)
+         kind 'S': a sample of spvs/<robot>/state (LCM-encoded state_t)
+         kind 'E': a fatal error (payload: a line of text); the port exits
+
+The port does not look inside payloads: spvs-sim encodes and decodes them
+with the same wire code as the LCM link, and the bridge checks them.
+It is ready once its publisher has a matching subscriber (normally the
+bridge): samples put before that would be lost.  It exits when its input
+closes, on SIGINT/SIGTERM, or when spvs-sim stops reading.
+Exit status: 0 on end of input or a signal, 1 on a Zenoh failure, 2 on bad
+options.
+"""
+
+import argparse
+import os
+import signal
+import struct
+import sys
+import threading
+import time
+
+import spvs_zenoh_common as common
+
+PROG = "spvs-sim zenoh port"
+MAX_FRAME = 1 << 20  # far above one matches_t (5154 bytes)
+
+
+class Out:
+    """Records to stdout, one writer at a time (Zenoh calls back on its own
+    threads)."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.broken = False
+
+    def record(self, kind, payload):
+        data = kind + struct.pack(">I", len(payload)) + payload
+        with self.lock:
+            if self.broken:
+                return
+            try:
+                view = memoryview(data)
+                while view:
+                    n = os.write(1, view)
+                    view = view[n:]
+            except OSError:
+                # spvs-sim is gone; the read loop sees end of input next.
+                self.broken = True
+
+
+def read_exact(n):
+    """n bytes from stdin, or None at end of input."""
+    chunks = []
+    while n > 0:
+        b = os.read(0, n)
+        if not b:
+            return None
+        chunks.append(b)
+        n -= len(b)
+    return b"".join(chunks)
+
+
+class Stop(Exception):
+    pass
+
+
+def on_signal(signum, frame):
+    raise Stop()
+
+
+def main(argv):
+    p = argparse.ArgumentParser(prog="sim_port.py",
+                                description="Zenoh end of spvs-sim "
+                                "--transport zenoh (started by spvs-sim).")
+    p.add_argument("--robot", default="robot0")
+    p.add_argument("--connect", action="append", default=[], metavar="E")
+    p.add_argument("--listen", action="append", default=[], metavar="E")
+    p.add_argument("--mode", choices=("peer", "client"), default="peer")
+    p.add_argument("--scouting", choices=("on", "off"), default="off")
+    p.add_argument("--wait", type=float, default=5.0, metavar="S",
+                   help="longest wait for a subscriber of the matches, s")
+    a = p.parse_args(argv)
+    for why in [common.check_robot(a.robot)] + \
+            [common.check_endpoint(e) for e in a.connect + a.listen]:
+        if why:
+            sys.stderr.write("%s: %s\n" % (PROG, why))
+            return 2
+    if not (0.0 < a.wait <= 3600.0):
+        sys.stderr.write("%s: --wait must be in (0, 3600] s\n" % PROG)
+        return 2
+
+    out = Out()
+    signal.signal(signal.SIGTERM, on_signal)
+    signal.signal(signal.SIGINT, on_signal)
+    # A broken pipe is handled where it happens (Out.record).
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+
+    try:
+        import zenoh
+    except ImportError as e:
+        out.record(b"E", ("cannot import zenoh (%s): run scripts/setup_venv.sh"
+                          % e).encode())
+        return 1
+
+    session = None
+    try:
+        try:
+            cfg = common.zenoh_config(zenoh, a.mode, a.listen, a.connect,
+                                      a.scouting == "on")
+            session = zenoh.open(cfg)
+            remote = zenoh.Locality.REMOTE
+            key_m = common.key_expr(a.robot, "matches")
+            pub = session.declare_publisher(key_m, allowed_destination=remote)
+            session.declare_subscriber(
+                common.key_expr(a.robot, "cmd"),
+                lambda s: out.record(b"C", bytes(s.payload.to_bytes())),
+                allowed_origin=remote)
+            session.declare_subscriber(
+                common.key_expr(a.robot, "state"),
+                lambda s: out.record(b"S", bytes(s.payload.to_bytes())),
+                allowed_origin=remote)
+        except Stop:
+            raise
+        except Exception as e:
+            out.record(b"E", ("cannot open Zenoh (connect %s): %s"
+                              % (a.connect, e)).encode())
+            return 1
+
+        deadline = time.monotonic() + a.wait
+        while not pub.matching_status.matching:
+            if time.monotonic() > deadline:
+                out.record(b"E", ("nobody subscribes to %s after %.3g s (is "
+                                  "spvs-zenoh-bridge running at %s with "
+                                  "--robot %s?)" % (key_m, a.wait,
+                                                    ",".join(a.connect),
+                                                    a.robot)).encode())
+                return 1
+            time.sleep(0.02)
+        out.record(b"R", ("%s ready" % key_m).encode())
+
+        while True:
+            head = read_exact(4)
+            if head is None:
+                return 0
+            (n,) = struct.unpack(">I", head)
+            if n > MAX_FRAME:
+                out.record(b"E", ("frame of %d bytes from spvs-sim, more "
+                                  "than %d" % (n, MAX_FRAME)).encode())
+                return 1
+            payload = read_exact(n)
+            if payload is None:
+                return 0
+            pub.put(payload)
+    except Stop:
+        return 0
+    finally:
+        # Always close the session: an open one keeps Zenoh's threads
+        # running and the process would not exit.
+        if session is not None:
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+            try:
+                session.close()
+            except Exception:
+                pass
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,139 @@
+"""Shared pieces of the Zenoh side of spvs: key expressions, the Zenoh
+session configuration built from command-line options, and the checks a
+payload must pass before it crosses between Zenoh and LCM.
+
+Payloads on Zenoh are the LCM-encoded messages of lcm_types/ byte for byte:
+an 8-byte fingerprint of the type, then the fields big-endian (docs/ZENOH.md).
+"""
+
+import atexit
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+# The LCM channels and the Zenoh key expressions that mirror them
+# (DESIGN.md section 5).  The bridge maps each one in one direction only,
+# so it never hears its own output.
+CH_MATCHES = "SPVS_MATCHES"
+CH_CMD = "SPVS_CMD"
+CH_STATE = "SPVS_STATE"
+
+ROBOT_RE = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
+
+REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__))))
+
+
+def key_expr(robot, what):
+    """Key expression spvs/<robot>/<what> (what: matches, cmd or state)."""
+    return "spvs/%s/%s" % (robot, what)
+
+
+def check_robot(robot):
+    """Return None if robot is usable inside a key expression, else why not.
+
+    Zenoh reserves '*', '$', '#', '?' and '/' in key expressions; a robot
+    name is one chunk, so only plain characters are allowed."""
+    if not ROBOT_RE.match(robot):
+        return ("robot name '%s' must be 1..64 characters from "
+                "A-Z a-z 0-9 _ . -" % robot)
+    return None
+
+
+ENDPOINT_RE = re.compile(r"^(tcp|udp|tls|quic|unixsock-stream|ws)/.+")
+
+
+def check_endpoint(ep):
+    """Return None if ep looks like a Zenoh endpoint (proto/address)."""
+    if not ENDPOINT_RE.match(ep):
+        return ("endpoint '%s' is not of the form tcp/HOST:PORT "
+                "(or udp/, tls/, quic/, ws/, unixsock-stream/)" % ep)
+    return None
+
+
+def zenoh_config(zenoh, mode, listen, connect, scouting):
+    """A zenoh.Config for one process.
+
+    mode: "peer" or "client"; listen, connect: lists of endpoints;
+    scouting: True to discover others by multicast (off on loopback tests).
+    A peer that only connects still listens somewhere; left alone it would
+    listen on every interface, so it gets an ephemeral port on loopback."""
+    cfg = zenoh.Config()
+    cfg.insert_json5("mode", json.dumps(mode))
+    cfg.insert_json5("scouting/multicast/enabled", json.dumps(bool(scouting)))
+    if mode == "peer" and not listen and connect:
+        listen = ["tcp/127.0.0.1:0"]
+    if mode == "peer" or listen:
+        cfg.insert_json5("listen/endpoints", json.dumps(list(listen)))
+    if connect:
+        cfg.insert_json5("connect/endpoints", json.dumps(list(connect)))
+    return cfg
+
+
+def load_lcm_types(types_dir=None):
+    """Import the Python classes of lcm_types/ (module `spvs`).
+
+    types_dir: a folder holding the generated package spvs/ (the build's
+    lcm_types/python); None generates them with lcm-gen from the .lcm files
+    of this checkout into a temporary folder.  Returns the module."""
+    if types_dir is None:
+        sources = [os.path.join(REPO_ROOT, "lcm_types", n + ".lcm")
+                   for n in ("matches_t", "cmd_t", "state_t")]
+        for s in sources:
+            if not os.path.isfile(s):
+                raise RuntimeError("message type %s not found; pass "
+                                   "--lcm-types BUILD/lcm_types/python" % s)
+        types_dir = tempfile.mkdtemp(prefix="spvs-lcm-types-")
+        atexit.register(shutil.rmtree, types_dir, True)
+        try:
+            subprocess.run(["lcm-gen", "-p", "--ppath", types_dir] + sources,
+                           check=True, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, timeout=60)
+        except FileNotFoundError:
+            raise RuntimeError("lcm-gen not found (Debian: liblcm-bin); or "
+                               "pass --lcm-types BUILD/lcm_types/python")
+        except subprocess.CalledProcessError as e:
+            raise RuntimeError("lcm-gen failed: %s"
+                               % e.stderr.decode(errors="replace").strip())
+    if not os.path.isfile(os.path.join(types_dir, "spvs", "matches_t.py")):
+        raise RuntimeError("no generated spvs/matches_t.py in '%s'" % types_dir)
+    sys.path.insert(0, types_dir)
+    import spvs  # noqa: E402  (generated package, path set just above)
+    return spvs
+
+
+class PayloadCheck:
+    """Checks of one message type on the wire: exact size (every type has
+    fixed-size arrays, so every message of a type has one size), the
+    fingerprint, and for matches the count against the array capacity."""
+
+    def __init__(self, cls, capacity_field=None):
+        self.cls = cls
+        self.name = cls.__name__
+        self.fingerprint = cls._get_packed_fingerprint()
+        self.size = len(cls().encode())
+        self.capacity = None
+        if capacity_field is not None:
+            self.capacity = len(getattr(cls(), capacity_field))
+
+    def check(self, data):
+        """Return (message, None) for good bytes, (None, reason) otherwise."""
+        if len(data) != self.size:
+            return None, ("%s: wrong size %d bytes (want %d)"
+                          % (self.name, len(data), self.size))
+        if data[:8] != self.fingerprint:
+            return None, ("%s: wrong fingerprint %s (want %s)"
+                          % (self.name, data[:8].hex(),
+                             self.fingerprint.hex()))
+        try:
+            msg = self.cls.decode(data)
+        except Exception as e:  # struct errors from generated code
+            return None, "%s: undecodable (%s)" % (self.name, e)
+        if self.capacity is not None and not 0 <= msg.count <= self.capacity:
+            return None, ("%s: count %d outside 0..%d"
+                          % (self.name, msg.count, self.capacity))
+        return msg, None
