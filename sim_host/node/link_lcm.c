@@ -1,0 +1,174 @@
+/*
+ * link_lcm.c - the simulator's LCM link; see sim/link_lcm.h.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "sim/link_lcm.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "wire.h"
+
+typedef struct {
+    lcm_t *lcm;
+    char url[256];
+    double timeout_s;
+    int64_t run_id;
+    int64_t want_seq;
+    int got_cmd;
+    int got_state;
+    spvs_cmd_t cmd;
+    spvs_state_t state;
+    spvs_cmd_t rx_cmd;       /* decode scratch */
+    spvs_state_t rx_state;
+    spvs_matches_t msg;
+    lcm_subscription_t *sub_cmd;
+    lcm_subscription_t *sub_state;
+} link_lcm_t;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void on_cmd(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    (void)channel;
+    link_lcm_t *l = (link_lcm_t *)user;
+    if (spvs_cmd_t_decode(rbuf->data, 0, (int)rbuf->data_size, &l->rx_cmd) < 0)
+        return;
+    if (l->rx_cmd.seq == l->want_seq && !l->got_cmd) {
+        l->cmd = l->rx_cmd;
+        l->got_cmd = 1;
+    }
+}
+
+static void on_state(const lcm_recv_buf_t *rbuf, const char *channel,
+                     void *user)
+{
+    (void)channel;
+    link_lcm_t *l = (link_lcm_t *)user;
+    if (spvs_state_t_decode(rbuf->data, 0, (int)rbuf->data_size,
+                            &l->rx_state) < 0)
+        return;
+    if (l->rx_state.seq == l->want_seq) {
+        l->state = l->rx_state;
+        l->got_state = 1;
+    }
+}
+
+static int link_exchange(void *ctx, uint32_t seq, double t_s,
+                         const spvs_match_t *m, uint16_t n, spvs_output_t *out,
+                         char *err, unsigned err_len)
+{
+    link_lcm_t *l = (link_lcm_t *)ctx;
+    if (!isfinite(t_s) || t_s < 0.0 || t_s > 9.0e12) {
+        snprintf(err, err_len, "LCM link: frame %u has a bad time %g s",
+                 (unsigned)seq, t_s);
+        return -1;
+    }
+    int64_t utime = (int64_t)llround(t_s * 1e6);
+    if (spvs_wire_matches_from_core(&l->msg, seq, utime, l->run_id, m, n) !=
+        SPVS_OK) {
+        snprintf(err, err_len, "LCM link: frame %u has %u matches, more than "
+                 "the message capacity %d", (unsigned)seq, (unsigned)n,
+                 SPVS_MAX_MATCHES);
+        return -1;
+    }
+    l->want_seq = seq;
+    l->got_cmd = 0;
+    l->got_state = 0;
+    if (spvs_wire_publish_matches(l->lcm, &l->msg) != 0) {
+        snprintf(err, err_len, "LCM link: publishing frame %u on %s failed",
+                 (unsigned)seq, l->url);
+        return -1;
+    }
+
+    /* Wait for the answer, bounded by the timeout whatever else arrives. */
+    double deadline = now_s() + l->timeout_s;
+    while (!l->got_cmd) {
+        double left = deadline - now_s();
+        if (left <= 0.0) {
+            snprintf(err, err_len,
+                     "LCM link: no SPVS_CMD for frame %u within %.3g s on %s "
+                     "(is spvs-node running on that URL?)",
+                     (unsigned)seq, l->timeout_s, l->url);
+            return -1;
+        }
+        int ms = (int)ceil(left * 1000.0);
+        if (lcm_handle_timeout(l->lcm, ms > 0 ? ms : 1) < 0) {
+            snprintf(err, err_len, "LCM link: receive failed on %s", l->url);
+            return -1;
+        }
+    }
+    /* The node publishes the state before the command, so it is normally
+     * here already; take whatever else is queued without waiting. */
+    for (int k = 0; k < 4 && !l->got_state; k++)
+        if (lcm_handle_timeout(l->lcm, 0) <= 0)
+            break;
+    spvs_wire_output_from_msgs(out, &l->cmd, l->got_state ? &l->state : NULL);
+    if (!l->got_state)
+        out->n_matches = n;
+    return 0;
+}
+
+static void link_close(void *ctx)
+{
+    link_lcm_t *l = (link_lcm_t *)ctx;
+    if (!l)
+        return;
+    if (l->sub_cmd)
+        lcm_unsubscribe(l->lcm, l->sub_cmd);
+    if (l->sub_state)
+        lcm_unsubscribe(l->lcm, l->sub_state);
+    lcm_destroy(l->lcm);
+    free(l);
+}
+
+int sim_link_lcm_open(const char *url, double timeout_s, sim_link_t *out,
+                      char *err, unsigned err_len)
+{
+    if (!out || !(timeout_s > 0.0) || !isfinite(timeout_s)) {
+        snprintf(err, err_len, "LCM link: timeout must be positive seconds");
+        return -1;
+    }
+    link_lcm_t *l = (link_lcm_t *)calloc(1, sizeof(*l));
+    if (!l) {
+        snprintf(err, err_len, "LCM link: out of memory");
+        return -1;
+    }
+    snprintf(l->url, sizeof(l->url), "%s", url ? url : "(LCM default URL)");
+    l->timeout_s = timeout_s;
+    l->want_seq = -1;
+    /* A run id that differs from any earlier run's, so that a node still
+     * running from one resets its controller. */
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    l->run_id = ((int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec) ^
+                ((int64_t)getpid() << 40);
+    l->lcm = lcm_create(url);
+    if (!l->lcm) {
+        snprintf(err, err_len, "LCM link: cannot open '%s' (no multicast "
+                 "route? see docs/LCM.md)", l->url);
+        free(l);
+        return -1;
+    }
+    l->sub_cmd = lcm_subscribe(l->lcm, SPVS_CH_CMD, on_cmd, l);
+    l->sub_state = lcm_subscribe(l->lcm, SPVS_CH_STATE, on_state, l);
+    if (!l->sub_cmd || !l->sub_state) {
+        snprintf(err, err_len, "LCM link: subscribing on '%s' failed", l->url);
+        link_close(l);
+        return -1;
+    }
+    out->ctx = l;
+    out->exchange = link_exchange;
+    out->close = link_close;
+    return 0;
+}

@@ -1,0 +1,217 @@
+/*
+ * spvs_node_main.c - spvs-node: the controller as an LCM node.
+ *
+ * Subscribes to SPVS_MATCHES, runs the core (spvs_update) on each frame and
+ * publishes SPVS_STATE and SPVS_CMD; a watchdog publishes stops while frames
+ * are missing.  See node.h for the per-message rules and docs/LCM.md.
+ * Exit status: 0 after SIGINT/SIGTERM, 1 when LCM fails, 2 on bad options.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "node.h"
+
+#define DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+
+static volatile sig_atomic_t g_stop = 0;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+        "usage: spvs-node [options]\n"
+        "Controller node: SPVS_MATCHES in, SPVS_CMD and SPVS_STATE out.\n"
+        "  --method 1|2|3     control method (default 3)\n"
+        "  --gains FILE       parameter file, lines 'name = value'\n"
+        "  --k-w X --k-v X --k-w3 X --k-w11 X --v-max X --w-max X\n"
+        "                     gains and limits (override the file)\n"
+        "  --alpha PX         assumed focal length, pixels (default 800)\n"
+        "  --seed S           RANSAC seed (default 0)\n"
+        "  --param NAME=VALUE any parameter by name (see below)\n"
+        "  --lcm-url URL      LCM provider (default $LCM_DEFAULT_URL or\n"
+        "                     " DEFAULT_URL ")\n"
+        "  --watchdog S       publish stops after S s without valid\n"
+        "                     matches (default 0.5)\n"
+        "  --progress N       print a progress line every N frames (0 off)\n"
+        "  --log-level L      0 quiet, 1 errors (default), 2 info,\n"
+        "                     3 every frame\n"
+        "  --help\n"
+        "parameters:");
+    for (int i = 0; spvs_node_param_names[i]; i++)
+        fprintf(f, "%s%s", i % 8 ? " " : "\n  ", spvs_node_param_names[i]);
+    fprintf(f, "\n");
+}
+
+static int bad(const char *what, const char *arg)
+{
+    fprintf(stderr, "spvs-node: %s%s%s (see --help)\n", what,
+            arg ? ": " : "", arg ? arg : "");
+    return 2;
+}
+
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+    char *end = NULL;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || errno || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    long method = 3;
+    const char *gains = NULL;
+    const char *url = getenv("LCM_DEFAULT_URL");
+    double watchdog_s = 0.5;
+    long log_level = 1;
+    long progress = 0;
+    char err[256];
+
+    if (!url || !*url)
+        url = DEFAULT_URL;
+
+    /* Pass 1: options that decide the starting parameter set, so the order
+     * on the command line does not matter: defaults of the method, then the
+     * file, then the flags. */
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        if (strncmp(a, "--", 2) != 0)
+            return bad("unexpected argument", a);
+        if (i + 1 >= argc)
+            return bad("missing value for", a);
+        const char *v = argv[++i];
+        if (strcmp(a, "--method") == 0) {
+            if (parse_long(v, 1, 3, &method) != 0)
+                return bad("--method must be 1, 2 or 3, not", v);
+        } else if (strcmp(a, "--gains") == 0) {
+            gains = v;
+        } else if (strcmp(a, "--lcm-url") == 0) {
+            url = v;
+        } else if (strcmp(a, "--watchdog") == 0) {
+            char *end = NULL;
+            watchdog_s = strtod(v, &end);
+            if (end == v || *end != '\0' || !isfinite(watchdog_s) ||
+                watchdog_s <= 0.0 || watchdog_s > 3600.0)
+                return bad("--watchdog must be seconds in (0, 3600]", v);
+        } else if (strcmp(a, "--log-level") == 0) {
+            if (parse_long(v, 0, 3, &log_level) != 0)
+                return bad("--log-level must be 0..3, not", v);
+        } else if (strcmp(a, "--progress") == 0) {
+            if (parse_long(v, 0, 1000000, &progress) != 0)
+                return bad("--progress must be a frame count >= 0, not", v);
+        } else if (strcmp(a, "--k-w") && strcmp(a, "--k-v") &&
+                   strcmp(a, "--k-w3") && strcmp(a, "--k-w11") &&
+                   strcmp(a, "--v-max") && strcmp(a, "--w-max") &&
+                   strcmp(a, "--alpha") && strcmp(a, "--seed") &&
+                   strcmp(a, "--param")) {
+            return bad("unknown option", a);
+        }
+    }
+
+    spvs_params_t p;
+    spvs_params_default(&p, (spvs_method_t)method);
+    if (gains && spvs_node_params_load(&p, gains, err, sizeof(err)) != 0)
+        return bad("--gains", err);
+
+    /* Pass 2: the parameter flags, in order, over the file. */
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const char *a = argv[i];
+        const char *v = argv[i + 1];
+        char name[64];
+        const char *value = v;
+        if (strcmp(a, "--param") == 0) {
+            const char *eq = strchr(v, '=');
+            if (!eq || (size_t)(eq - v) >= sizeof(name))
+                return bad("--param wants NAME=VALUE, not", v);
+            memcpy(name, v, (size_t)(eq - v));
+            name[eq - v] = '\0';
+            value = eq + 1;
+        } else if (strcmp(a, "--k-w") == 0 || strcmp(a, "--k-v") == 0 ||
+                   strcmp(a, "--k-w3") == 0 || strcmp(a, "--k-w11") == 0 ||
+                   strcmp(a, "--v-max") == 0 || strcmp(a, "--w-max") == 0 ||
+                   strcmp(a, "--alpha") == 0 || strcmp(a, "--seed") == 0) {
+            /* --k-w3 -> k_w3 */
+            size_t n = strlen(a + 2);
+            if (n >= sizeof(name))
+                return bad("option too long", a);
+            for (size_t k = 0; k <= n; k++)
+                name[k] = a[2 + k] == '-' ? '_' : a[2 + k];
+        } else {
+            continue;
+        }
+        if (spvs_node_param_set(&p, name, value, err, sizeof(err)) != 0)
+            return bad("bad parameter", err);
+    }
+
+    struct sigaction sa;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    /* No SA_RESTART: a signal should cut the wait in lcm_handle_timeout. */
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    lcm_t *lcm = lcm_create(url);
+    if (!lcm) {
+        fprintf(stderr, "spvs-node: cannot open LCM at '%s' (no multicast "
+                        "route? see docs/LCM.md)\n", url);
+        return 1;
+    }
+
+    static spvs_node_t node; /* big (the core's buffers): not on the stack */
+    node.log_level = (int)log_level;
+    node.progress_every = (unsigned)progress;
+    node.progress = stdout;
+    int st = spvs_node_init(&node, lcm, &p, watchdog_s, spvs_node_now_s());
+    if (st != SPVS_OK) {
+        fprintf(stderr, "spvs-node: parameters rejected by the core: %s\n",
+                spvs_status_str(st));
+        lcm_destroy(lcm);
+        return 2;
+    }
+    if (log_level >= 2)
+        fprintf(stderr, "spvs-node: method %ld, %s, watchdog %.2f s\n",
+                method, url, watchdog_s);
+
+    int rc = 0;
+    while (!g_stop) {
+        /* Short waits keep the watchdog and the signal check responsive. */
+        int r = lcm_handle_timeout(lcm, 50);
+        if (r < 0 && !g_stop) {
+            fprintf(stderr, "spvs-node: error: LCM receive failed\n");
+            rc = 1;
+            break;
+        }
+        spvs_node_tick(&node, spvs_node_now_s());
+    }
+
+    if (log_level >= 2)
+        fprintf(stderr,
+                "spvs-node: exit: %u frames, %u duplicates, %u out of order, "
+                "%u rejected, %u undecodable, %u watchdog stops, %u runs\n",
+                node.stats.frames, node.stats.duplicates,
+                node.stats.out_of_order, node.stats.rejected,
+                node.stats.undecodable, node.stats.watchdog, node.stats.runs);
+    spvs_node_close(&node);
+    lcm_destroy(lcm);
+    return rc;
+}
