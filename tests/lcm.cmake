@@ -1,0 +1,48 @@
+# LCM side: the node's message handling (in-process, memq://), the same checks
+# against a separate spvs-node process, and the closed loop over LCM compared
+# with the in-process loop.  The process tests run inside a loopback-only
+# network namespace (tests/lcm/netns.sh).
+if(TARGET spvs_node_lib)
+  spvs_add_test(NAME test_node_msgs SOURCES test_node_msgs.c
+                LIBS spvs_node_lib LABELS "lcm;unit" TIMEOUT 60)
+  target_include_directories(test_node_msgs PRIVATE ${CMAKE_SOURCE_DIR}/sim_host/node)
+
+  if(SPVS_DOUBLE)
+    set(lcm_variant double)
+    # Matches travel as float32, so a double build's two runs differ by the
+    # rounding of the inputs, which the loop can amplify a little.
+    set(lcm_tol_m 1e-3)
+    set(lcm_tol_deg 1e-2)
+  else()
+    set(lcm_variant float)
+    # float build: the wire carries exactly what the core computes with, so
+    # only the JSON printing can differ.
+    set(lcm_tol_m 1e-9)
+    set(lcm_tol_deg 1e-7)
+  endif()
+
+  add_test(NAME lcm_node_robust
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/node_robust.sh
+                   $<TARGET_FILE:spvs-node> $<TARGET_FILE:test_node_msgs>)
+  set_tests_properties(lcm_node_robust PROPERTIES
+                       LABELS "${lcm_variant};lcm;process" TIMEOUT 90)
+
+  if(TARGET spvs-sim)
+    foreach(method 1 2 3)
+      add_test(NAME lcm_closed_loop_m${method}
+               COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/closed_loop.sh
+                       $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
+                       ${lcm_tol_m} ${lcm_tol_deg} --method ${method} --seed 0)
+      set_tests_properties(lcm_closed_loop_m${method} PROPERTIES
+                           LABELS "${lcm_variant};lcm;process;scenario" TIMEOUT 240)
+    endforeach()
+    # A noisy run with mismatches: RANSAC draws must match too.
+    add_test(NAME lcm_closed_loop_noise
+             COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/closed_loop.sh
+                     $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
+                     ${lcm_tol_m} ${lcm_tol_deg} --method 3 --seed 7
+                     --noise 0.5 --outliers 0.1)
+    set_tests_properties(lcm_closed_loop_noise PROPERTIES
+                         LABELS "${lcm_variant};lcm;process;scenario" TIMEOUT 240)
+  endif()
+endif()
