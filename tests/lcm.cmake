@@ -5,7 +5,6 @@
 if(TARGET spvs_node_lib)
   spvs_add_test(NAME test_node_msgs SOURCES test_node_msgs.c
                 LIBS spvs_node_lib LABELS "lcm;unit" TIMEOUT 60)
-  target_include_directories(test_node_msgs PRIVATE ${CMAKE_SOURCE_DIR}/sim_host/node)
 
   if(SPVS_DOUBLE)
     set(lcm_variant double)
