@@ -1,0 +1,354 @@
+/*
+ * fuzz_core.c - libFuzzer target for the core's update pipeline.
+ *
+ * Each input drives one fresh controller instance through up to MAX_FRAMES
+ * frames, so that the step logic, the off-plane memory and the time checks
+ * see sequences, not just single frames.  The bytes choose, per frame:
+ *   - how the matches are made: raw float bit patterns (NaN, infinities,
+ *     denormals, huge values), a consistent scene seen from a pose that
+ *     follows the controller's own commands (eq. 7), all points coincident,
+ *     all points on one line, or every match a mismatch;
+ *   - per-match damage to the consistent scene: NaN, +-Inf, huge, just out
+ *     of range, a duplicate of the previous match, a swapped (mismatched)
+ *     current point, a feature index out of range;
+ *   - the count, from 0 to past SPVS_MAX_MATCHES;
+ *   - the frame time: one period on, repeated, backwards, NaN, infinite, a
+ *     gap longer than max_frame_gap_s, or raw bits.
+ *
+ * Invariants checked after every call (a violation aborts, which libFuzzer
+ * reports as a crash):
+ *   - the returned status equals out.status and is one of spvs_status_t;
+ *   - every error comes with v = w = 0 exactly, and so do steps DONE and
+ *     FAILED;
+ *   - v and w are finite and within v_max, w_max;
+ *   - step is in 1..5; n_inliers <= n_matches.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "spvs/spvs.h"
+
+#define MAX_FRAMES 12
+/* Counts past the capacity exercise SPVS_E_CAPACITY. */
+#define MAX_N (SPVS_MAX_MATCHES + 8)
+#define N_PLANE_PTS 90
+#define N_OFF_PTS 30
+#define FOCAL_PX 800.0
+
+/* A reader over the fuzz bytes: past the end it returns zeros, so every
+ * input, however short, is a complete description. */
+typedef struct {
+    const uint8_t *p;
+    size_t n;
+    size_t at;
+} reader_t;
+
+static uint8_t rd_u8(reader_t *r)
+{
+    return r->at < r->n ? r->p[r->at++] : 0u;
+}
+
+static uint16_t rd_u16(reader_t *r)
+{
+    uint16_t hi = rd_u8(r);
+    return (uint16_t)((hi << 8) | rd_u8(r));
+}
+
+static uint32_t rd_u32(reader_t *r)
+{
+    uint32_t v = 0;
+    for (int i = 0; i < 4; i++) {
+        v = (v << 8) | rd_u8(r);
+    }
+    return v;
+}
+
+/* Raw float bits: NaN payloads, infinities, denormals all reachable. */
+static float rd_float_bits(reader_t *r)
+{
+    uint32_t u = rd_u32(r);
+    float f;
+    memcpy(&f, &u, sizeof(f));
+    return f;
+}
+
+/* A value in [lo, hi] from one byte. */
+static double rd_range(reader_t *r, double lo, double hi)
+{
+    return lo + (hi - lo) * (double)rd_u8(r) / 255.0;
+}
+
+static void fail(const char *what, int status, double v, double w, int step)
+{
+    fprintf(stderr, "fuzz_core: invariant broken: %s (status %d %s, v %g, "
+                    "w %g, step %d)\n",
+            what, status, spvs_status_str(status), v, w, step);
+    abort();
+}
+
+static void check_output(int rc, const spvs_output_t *out,
+                         const spvs_params_t *p, uint16_t n, int estimate_only)
+{
+    const double v = (double)out->v, w = (double)out->w;
+    const int step = out->step;
+    if (rc != out->status) {
+        fail("return value differs from out.status", rc, v, w, step);
+    }
+    if (rc > 0 || rc <= -SPVS_STATUS_COUNT) {
+        fail("status outside spvs_status_t", rc, v, w, step);
+    }
+    if (rc == SPVS_E_ARG || rc == SPVS_E_CONFIG) {
+        fail("valid pointers and parameters reported as bad", rc, v, w, step);
+    }
+    if (!isfinite(v) || !isfinite(w)) {
+        fail("non-finite command", rc, v, w, step);
+    }
+    if ((rc != SPVS_OK || estimate_only) && (v != 0.0 || w != 0.0)) {
+        fail("an error or an estimate-only call commands motion", rc, v, w,
+             step);
+    }
+    if (fabs(v) > (double)p->ctl.v_max * (1.0 + 1e-6) ||
+        fabs(w) > (double)p->ctl.w_max * (1.0 + 1e-6)) {
+        fail("command past the saturation limits", rc, v, w, step);
+    }
+    if (!estimate_only) {
+        if (step < SPVS_STEP_ROTATE || step > SPVS_STEP_FAILED) {
+            fail("step outside 1..5", rc, v, w, step);
+        }
+        if ((step == SPVS_STEP_DONE || step == SPVS_STEP_FAILED) &&
+            (v != 0.0 || w != 0.0)) {
+            fail("DONE or FAILED commands motion", rc, v, w, step);
+        }
+    }
+    if (out->n_matches != n || out->n_inliers > out->n_matches) {
+        fail("match counts inconsistent", rc, v, w, step);
+    }
+}
+
+/* The world of the consistent scene: plane points on n^T X = -d and
+ * off-plane points between the camera and the plane, both fixed by the
+ * input's first bytes; the robot pose follows the commands (eq. 7). */
+typedef struct {
+    double X[N_PLANE_PTS + N_OFF_PTS][3];
+    double x_m, z_m, phi_rad;
+} world_t;
+
+static void world_make(world_t *wd, reader_t *r)
+{
+    double n[3] = {rd_range(r, -0.6, 0.6), rd_range(r, -0.8, 0.8), -1.0};
+    double norm = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++) {
+        n[k] /= norm;
+    }
+    const double d_m = rd_range(r, 2.0, 60.0);
+    uint32_t h = rd_u32(r) | 1u;
+    for (int i = 0; i < N_PLANE_PTS + N_OFF_PTS; i++) {
+        /* xorshift32 picks a target pixel; the ray through it meets the
+         * plane (plane points) or stops short of it (off-plane points). */
+        h ^= h << 13;
+        h ^= h >> 17;
+        h ^= h << 5;
+        double u = (double)(h % 600u) - 300.0;
+        double v = (double)((h >> 10) % 440u) - 220.0;
+        double ray[3] = {u / FOCAL_PX, v / FOCAL_PX, 1.0};
+        double nr = n[0] * ray[0] + n[1] * ray[1] + n[2] * ray[2];
+        double lambda = nr < -1e-3 ? -d_m / nr : d_m;
+        if (i >= N_PLANE_PTS) {
+            lambda *= 0.35 + 0.5 * (double)((h >> 20) % 100u) / 100.0;
+        }
+        for (int k = 0; k < 3; k++) {
+            wd->X[i][k] = lambda * ray[k];
+        }
+    }
+    wd->x_m = rd_range(r, -4.0, 4.0);
+    wd->z_m = rd_range(r, -12.0, -0.05);
+    wd->phi_rad = rd_range(r, -1.2, 1.2);
+}
+
+/* Image of world point i in the current camera (R of eq. 3), pixels centred
+ * on the principal point.  Returns 0 when the point is behind the camera. */
+static int world_project(const world_t *wd, int i, double *x, double *y)
+{
+    const double c = cos(wd->phi_rad), s = sin(wd->phi_rad);
+    const double dx = wd->X[i][0] - wd->x_m, dz = wd->X[i][2] - wd->z_m;
+    const double Xc = c * dx + s * dz;
+    const double Zc = -s * dx + c * dz;
+    if (!(Zc > 0.1)) {
+        return 0;
+    }
+    *x = FOCAL_PX * Xc / Zc;
+    *y = FOCAL_PX * wd->X[i][1] / Zc;
+    return 1;
+}
+
+static uint16_t make_scene(reader_t *r, const world_t *wd, spvs_match_t *m,
+                           uint16_t n_want)
+{
+    uint16_t n = 0;
+    const int n_pts = N_PLANE_PTS + N_OFF_PTS;
+    for (int i = 0; i < n_pts && n < n_want; i++) {
+        double xc, yc;
+        if (!world_project(wd, i, &xc, &yc)) {
+            continue;
+        }
+        spvs_match_t *q = &m[n];
+        q->x_tgt = (spvs_real)(FOCAL_PX * wd->X[i][0] / wd->X[i][2]);
+        q->y_tgt = (spvs_real)(FOCAL_PX * wd->X[i][1] / wd->X[i][2]);
+        q->x_cur = (spvs_real)xc;
+        q->y_cur = (spvs_real)yc;
+        q->feature = (uint16_t)i;
+        n++;
+    }
+    /* Damage: one code byte per match, most of them harmless. */
+    const spvs_real zero = (spvs_real)(r->at > r->n ? 1 : 0) * SPVS_R(0.0);
+    for (uint16_t i = 0; i < n; i++) {
+        uint8_t code = rd_u8(r);
+        spvs_match_t *q = &m[i];
+        switch (code) {
+        case 1: q->x_cur = zero / zero; break;
+        case 2: q->y_tgt = SPVS_R(1.0) / zero; break;
+        case 3: q->x_tgt = -SPVS_R(1.0) / zero; break;
+        case 4: q->y_cur = SPVS_REAL_MAX; break;
+        case 5: q->x_cur = (spvs_real)(SPVS_MAX_COORD_PX + 1); break;
+        case 6: if (i > 0) { m[i] = m[i - 1]; } break;
+        case 7: if (i > 0) {
+                spvs_real t = q->x_cur;
+                q->x_cur = m[i - 1].x_cur;
+                m[i - 1].x_cur = t;
+            } break;
+        case 8: q->feature = (uint16_t)(SPVS_MAX_FEATURES + rd_u8(r)); break;
+        case 9: q->x_cur = (spvs_real)rd_range(r, -320.0, 320.0);
+                q->y_cur = (spvs_real)rd_range(r, -240.0, 240.0); break;
+        case 10: q->y_tgt = SPVS_R(0.0); q->y_cur = SPVS_R(0.0); break;
+        default: break;
+        }
+    }
+    return n;
+}
+
+static uint16_t make_raw(reader_t *r, spvs_match_t *m, uint16_t n)
+{
+    for (uint16_t i = 0; i < n; i++) {
+        m[i].x_tgt = (spvs_real)rd_float_bits(r);
+        m[i].y_tgt = (spvs_real)rd_float_bits(r);
+        m[i].x_cur = (spvs_real)rd_float_bits(r);
+        m[i].y_cur = (spvs_real)rd_float_bits(r);
+        m[i].feature = rd_u16(r);
+    }
+    return n;
+}
+
+/* Degenerate layouts: every point the same, or every point on one line
+ * (in both images), optionally with a few exact duplicates. */
+static uint16_t make_degenerate(reader_t *r, spvs_match_t *m, uint16_t n,
+                                int collinear)
+{
+    const double a = rd_range(r, -300.0, 300.0), b = rd_range(r, -200.0, 200.0);
+    const double ka = rd_range(r, -2.0, 2.0), kb = rd_range(r, -2.0, 2.0);
+    const double shift = rd_range(r, -50.0, 50.0);
+    for (uint16_t i = 0; i < n; i++) {
+        double s = collinear ? (double)i - 0.5 * (double)n : 0.0;
+        m[i].x_tgt = (spvs_real)(a + s);
+        m[i].y_tgt = (spvs_real)(b + ka * s);
+        m[i].x_cur = (spvs_real)(a + shift + 1.1 * s);
+        m[i].y_cur = (spvs_real)(b + kb * s);
+        m[i].feature = (uint16_t)(i % SPVS_MAX_FEATURES);
+    }
+    return n;
+}
+
+/* Every current point unrelated to its target point. */
+static uint16_t make_mismatches(reader_t *r, spvs_match_t *m, uint16_t n)
+{
+    uint32_t h = rd_u32(r) | 1u;
+    for (uint16_t i = 0; i < n; i++) {
+        double v[4];
+        for (int k = 0; k < 4; k++) {
+            h ^= h << 13;
+            h ^= h >> 17;
+            h ^= h << 5;
+            v[k] = (double)(h % 640u) - 320.0;
+        }
+        m[i].x_tgt = (spvs_real)v[0];
+        m[i].y_tgt = (spvs_real)(0.75 * v[1]);
+        m[i].x_cur = (spvs_real)v[2];
+        m[i].y_cur = (spvs_real)(0.75 * v[3]);
+        m[i].feature = (uint16_t)i;
+    }
+    return n;
+}
+
+static double next_time(reader_t *r, double t_s, double *dt_s)
+{
+    const double zero = (double)(r->at > r->n ? 1 : 0) * 0.0;
+    uint8_t code = rd_u8(r);
+    switch (code % 12u) {
+    case 0: return t_s;                      /* repeated: stale            */
+    case 1: return t_s - 0.1;                /* backwards                  */
+    case 2: return zero / zero;              /* NaN                        */
+    case 3: return 1.0 / zero;               /* +Inf                       */
+    case 4: return t_s + 5.0;                /* gap past max_frame_gap_s   */
+    case 5: return (double)rd_float_bits(r); /* anything                   */
+    case 6: *dt_s = rd_range(r, 0.01, 0.5); return t_s + *dt_s;
+    default: *dt_s = 0.1; return t_s + 0.1;  /* one control period         */
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    /* Big: static, as on the robot. */
+    static spvs_t s;
+    static spvs_match_t m[MAX_N];
+    static world_t wd;
+    reader_t r = {data, size, 0};
+
+    const uint8_t head = rd_u8(&r);
+    spvs_params_t p;
+    spvs_params_default(&p, (spvs_method_t)(1 + head % 3u));
+    p.seed = rd_u8(&r);
+    if (spvs_init(&s, &p) != SPVS_OK) {
+        fail("default parameters rejected", SPVS_E_CONFIG, 0.0, 0.0, 0);
+    }
+    world_make(&wd, &r);
+
+    const int frames = 1 + (int)(rd_u8(&r) % MAX_FRAMES);
+    double t_s = 0.0;
+    for (int f = 0; f < frames && r.at < r.n; f++) {
+        const uint8_t mode = rd_u8(&r);
+        double dt_s = 0.1;
+        t_s = next_time(&r, t_s, &dt_s);
+        uint16_t n;
+        switch (mode % 8u) {
+        case 0:
+            n = (uint16_t)(rd_u16(&r) % (MAX_N + 1));
+            n = make_raw(&r, m, n);
+            break;
+        case 1: n = make_degenerate(&r, m, (uint16_t)(rd_u8(&r) % 40u), 0); break;
+        case 2: n = make_degenerate(&r, m, (uint16_t)(rd_u16(&r) % (MAX_N + 1)), 1); break;
+        case 3: n = make_mismatches(&r, m, (uint16_t)(rd_u16(&r) % (MAX_N + 1))); break;
+        default:
+            n = make_scene(&r, &wd, m, (uint16_t)(rd_u8(&r) % (N_PLANE_PTS + N_OFF_PTS + 1)));
+            break;
+        }
+        spvs_output_t out;
+        const int estimate_only = (mode & 0x80u) && (mode % 8u) < 4u;
+        int rc = estimate_only ? spvs_estimate_h(&s, m, n, &out)
+                               : spvs_update(&s, m, n, (spvs_real)t_s, &out);
+        check_output(rc, &out, &p, n, estimate_only);
+
+        /* The robot moves on the command for one period (eq. 7), so that the
+         * next consistent frame sees the result of this one. */
+        if (isfinite(dt_s) && dt_s > 0.0) {
+            const double v = (double)out.v, w = (double)out.w;
+            wd.x_m += -v * sin(wd.phi_rad) * dt_s;
+            wd.z_m += v * cos(wd.phi_rad) * dt_s;
+            wd.phi_rad += w * dt_s;
+        }
+    }
+    return 0;
+}
