@@ -1,0 +1,43 @@
+# The Zenoh interface (docs/ZENOH.md): spvs-sim over Zenoh, spvs-zenoh-bridge,
+# spvs-node over LCM.  Each check runs inside a network namespace with only
+# loopback (tests/zenoh/netns.sh) with the venv's Python; the venv is made
+# (or found ready) by the zenoh_venv fixture, which needs PyPI only once.
+if(NOT TARGET spvs_zenoh_link OR NOT TARGET spvs-node)
+  return()
+endif()
+
+if(SPVS_DOUBLE)
+  set(zenoh_variant double)
+else()
+  set(zenoh_variant float)
+endif()
+set(zenoh_root ${PROJECT_SOURCE_DIR})
+set(zenoh_run sh ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/netns.sh ${zenoh_root})
+set(zenoh_check ${zenoh_root}/.venv/bin/python
+    ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/check_zenoh.py)
+set(zenoh_dirs --build ${CMAKE_BINARY_DIR} --root ${zenoh_root})
+
+add_test(NAME zenoh_venv COMMAND ${zenoh_root}/scripts/setup_venv.sh)
+set_tests_properties(zenoh_venv PROPERTIES FIXTURES_SETUP zenoh_venv
+                     LABELS "${zenoh_variant};zenoh" TIMEOUT 600)
+
+# name | seconds | check and its options
+set(zenoh_cases
+  "zenoh_loop_m3_seed3|120|loop --method 3 --seed 3"
+  "zenoh_loop_m1_seed5_noise|120|loop --method 1 --seed 5 --noise 0.5"
+  "zenoh_loop_m2_seed7|120|loop --method 2 --seed 7"
+  "zenoh_bridge_restart|150|restart --method 3 --seed 3"
+  "zenoh_bad_payloads|120|bad"
+  "zenoh_cli|150|cli")
+foreach(case IN LISTS zenoh_cases)
+  string(REPLACE "|" ";" parts "${case}")
+  list(GET parts 0 name)
+  list(GET parts 1 seconds)
+  list(GET parts 2 args)
+  separate_arguments(args UNIX_COMMAND "${args}")
+  add_test(NAME ${name}
+           COMMAND ${zenoh_run} ${seconds} ${zenoh_check} ${args} ${zenoh_dirs})
+  set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED zenoh_venv
+                       LABELS "${zenoh_variant};zenoh" TIMEOUT ${seconds}
+                       SKIP_RETURN_CODE 77)
+endforeach()
