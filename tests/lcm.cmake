@@ -35,6 +35,15 @@ if(TARGET spvs_node_lib)
       set_tests_properties(lcm_closed_loop_m${method} PROPERTIES
                            LABELS "${lcm_variant};lcm;process;scenario" TIMEOUT 240)
     endforeach()
+    add_test(NAME lcm_sim_timeout
+             COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/sim_timeout.sh $<TARGET_FILE:spvs-sim>)
+    set_tests_properties(lcm_sim_timeout PROPERTIES
+                         LABELS "${lcm_variant};lcm;process" TIMEOUT 60)
+    add_test(NAME plot_figures
+             COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/plot.sh $<TARGET_FILE:spvs-sim>
+                     ${CMAKE_CURRENT_SOURCE_DIR}/../tools/plot)
+    set_tests_properties(plot_figures PROPERTIES
+                         LABELS "${lcm_variant};tools" TIMEOUT 120)
     # A noisy run with mismatches: RANSAC draws must match too.
     add_test(NAME lcm_closed_loop_noise
              COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/closed_loop.sh
