@@ -219,6 +219,17 @@ def check_loop(env, a):
     port = free_port()
     node = env.start_node(a.method, a.seed)
     bridge = env.start_bridge(port)
+    # The documented example subscriber watches the commands on Zenoh.
+    example = env.start("example", [
+        os.path.join(env.root, ".venv", "bin", "python"),
+        os.path.join(env.root, "tools", "zenoh", "example_subscriber.py"),
+        "--connect", "tcp/127.0.0.1:%d" % port])
+    # It is on the network once the node's idle watchdog stops reach it.
+    end = time.monotonic() + 15
+    while "cmd seq -1 " not in env.text("example", "out"):
+        expect(time.monotonic() < end, "the example subscriber received "
+               "nothing in 15 s")
+        time.sleep(0.05)
     t0 = time.monotonic()
     sim = env.start("sim", [env.sim, "--transport", "zenoh",
                             "--zenoh-endpoint", "tcp/127.0.0.1:%d" % port,
@@ -235,12 +246,32 @@ def check_loop(env, a):
     expect(over.get("transport") == "zenoh", "the run says transport %r"
            % over.get("transport"))
     same_result(over, ref, "method %d seed %d" % (a.method, a.seed))
+
+    last = "cmd seq %d " % (ref["frames"] - 1)
+    end = time.monotonic() + 3
+    while last not in env.text("example", "out") and time.monotonic() < end:
+        time.sleep(0.05)
+    expect(env.stop(example, signal.SIGINT) == 0,
+           "the example subscriber did not exit 0 on SIGINT")
+    lines = [l for l in env.text("example", "out").splitlines()
+             if l.startswith("cmd seq ") and not l.startswith("cmd seq -1 ")]
+    seqs = set(int(l.split()[2]) for l in lines)
+    expect(seqs == set(range(ref["frames"])),
+           "the example subscriber saw %d of the %d frames' commands"
+           % (len(seqs), ref["frames"]))
+    final = [l for l in lines if l.startswith(last)]
+    want_step = "step 4 " if ref["status"] == "converged" else "step "
+    expect(final and want_step in final[-1],
+           "the example subscriber's answer to the last frame: %r"
+           % (final[-1] if final else None))
+
     expect(env.stop(bridge) == 0, "the bridge did not exit 0 on SIGTERM")
     expect(env.stop(node) == 0, "spvs-node did not exit 0 on SIGTERM")
     print("ok: method %d seed %d noise %g over Zenoh: %s, final error %s "
           "(x m, z m, phi deg), %d frames, equal to the in-process run; "
-          "%.2f s wall" % (a.method, a.seed, a.noise, over["status"],
-                           over["final_error"], over["frames"], wall))
+          "%.2f s wall; example subscriber saw %d commands, last %r"
+          % (a.method, a.seed, a.noise, over["status"], over["final_error"],
+             over["frames"], wall, len(lines), final[-1]))
 
 
 def check_restart(env, a):
