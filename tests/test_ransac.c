@@ -71,7 +71,7 @@ static void test_exact_iterations(void **state)
 {
     (void)state;
     mock_t mk = {0, 0, 50, 0, 0};
-    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 200, 8};
     spvs_rng_t rng;
     spvs_rng_seed(&rng, 1);
@@ -114,7 +114,7 @@ static void test_statuses(void **state)
 {
     (void)state;
     mock_t mk = {0, 0, 50, 1, 0};
-    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 30, 8};
     spvs_rng_t rng;
     spvs_rng_seed(&rng, 1);

@@ -65,10 +65,13 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
     /* 1-point consensus: each usable candidate's direction is a hypothesis;
      * a candidate supports it when it points the same way within the angle
      * whose squared sine is sin_tol2 (no square roots, no divisions).
-     * Bound: n_cand^2 <= SPVS_MAX_OFFPLANE^2 pair tests. */
+     * Bound: SPVS_EPIPOLE_MAX_HYP x SPVS_MAX_OFFPLANE pair tests. */
     uint16_t best = 0;
     uint16_t best_support = 0;
-    for (uint16_t j = 0; j < n_cand; j++) {
+    /* At most SPVS_EPIPOLE_MAX_HYP hypotheses, evenly spread over the list. */
+    uint16_t n_hyp = n_cand < SPVS_EPIPOLE_MAX_HYP ? n_cand : (uint16_t)SPVS_EPIPOLE_MAX_HYP;
+    for (uint16_t h = 0; h < n_hyp; h++) {
+        uint16_t j = (uint16_t)(((uint32_t)h * n_cand) / n_hyp);
         if (!(n2[j] > DIR_MIN2)) {
             continue;
         }

@@ -105,23 +105,97 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
     return du * du + dv * dv;
 }
 
-/* Sum of squared transfer errors over the used points; a point behind the
- * camera makes the whole cost "infinite" so a step that causes it is refused. */
-static spvs_real refit_cost(const spvs_real (*pts)[4], const uint8_t *use,
-                            uint16_t n, const spvs_real H[9])
+int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                      spvs_real H[9])
 {
-    spvs_real cost = SPVS_R(0.0);
+    /* Row 3: sum over the used points of (y_cur (h3 . p) - y_tgt)^2 / w0^2,
+     * w0 the current H's third coordinate, is the y transfer error at w0. */
+    /* Unique entries of the symmetric normal matrices, kept in scalars so
+     * that the per-point work stays in registers. */
+    spvs_real a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;
+    spvs_real b0 = 0, b1 = 0, b2 = 0;
+    uint16_t used = 0;
     for (uint16_t i = 0; i < n; i++) {
         if (!use[i]) {
             continue;
         }
-        spvs_real e2 = spvs_h_transfer_err2(H, pts[i]);
-        if (e2 < SPVS_R(0.0)) {
-            return SPVS_REAL_MAX;
+        const spvs_real *q = pts[i];
+        spvs_real w0 = H[6] * q[0] + H[7] * q[1] + H[8];
+        if (!(w0 > W_EPS)) {
+            return SPVS_E_DEGENERATE;
         }
-        cost += e2;
+        spvs_real iw = SPVS_R(1.0) / w0;
+        /* Row r = y_cur (x_tgt, y_tgt, 1) / w0, right side y_tgt / w0. */
+        spvs_real r2 = q[3] * iw;
+        spvs_real r0 = r2 * q[0];
+        spvs_real r1 = r2 * q[1];
+        spvs_real rhs = q[1] * iw;
+        a00 += r0 * r0;
+        a01 += r0 * r1;
+        a02 += r0 * r2;
+        a11 += r1 * r1;
+        a12 += r1 * r2;
+        a22 += r2 * r2;
+        b0 += r0 * rhs;
+        b1 += r1 * rhs;
+        b2 += r2 * rhs;
+        used++;
     }
-    return cost;
+    if (used < 3) {
+        return SPVS_E_TOO_FEW;
+    }
+    const spvs_real A[3][3] = {{a00, a01, a02}, {a01, a11, a12}, {a02, a12, a22}};
+    const spvs_real b[3] = {b0, b1, b2};
+    spvs_real h3[3];
+    if (!solve3x3(A, b, h3)) {
+        return SPVS_E_DEGENERATE;
+    }
+    /* Row 1 given row 3: sum of (h1 . p - x_cur w)^2 / w^2 is exactly the x
+     * transfer error. */
+    spvs_real c00 = 0, c01 = 0, c02 = 0, c11 = 0, c12 = 0, c22 = 0;
+    spvs_real d0 = 0, d1 = 0, d2 = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        const spvs_real *q = pts[i];
+        spvs_real w = h3[0] * q[0] + h3[1] * q[1] + h3[2];
+        if (!(w > W_EPS)) {
+            return SPVS_E_DEGENERATE;
+        }
+        spvs_real iw = SPVS_R(1.0) / w;
+        spvs_real p0 = q[0] * iw;
+        spvs_real p1 = q[1] * iw;
+        spvs_real p2 = iw;
+        spvs_real rhs = q[2];
+        c00 += p0 * p0;
+        c01 += p0 * p1;
+        c02 += p0 * p2;
+        c11 += p1 * p1;
+        c12 += p1 * p2;
+        c22 += p2 * p2;
+        d0 += p0 * rhs;
+        d1 += p1 * rhs;
+        d2 += p2 * rhs;
+    }
+    const spvs_real B[3][3] = {{c00, c01, c02}, {c01, c11, c12}, {c02, c12, c22}};
+    const spvs_real c[3] = {d0, d1, d2};
+    spvs_real h1[3];
+    if (!solve3x3(B, c, h1)) {
+        return SPVS_E_DEGENERATE;
+    }
+    for (int k = 0; k < 3; k++) {
+        if (!is_finite(h1[k]) || !is_finite(h3[k])) {
+            return SPVS_E_DEGENERATE;
+        }
+    }
+    H[0] = h1[0];
+    H[1] = h1[1];
+    H[2] = h1[2];
+    H[6] = h3[0];
+    H[7] = h3[1];
+    H[8] = h3[2];
+    return SPVS_OK;
 }
 
 /* Solve the 6x6 symmetric positive definite system N x = g by Cholesky.
@@ -163,6 +237,86 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
     return 1;
 }
 
+/* One pass over the used points at H: the summed squared transfer error
+ * (returned; SPVS_REAL_MAX when a point is behind the camera) and the
+ * Gauss-Newton normal equations N d = g for theta = (h11 h12 h13 h31 h32 h33)
+ * with residuals r_x = (h1 . p) / w - x_cur, r_y = y_tgt / w - y_cur,
+ * w = h3 . p.  With u = (h1 . p) / w and v = y_tgt / w the Jacobian rows are
+ * d r_x = [p / w, -u p / w] and d r_y = [0, -v p / w], so every block of N
+ * is a weighted sum of p p^T:
+ *   N11 = sum p p^T / w^2, N13 = -sum u p p^T / w^2,
+ *   N33 = sum (u^2 + v^2) p p^T / w^2,
+ * and only the six distinct entries of p p^T are accumulated, per weight. */
+static spvs_real refit_pass(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                            const spvs_real H[9], spvs_real N[6][6], spvs_real g[6])
+{
+    /* q = (x^2, x y, x, y^2, y, 1) */
+    spvs_real S1[6] = {0}, S2[6] = {0}, S3[6] = {0};
+    spvs_real G1[3] = {0}, G3[3] = {0};
+    spvs_real cost = SPVS_R(0.0);
+    for (uint16_t i = 0; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        const spvs_real *q = pts[i];
+        const spvs_real x = q[0], y = q[1];
+        spvs_real w = H[6] * x + H[7] * y + H[8];
+        if (!(w > W_EPS)) {
+            return SPVS_REAL_MAX;
+        }
+        spvs_real iw = SPVS_R(1.0) / w;
+        spvs_real u = (H[0] * x + H[1] * y + H[2]) * iw;
+        spvs_real v = y * iw;
+        spvs_real rx = u - q[2];
+        spvs_real ry = v - q[3];
+        cost += rx * rx + ry * ry;
+        spvs_real iw2 = iw * iw;
+        spvs_real a1 = iw2;
+        spvs_real a2 = -u * iw2;
+        spvs_real a3 = (u * u + v * v) * iw2;
+        spvs_real b1 = -rx * iw;
+        spvs_real b3 = (u * rx + v * ry) * iw;
+        const spvs_real xx = x * x, xy = x * y, yy = y * y;
+        S1[0] += a1 * xx;
+        S1[1] += a1 * xy;
+        S1[2] += a1 * x;
+        S1[3] += a1 * yy;
+        S1[4] += a1 * y;
+        S1[5] += a1;
+        S2[0] += a2 * xx;
+        S2[1] += a2 * xy;
+        S2[2] += a2 * x;
+        S2[3] += a2 * yy;
+        S2[4] += a2 * y;
+        S2[5] += a2;
+        S3[0] += a3 * xx;
+        S3[1] += a3 * xy;
+        S3[2] += a3 * x;
+        S3[3] += a3 * yy;
+        S3[4] += a3 * y;
+        S3[5] += a3;
+        G1[0] += b1 * x;
+        G1[1] += b1 * y;
+        G1[2] += b1;
+        G3[0] += b3 * x;
+        G3[1] += b3 * y;
+        G3[2] += b3;
+    }
+    /* Unpack the symmetric 3x3 blocks: index of (r, c) in q. */
+    static const uint8_t qi[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++) {
+            N[r][c] = S1[qi[r][c]];
+            N[r][3 + c] = S2[qi[r][c]];
+            N[3 + r][c] = S2[qi[r][c]];
+            N[3 + r][3 + c] = S3[qi[r][c]];
+        }
+        g[r] = G1[r];
+        g[3 + r] = G3[r];
+    }
+    return cost;
+}
+
 int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
                  spvs_real H[9])
 {
@@ -175,86 +329,53 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
     }
 
     spvs_real Hc[9];
+    spvs_real Hprev[9];
     for (int k = 0; k < 9; k++) {
         Hc[k] = H[k];
+        Hprev[k] = H[k];
     }
-    spvs_real cost = refit_cost(pts, use, n, Hc);
-    if (!(cost < SPVS_REAL_MAX)) {
-        return SPVS_E_DEGENERATE;
-    }
-
-    /* Gauss-Newton on theta = (h11 h12 h13 h31 h32 h33) with residuals
-     *   r_x = (h1 . p) / w - x_cur,  r_y = y_tgt / w - y_cur,  w = h3 . p.
-     * Jacobian per point (p = (x_tgt, y_tgt, 1), u = (h1 . p) / w,
-     * v = y_tgt / w):  d r_x = [p / w, -u p / w],  d r_y = [0, -v p / w]. */
-    int improved = 0;
-    for (int it = 0; it < SPVS_REFIT_MAX_ITERS; it++) {
-        spvs_real N[6][6] = {{0}};
-        spvs_real g[6] = {0};
-        for (uint16_t i = 0; i < n; i++) {
-            if (!use[i]) {
-                continue;
+    spvs_real N[6][6];
+    spvs_real g[6];
+    spvs_real prev = SPVS_REAL_MAX;
+    int have = 0;
+    /* Each pass evaluates the cost of the last step and linearises there.
+     * A step that raises the cost is undone and ends the refit; so does a
+     * relative improvement under 1e-4 (a Gauss-Newton from a RANSAC start
+     * gets there in one or two steps).  Bound: SPVS_REFIT_MAX_ITERS + 1
+     * passes. */
+    for (int it = 0; it <= SPVS_REFIT_MAX_ITERS; it++) {
+        spvs_real cost = refit_pass(pts, use, n, Hc, N, g);
+        if (!(cost <= prev)) {
+            for (int k = 0; k < 9; k++) {
+                Hc[k] = Hprev[k];
             }
-            const spvs_real *q = pts[i];
-            spvs_real w = Hc[6] * q[0] + Hc[7] * q[1] + Hc[8];
-            spvs_real iw = SPVS_R(1.0) / w; /* w > 0: refit_cost checked it */
-            spvs_real u = (Hc[0] * q[0] + Hc[1] * q[1] + Hc[2]) * iw;
-            spvs_real v = q[1] * iw;
-            spvs_real rx = u - q[2];
-            spvs_real ry = v - q[3];
-            spvs_real p[3] = {q[0] * iw, q[1] * iw, iw};
-            spvs_real jx[6] = {p[0], p[1], p[2], -u * p[0], -u * p[1], -u * p[2]};
-            spvs_real jy3[3] = {-v * p[0], -v * p[1], -v * p[2]};
-            for (int a = 0; a < 6; a++) {
-                g[a] -= jx[a] * rx;
-                for (int b = 0; b <= a; b++) {
-                    N[a][b] += jx[a] * jx[b];
-                }
-            }
-            for (int a = 0; a < 3; a++) {
-                g[3 + a] -= jy3[a] * ry;
-                for (int b = 0; b <= a; b++) {
-                    N[3 + a][3 + b] += jy3[a] * jy3[b];
-                }
-            }
+            break;
         }
-        for (int a = 0; a < 6; a++) {
-            for (int b = a + 1; b < 6; b++) {
-                N[a][b] = N[b][a];
-            }
+        have = 1;
+        int small = (prev - cost) <= SPVS_R(1.0e-4) * cost;
+        prev = cost;
+        if (small || it == SPVS_REFIT_MAX_ITERS) {
+            break;
         }
         spvs_real d[6];
         if (!cholesky6(N, g, d)) {
-            if (!improved && it == 0) {
+            if (it == 0) {
                 return SPVS_E_DEGENERATE;
             }
             break;
         }
-        spvs_real Hn[9];
         for (int k = 0; k < 9; k++) {
-            Hn[k] = Hc[k];
+            Hprev[k] = Hc[k];
         }
-        Hn[0] += d[0];
-        Hn[1] += d[1];
-        Hn[2] += d[2];
-        Hn[6] += d[3];
-        Hn[7] += d[4];
-        Hn[8] += d[5];
-        spvs_real cn = refit_cost(pts, use, n, Hn);
-        /* Keep a step only if it lowers the cost; Gauss-Newton from a RANSAC
-         * start converges in one or two steps, so stop at the first refusal. */
-        if (!(cn <= cost)) {
-            break;
-        }
-        spvs_real rel = cost - cn;
-        for (int k = 0; k < 9; k++) {
-            Hc[k] = Hn[k];
-        }
-        cost = cn;
-        improved = 1;
-        if (rel <= SPVS_R(1.0e-6) * cost) {
-            break;
-        }
+        Hc[0] += d[0];
+        Hc[1] += d[1];
+        Hc[2] += d[2];
+        Hc[6] += d[3];
+        Hc[7] += d[4];
+        Hc[8] += d[5];
+    }
+    if (!have) {
+        return SPVS_E_DEGENERATE;
     }
     for (int k = 0; k < 9; k++) {
         if (!is_finite(Hc[k])) {

@@ -114,7 +114,27 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
             continue;
         }
         spvs_real cost = SPVS_R(0.0);
-        uint16_t cnt = est->score(est->ctx, model, opts->threshold2, best_n, 0, &cost);
+        /* The hypothesis' inliers land in mask_out; only a new best (whose
+         * mask is complete) uses them. */
+        uint16_t cnt = est->score(est->ctx, model, opts->threshold2, best_n, mask_out, &cost);
+        if (est->refine != 0 && (cnt > best_n || !have)) {
+            /* Local optimisation: polish the new best on its inliers. */
+            spvs_real polished[SPVS_MODEL_MAX];
+            for (int k = 0; k < SPVS_MODEL_MAX; k++) {
+                polished[k] = model[k];
+            }
+            if (est->refine(est->ctx, polished, mask_out) == SPVS_OK) {
+                spvs_real pcost = SPVS_R(0.0);
+                uint16_t pcnt = est->score(est->ctx, polished, opts->threshold2, cnt, 0, &pcost);
+                if (pcnt > cnt || (pcnt == cnt && pcost < cost)) {
+                    cnt = pcnt;
+                    cost = pcost;
+                    for (int k = 0; k < SPVS_MODEL_MAX; k++) {
+                        model[k] = polished[k];
+                    }
+                }
+            }
+        }
         if (cnt > best_n || (have && cnt == best_n && cost < best_cost) ||
             (!have && cnt >= best_n)) {
             best_n = cnt;

@@ -113,8 +113,8 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
             c += e2;
         } else {
             outl++;
-            /* Without a mask, stop once this model cannot reach `need`. */
-            if (mask == 0 && outl > max_out) {
+            /* Stop once this model cannot reach `need`. */
+            if (outl > max_out) {
                 *cost = c;
                 return inl;
             }
@@ -125,6 +125,13 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
     }
     *cost = c;
     return inl;
+}
+
+/* LO step: polish a hypothesis with the weighted linear fit on its inliers. */
+static int est_refine(void *ctx, spvs_real *H, const uint8_t *mask)
+{
+    spvs_t *s = (spvs_t *)ctx;
+    return spvs_h_fit_linear((const spvs_real(*)[4])s->pts, mask, s->n_plane, H);
 }
 
 /* ---- input validation and the estimation stage --------------------------- */
@@ -140,6 +147,8 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
 {
     const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    uint16_t front = 0;
+    uint16_t back = n;
     for (uint16_t i = 0; i < n; i++) {
         const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
         for (int j = 0; j < 4; j++) {
@@ -153,20 +162,12 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
         if (m[i].feature >= SPVS_MAX_FEATURES) {
             return SPVS_E_RANGE;
         }
-    }
-    uint16_t front = 0;
-    uint16_t back = n;
-    for (uint16_t i = 0; i < n; i++) {
-        uint16_t k;
-        if (s->offplane[m[i].feature] >= OFFPLANE_ON) {
-            k = --back;
-        } else {
-            k = front++;
-        }
-        s->pts[k][0] = m[i].x_tgt * inv;
-        s->pts[k][1] = m[i].y_tgt * inv;
-        s->pts[k][2] = m[i].x_cur * inv;
-        s->pts[k][3] = m[i].y_cur * inv;
+        /* Checked: file it, off-plane features at the back. */
+        uint16_t k = s->offplane[m[i].feature] >= OFFPLANE_ON ? --back : front++;
+        s->pts[k][0] = c[0] * inv;
+        s->pts[k][1] = c[1] * inv;
+        s->pts[k][2] = c[2] * inv;
+        s->pts[k][3] = c[3] * inv;
         s->feat[k] = m[i].feature;
     }
     s->n_plane = front;
@@ -216,7 +217,7 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
     }
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
     spvs_real t = s->p.inlier_px * inv;
-    spvs_estimator_t est = {3u, s->n_plane, s, est_fit, est_score};
+    spvs_estimator_t est = {3u, s->n_plane, s, est_fit, est_score, est_refine};
     spvs_ransac_opts_t opts = {t * t, s->p.confidence, s->p.max_iters, MIN_INLIERS};
     spvs_ransac_stats_t st;
     spvs_real model[SPVS_MODEL_MAX];
@@ -225,15 +226,16 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
     if (rc != SPVS_OK) {
         return rc;
     }
-    /* Refit on the inliers, re-select them with the refined H, refit again.
-     * Bound: SPVS_REFIT_ROUNDS rounds. */
+    /* Re-select the inliers with a linear refit until the set stops
+     * changing (bound: SPVS_REFIT_ROUNDS rounds), then minimise the transfer
+     * error on the final set by Gauss-Newton (spvs_h_refit). */
     uint16_t n_inl = st.n_inliers;
     for (int round = 0; round < SPVS_REFIT_ROUNDS; round++) {
         spvs_real Hr[9];
         for (int k = 0; k < 9; k++) {
             Hr[k] = model[k];
         }
-        if (spvs_h_refit((const spvs_real(*)[4])s->pts, s->mask, s->n_plane, Hr) != SPVS_OK) {
+        if (spvs_h_fit_linear((const spvs_real(*)[4])s->pts, s->mask, s->n_plane, Hr) != SPVS_OK) {
             break;
         }
         spvs_real cost;
@@ -244,10 +246,28 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
         for (int k = 0; k < 9; k++) {
             model[k] = Hr[k];
         }
+        int same = (n_new == n_inl);
+        for (uint16_t i = 0; i < s->n_plane && same; i++) {
+            same = (s->mask[i] == s->idx_mask[i]);
+        }
         for (uint16_t i = 0; i < s->n_plane; i++) {
             s->mask[i] = s->idx_mask[i];
         }
         n_inl = n_new;
+        if (same) {
+            break;
+        }
+    }
+    {
+        spvs_real Hr[9];
+        for (int k = 0; k < 9; k++) {
+            Hr[k] = model[k];
+        }
+        if (spvs_h_refit((const spvs_real(*)[4])s->pts, s->mask, s->n_plane, Hr) == SPVS_OK) {
+            for (int k = 0; k < 9; k++) {
+                model[k] = Hr[k];
+            }
+        }
     }
     for (int k = 0; k < 9; k++) {
         s->H_sc[k] = model[k];

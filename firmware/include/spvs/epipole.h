@@ -15,9 +15,10 @@
  * On the straight line of step 2 the x of the epipole is
  *     e_x / e_z = alpha_x tan(phi - phi_t).
  *
- * Robustness: a 1-point consensus over the candidates (every candidate's
- * direction is a hypothesis, O(n^2) with n <= SPVS_MAX_OFFPLANE), then a least
- * squares fit on the supporting lines.  Mismatches among the candidates give
+ * Robustness: a 1-point consensus over the candidates (up to
+ * SPVS_EPIPOLE_MAX_HYP candidates' directions are hypotheses, each tested
+ * against all n <= SPVS_MAX_OFFPLANE), then the median angle of the
+ * supporters around the best hypothesis.  Mismatches among the candidates give
  * lines in random directions and find no support.
  */
 #ifndef SPVS_EPIPOLE_H

@@ -49,6 +49,16 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4]);
 SPVS_NODISCARD int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use,
                                 uint16_t n, spvs_real H[9]);
 
+/* Weighted linear least-squares fit of H on the flagged points, using the
+ * block structure: row 3 from the y-equations weighted by 1 / w0^2 (w0 the
+ * third coordinate of H p_tgt under the H passed in, so the residual is the
+ * y transfer error at w0), then row 1 from the x-equations, whose weighted
+ * residual is exactly the x transfer error.  Cheap (two 3x3 solves); used to
+ * polish RANSAC hypotheses.  H: weights in, result out.
+ * Returns SPVS_OK, SPVS_E_TOO_FEW or SPVS_E_DEGENERATE (H unchanged). */
+SPVS_NODISCARD int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use,
+                                     uint16_t n, spvs_real H[9]);
+
 /* Convert H between scaled units and pixels: H_px = S H_scaled S^-1 with
  * S = diag(s, s, 1), so h13 *= s and h31, h32 /= s.  scale = SPVS_COORD_SCALE
  * goes from scaled to pixels, 1/SPVS_COORD_SCALE back. */

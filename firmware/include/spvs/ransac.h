@@ -9,7 +9,10 @@
  *   sampling    is a partial Fisher-Yates over the index array: exactly
  *                  sample_size draws, no retry loop.
  * The adaptive count is ceil(log(1 - confidence) / log(1 - w^s)) with w the
- * best inlier fraction so far and s the sample size.
+ * best inlier fraction so far and s the sample size.  With a refine callback
+ * each new best model is polished on its inliers first (LO-RANSAC), so w
+ * reflects the model's true support and the count falls sooner; refine runs
+ * at most once per hypothesis.
  */
 #ifndef SPVS_RANSAC_H
 #define SPVS_RANSAC_H
@@ -45,9 +48,15 @@ typedef struct {
     /* Score a model: count points with squared residual <= threshold2 and sum
      * their squared residuals into *cost.  When mask is not NULL write 1 for an
      * inlier and 0 otherwise.  May stop early and return a count below
-     * `need` once it cannot reach it (then *cost is meaningless). */
+     * `need` once it cannot reach it (then *cost and the rest of the mask are
+     * meaningless); a count above `need` always comes with a full mask. */
     uint16_t (*score)(void *ctx, const spvs_real *model, spvs_real threshold2,
                       uint16_t need, uint8_t *mask, spvs_real *cost);
+    /* Optional (may be NULL): local optimisation of a new best model on its
+     * inliers (`mask`, as score() wrote it for this model), in place.
+     * Returns SPVS_OK when `model` was replaced.  RANSAC keeps the polished
+     * model only if it scores at least as well. */
+    int (*refine)(void *ctx, spvs_real *model, const uint8_t *mask);
 } spvs_estimator_t;
 
 typedef struct {
@@ -66,7 +75,8 @@ typedef struct {
 
 /* Run RANSAC.  Ties in inlier count are broken by the lower summed residual.
  * idx_scratch: n uint16 of caller storage.  model_out: SPVS_MODEL_MAX scalars.
- * mask_out: n bytes, 1 for the best model's inliers.
+ * mask_out: n bytes, 1 for the best model's inliers (also the scratch mask
+ *           of every hypothesis while the loop runs).
  * Returns SPVS_OK, SPVS_E_ARG (bad options), SPVS_E_TOO_FEW (n < sample_size
  * or n < min_inliers), SPVS_E_DEGENERATE (every sample was degenerate) or
  * SPVS_E_NO_CONSENSUS (best model has fewer than min_inliers inliers). */

@@ -39,19 +39,29 @@
 #define SPVS_MAX_OFFPLANE 64
 #endif
 
+/* Epipole consensus: hypotheses tried (spread evenly over the candidates,
+ * the remembered off-plane features first); cost SPVS_EPIPOLE_MAX_HYP x
+ * SPVS_MAX_OFFPLANE pair tests. */
+#ifndef SPVS_EPIPOLE_MAX_HYP
+#define SPVS_EPIPOLE_MAX_HYP 16
+#endif
+
 /* RANSAC hypotheses: min(adaptive count for the confidence, this cap). */
 #ifndef SPVS_RANSAC_MAX_ITERS
 #define SPVS_RANSAC_MAX_ITERS 200
 #endif
 
-/* Gauss-Newton iterations of the transfer-error refit. */
+/* Gauss-Newton iterations of the transfer-error refit.  It stops earlier
+ * once a step gains under 1e-4 of the cost; in spvs_update it starts from a
+ * linear fit on the same inliers and stops after one step. */
 #ifndef SPVS_REFIT_MAX_ITERS
-#define SPVS_REFIT_MAX_ITERS 4
+#define SPVS_REFIT_MAX_ITERS 5
 #endif
 
-/* Inlier re-selection rounds after the refit (refit -> re-score -> refit). */
+/* Inlier re-selection rounds after RANSAC (linear fit -> re-score), ending
+ * early once the inlier set stops changing. */
 #ifndef SPVS_REFIT_ROUNDS
-#define SPVS_REFIT_ROUNDS 2
+#define SPVS_REFIT_ROUNDS 4
 #endif
 
 /* Pixel coordinates are multiplied by 1/SPVS_COORD_SCALE inside the core so
@@ -78,6 +88,9 @@
 #endif
 #if (SPVS_MAX_OFFPLANE < 4) || (SPVS_MAX_OFFPLANE > 128)
 #error "SPVS_MAX_OFFPLANE must be in 4..128"
+#endif
+#if (SPVS_EPIPOLE_MAX_HYP < 1) || (SPVS_EPIPOLE_MAX_HYP > SPVS_MAX_OFFPLANE)
+#error "SPVS_EPIPOLE_MAX_HYP must be in 1..SPVS_MAX_OFFPLANE"
 #endif
 #if (SPVS_RANSAC_MAX_ITERS < 1) || (SPVS_RANSAC_MAX_ITERS > 100000)
 #error "SPVS_RANSAC_MAX_ITERS must be in 1..100000"
