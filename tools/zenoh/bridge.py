@@ -314,7 +314,8 @@ def main(argv):
         except Exception as e:
             sys.stderr.write("%s: cannot open Zenoh (%s, listen %s, connect "
                              "%s): %s\n" % (PROG, args.mode, args.listen,
-                                            args.connect, e))
+                                            args.connect,
+                                            common.short_error(e)))
             return 1
         bridge.open_lcm()
         log.info("robot %s: %s <-> LCM %s; Zenoh %s, listen %s, connect %s, "

@@ -133,7 +133,7 @@ def main(argv):
             raise
         except Exception as e:
             out.record(b"E", ("cannot open Zenoh (connect %s): %s"
-                              % (a.connect, e)).encode())
+                              % (a.connect, common.short_error(e))).encode())
             return 1
 
         deadline = time.monotonic() + a.wait

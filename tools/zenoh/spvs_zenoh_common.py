@@ -74,6 +74,14 @@ def zenoh_config(zenoh, mode, listen, connect, scouting):
     return cfg
 
 
+def short_error(e):
+    """One line of an exception's text, without the Rust source location
+    that Zenoh appends ("... at /path/lib.rs:62.")."""
+    text = str(e).strip().splitlines()[0] if str(e).strip() else repr(e)
+    cut = text.find(" at /")
+    return text[:cut] if cut > 0 else text
+
+
 def load_lcm_types(types_dir=None):
     """Import the Python classes of lcm_types/ (module `spvs`).
 
