@@ -47,7 +47,7 @@ DEFAULT_SIM = os.path.join(ROOT, "build", "exp", "sim_host", "spvs-sim")
 METHODS = (1, 2, 3)
 METHOD_NAME = {1: "Method I", 2: "Method II", 3: "Method III"}
 METHOD_COLOR = {1: "tab:blue", 2: "tab:orange", 3: "tab:green"}
-DPI = 90
+DPI = 75
 
 # The six start poses of the paper's Figure 5 (x m, z m, phi deg).
 FIG5_POSES = ((-3, -10, -30), (0, -8, -40), (6, -6, 0),
@@ -237,7 +237,7 @@ def wrap_deg(a):
 
 def save(fig, outdir, name):
     path = os.path.join(outdir, "figures", name)
-    fig.savefig(path, dpi=DPI)
+    fig.savefig(path, dpi=DPI, bbox_inches="tight")
     plt.close(fig)
     return "figures/" + name
 
@@ -568,11 +568,12 @@ def exp_table1(runner, outdir, quick):
             disagree += not same
             reason = ""
             if not same and o_ok:
-                reason = ("%s magnitude %.2f: ours ends step 2 on a line fit of the "
-                          "translation signal against distance driven; the paper's "
-                          "error lies on the start-target line, so its robot stopped "
-                          "short in step 2 where the weak signal fell under a "
-                          "threshold" % ("n_z" if comp == 2 else "n_y", c))
+                reason = ("%s magnitude %.2f, so the step-2 signal changes by only "
+                          "%.2f/d per metre: the paper's error lies on the "
+                          "start-target line, i.e. its robot stopped short in "
+                          "step 2; ours ends step 2 where a least-squares line "
+                          "of the signal against distance driven crosses zero" % (
+                              "n_z" if comp == 2 else "n_y", c, c))
             elif not same:
                 reason = "ours: %s" % status_str(r)
             elif not o_ok and r["status"] == "failed":
@@ -625,7 +626,8 @@ def exp_table1(runner, outdir, quick):
 
 
 def exp_map(runner, outdir, quick):
-    step_m = 4.0 if quick else 1.0
+    # 2 m by 15 deg: 2646 runs, about 5 minutes on 2 cores (1 m takes 20).
+    step_m = 4.0 if quick else 2.0
     step_deg = 60.0 if quick else 15.0
     xs = np.arange(-8.0, 8.0001, step_m)
     zs = np.arange(-12.0, 8.0001, step_m)
@@ -729,8 +731,8 @@ def exp_map(runner, outdir, quick):
         lines.append("| %s | (%g, %g, %g), %d | %s | %s | %s | %s |" % (
             METHOD_NAME[r["job"]["method"]], *r["job"]["pose"], r["job"]["seed"],
             fmt_err(r).replace(" | ", ", "), status_str(r), steps_str(r), explain(r)))
-    lines += ["", "See the \"Worst cases of the success map\" section of "
-              "docs/CONTROL_ANALYSIS.md for the reading of these traces.", ""]
+    lines += ["", "Section 3 of docs/CONTROL_ANALYSIS.md (\"Where the controller "
+              "fails\") reads these traces.", ""]
     return "\n".join(lines), res + wres
 
 
@@ -743,29 +745,30 @@ def steps_str(r):
 
 
 def explain(r):
-    """A one-line reading of a failed run's trace: where it stopped, what the
-    target looked like from the start, how many matches were left."""
+    """A one-line reading of a failed run's trace: where it stopped, where
+    the target was from the start, how many matches there were, whether the
+    robot drove away."""
     tr = r.get("trace")
     if tr is None or len(tr["t"]) == 0:
         return ""
     x0, z0, p0 = r["job"]["pose"]
-    # Heading that points at the target from the start (phi_t), and how far
-    # the target is off the optical axis: beyond about 22 deg it is out of
-    # the 640 px wide image.
-    phit = math.degrees(math.atan(-x0 / z0)) if z0 != 0 else 90.0
     facts = []
     steps = [s["step"] for s in r.get("steps", [])]
-    last = steps[-1] if steps else 0
-    facts.append("stopped in step %d" % last)
-    facts.append("target %s the start" % ("ahead of" if z0 * math.cos(math.radians(p0)) - x0 * math.sin(math.radians(p0)) < 0 else "behind"))
-    facts.append("phi_t %.0f deg" % phit)
-    inl = tr["n_inliers"]
-    nm = tr["n_matches"]
-    facts.append("inliers %d..%d of %d..%d matches" % (np.min(inl), np.max(inl), np.min(nm), np.max(nm)))
+    facts.append("last step %d" % (steps[-1] if steps else 0))
+    # Bearing of the target from the optical axis at the start: the heading
+    # is (-sin phi, cos phi) and the target lies along (-x, -z).
+    bearing = float(wrap_deg(p0 - math.degrees(math.atan2(x0, -z0))))
+    facts.append("target %.0f deg off the optical axis at the start%s" % (
+        abs(bearing), " (behind)" if abs(bearing) > 90 else ""))
+    facts.append("%d matches in the first frame, %d inliers" % (tr["n_matches"][0], tr["n_inliers"][0]))
+    rng = np.hypot(tr["x"], tr["z"])
+    if rng.max() > rng[0] + 1.0:
+        facts.append("drove away to %.1f m from the target" % rng.max())
     step = tr["step"]
-    if np.any(step == 2):
-        pos = np.hypot(tr["x"][step == 2][-1], tr["z"][step == 2][-1])
-        facts.append("%.2f m from the target when step 2 ended" % pos)
+    if np.any(step == 2) and r["status"] == "converged":
+        facts.append("step 2 ended %.2f m from the target" % rng[step == 2][-1])
+    if not np.any(step == 2) and rng.max() - rng.min() < 0.01:
+        facts.append("never left the start")
     return "; ".join(facts)
 
 
