@@ -40,6 +40,8 @@ typedef struct {
     const char *lcm_url;
     const char *zenoh_endpoint;
     double timeout_s;
+    const char *lcm_matches_channel;
+    double keep_last_s;
     uint32_t seed32;
 } options_t;
 
@@ -66,6 +68,10 @@ static const char *const usage_text =
     "  --lcm-url URL         LCM provider (udpm://239.255.76.67:7667?ttl=0)\n"
     "  --zenoh-endpoint E    Zenoh endpoint (tcp/127.0.0.1:7447)\n"
     "  --timeout S           transport wait for each command, seconds (2)\n"
+    "  --lcm-matches-channel CH  LCM channel the frames go out on (SPVS_MATCHES)\n"
+    "  --keep-last S         LCM: a frame unanswered within --timeout is no\n"
+    "                        error: drive on the newest command received, for\n"
+    "                        at most S s of frame time, then stop (off)\n"
     "  --realtime            pace frames at dt in wall-clock time\n"
     "  --json                last stdout line: one JSON object with the result\n"
     "  --quiet               no human-readable report\n"
@@ -193,7 +199,8 @@ static void parse_options(int argc, char **argv, options_t *o)
             "--method", "--pose", "--normal", "--distance", "--noise",
             "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
             "--dt", "--max-time", "--trace", "--record", "--transport",
-            "--lcm-url", "--zenoh-endpoint", "--timeout" };
+            "--lcm-url", "--zenoh-endpoint", "--timeout",
+            "--lcm-matches-channel", "--keep-last" };
         int known = 0;
         for (size_t k = 0; k < sizeof(valued) / sizeof(valued[0]); ++k) {
             if (strcmp(name, valued[k]) == 0) {
@@ -286,6 +293,17 @@ static void parse_options(int argc, char **argv, options_t *o)
             o->timeout_s = parse_number(name, val);
             if (!(o->timeout_s > 0.0 && o->timeout_s <= 3600.0)) {
                 usage_error("--timeout: %s s is outside (0, 3600]", val);
+            }
+        } else if (strcmp(name, "--lcm-matches-channel") == 0) {
+            if (val[0] == '\0' || strlen(val) > 63) {
+                usage_error("--lcm-matches-channel: '%s' is not 1..63 "
+                            "characters", val);
+            }
+            o->lcm_matches_channel = val;
+        } else if (strcmp(name, "--keep-last") == 0) {
+            o->keep_last_s = parse_number(name, val);
+            if (!(o->keep_last_s > 0.0 && o->keep_last_s <= 3600.0)) {
+                usage_error("--keep-last: %s s is outside (0, 3600]", val);
             }
         }
     }
@@ -438,7 +456,10 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
     }
     if (strcmp(o->transport, "lcm") == 0) {
 #ifdef SPVS_HAVE_LCM
-        return sim_link_lcm_open(o->lcm_url, o->timeout_s, link, err, err_len);
+        sim_link_lcm_opts_t lo = { o->lcm_matches_channel,
+                                   o->keep_last_s > 0.0, o->keep_last_s };
+        return sim_link_lcm_open_opts(o->lcm_url, o->timeout_s, &lo, link,
+                                      err, err_len);
 #else
         usage_error("--transport lcm: this build has no LCM support");
 #endif

@@ -27,6 +27,16 @@ typedef struct {
     spvs_cmd_t rx_cmd;       /* decode scratch */
     spvs_state_t rx_state;
     spvs_matches_t msg;
+    /* sim_link_lcm_opts_t (keep_last mode): the command in force and the
+     * newest one received while waiting. */
+    char channel[64];
+    int keep_last;
+    double hold_max_s;
+    int64_t applied_seq;     /* frame whose answer is in force (-2: none) */
+    spvs_cmd_t applied;      /* the command in force                       */
+    double applied_t_s;      /* frame time it was last renewed, seconds    */
+    int got_newer;           /* a newer command than `applied` arrived     */
+    spvs_cmd_t newer;
     lcm_subscription_t *sub_cmd;
     lcm_subscription_t *sub_state;
 } link_lcm_t;
@@ -47,6 +57,12 @@ static void on_cmd(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
     if (l->rx_cmd.seq == l->want_seq && !l->got_cmd) {
         l->cmd = l->rx_cmd;
         l->got_cmd = 1;
+    } else if (l->keep_last &&
+               (l->rx_cmd.seq == -1 || l->rx_cmd.seq > l->applied_seq)) {
+        /* A watchdog stop, or a late answer to a frame newer than the one
+         * whose answer is in force: the base would act on it. */
+        l->newer = l->rx_cmd;
+        l->got_newer = 1;
     }
 }
 
@@ -62,6 +78,36 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel,
         l->state = l->rx_state;
         l->got_state = 1;
     }
+}
+
+/* Encode into a stack buffer and publish on the link's channel (wire.c's
+ * publisher is fixed to SPVS_MATCHES). */
+static int publish_frame(link_lcm_t *l)
+{
+    uint8_t buf[SPVS_WIRE_MATCHES_BYTES];
+    int len = spvs_matches_t_encode(buf, 0, (int)sizeof(buf), &l->msg);
+    if (len < 0)
+        return -1;
+    return lcm_publish(l->lcm, l->channel, buf, (unsigned)len) < 0 ? -1 : 0;
+}
+
+/* keep_last: no answer to this frame within the period.  The base acts on
+ * the newest command it has, and stops once that is older than hold_max_s
+ * of frame time.  Telemetry is not renewed (h_valid etc. are 0). */
+static void keep_last_command(link_lcm_t *l, double t_s, spvs_output_t *out)
+{
+    if (l->got_newer) {
+        l->applied = l->newer;
+        if (l->newer.seq > l->applied_seq)
+            l->applied_seq = l->newer.seq;
+        l->applied_t_s = t_s;
+        l->got_newer = 0;
+    } else if (t_s - l->applied_t_s > l->hold_max_s) {
+        /* Keep the step and status; only the motion stops. */
+        l->applied.v = 0.0;
+        l->applied.w = 0.0;
+    }
+    spvs_wire_output_from_msgs(out, &l->applied, NULL);
 }
 
 static int link_exchange(void *ctx, uint32_t seq, double t_s,
@@ -85,7 +131,7 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
     l->want_seq = seq;
     l->got_cmd = 0;
     l->got_state = 0;
-    if (spvs_wire_publish_matches(l->lcm, &l->msg) != 0) {
+    if (publish_frame(l) != 0) {
         snprintf(err, err_len, "LCM link: publishing frame %u on %s failed",
                  (unsigned)seq, l->url);
         return -1;
@@ -95,6 +141,10 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
     double deadline = now_s() + l->timeout_s;
     while (!l->got_cmd) {
         double left = deadline - now_s();
+        if (left <= 0.0 && l->keep_last) {
+            keep_last_command(l, t_s, out);
+            return 0;
+        }
         if (left <= 0.0) {
             snprintf(err, err_len,
                      "LCM link: no SPVS_CMD for frame %u within %.3g s on %s "
@@ -116,6 +166,10 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
     spvs_wire_output_from_msgs(out, &l->cmd, l->got_state ? &l->state : NULL);
     if (!l->got_state)
         out->n_matches = n;
+    l->applied = l->cmd;
+    l->applied_seq = (int64_t)seq;
+    l->applied_t_s = t_s;
+    l->got_newer = 0;
     return 0;
 }
 
@@ -135,6 +189,13 @@ static void link_close(void *ctx)
 int sim_link_lcm_open(const char *url, double timeout_s, sim_link_t *out,
                       char *err, unsigned err_len)
 {
+    return sim_link_lcm_open_opts(url, timeout_s, NULL, out, err, err_len);
+}
+
+int sim_link_lcm_open_opts(const char *url, double timeout_s,
+                           const sim_link_lcm_opts_t *opts, sim_link_t *out,
+                           char *err, unsigned err_len)
+{
     if (!out || !(timeout_s > 0.0) || !isfinite(timeout_s)) {
         snprintf(err, err_len, "LCM link: timeout must be positive seconds");
         return -1;
@@ -147,6 +208,25 @@ int sim_link_lcm_open(const char *url, double timeout_s, sim_link_t *out,
     snprintf(l->url, sizeof(l->url), "%s", url ? url : "(LCM default URL)");
     l->timeout_s = timeout_s;
     l->want_seq = -1;
+    const char *ch = opts && opts->matches_channel ? opts->matches_channel
+                                                   : SPVS_CH_MATCHES;
+    if (strlen(ch) == 0 || strlen(ch) >= sizeof(l->channel)) {
+        snprintf(err, err_len, "LCM link: channel name must have 1..%u "
+                 "characters", (unsigned)sizeof(l->channel) - 1);
+        free(l);
+        return -1;
+    }
+    snprintf(l->channel, sizeof(l->channel), "%s", ch);
+    l->keep_last = opts ? opts->keep_last : 0;
+    l->hold_max_s = opts ? opts->hold_max_s : 0.0;
+    if (l->keep_last && !(l->hold_max_s > 0.0 && isfinite(l->hold_max_s))) {
+        snprintf(err, err_len, "LCM link: hold time must be positive seconds");
+        free(l);
+        return -1;
+    }
+    /* Before the first answer the base stands still. */
+    l->applied_seq = -2;
+    l->applied.seq = -2;
     /* A run id that differs from any earlier run's, so that a node still
      * running from one resets its controller. */
     struct timespec ts;
