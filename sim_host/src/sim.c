@@ -170,7 +170,15 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
         if (c->realtime) {
             pace(&t0, k, c->dt_s);
         }
-        uint16_t n = sim_world_observe(&world, &pose, obs, cap);
+        uint16_t n = c->observe != NULL
+                         ? c->observe(c->observe_user, k, &world, &pose, obs,
+                                      cap)
+                         : sim_world_observe(&world, &pose, obs, cap);
+        /* A source that claims more than it was given room for is a bug at
+         * the edge; never hand the controller memory past the buffer. */
+        if (n > cap) {
+            n = cap;
+        }
         sim_obs_to_matches(obs, n, m);
 
         spvs_output_t out;

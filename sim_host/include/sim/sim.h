@@ -23,6 +23,16 @@
 extern "C" {
 #endif
 
+/* An optional source of observations that replaces the point scene, e.g.
+ * features matched in rendered images (sim/frontend.h).  Called once per
+ * frame with the frame number `seq`, the run's world (true camera, plane)
+ * and the TRUE pose; writes at most `cap` observations to obs and returns
+ * their count. */
+typedef uint16_t (*sim_observe_fn)(void *user, uint32_t seq,
+                                   const sim_world_t *w,
+                                   const sim_pose_t *pose, sim_obs_t *obs,
+                                   uint16_t cap);
+
 /* Everything that defines a run.  sim_config_default() gives DESIGN.md
  * section 5's defaults. */
 typedef struct {
@@ -43,6 +53,8 @@ typedef struct {
     double max_time_s;        /* give up after this (300 s)                  */
     int clip;                 /* 1: match only points inside the 640x480 frame */
     int realtime;             /* 1: pace frames at dt in wall-clock time     */
+    sim_observe_fn observe;   /* NULL (default): the point scene             */
+    void *observe_user;       /* passed to observe                           */
 } sim_config_t;
 
 typedef enum {

@@ -1,0 +1,578 @@
+/* frontend.cpp - ORB features, ratio-test matching and the C interface of
+ * the image front end (sim/frontend.h). */
+#include "sim/frontend.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "frontend_internal.hpp"
+#include "spvs/spvs_config.h"
+
+namespace {
+
+constexpr int kMinTargetFeatures = 16;
+constexpr int kOrbLevels = 4;
+constexpr int kGridX = 8; /* target keypoint spreading grid */
+constexpr int kGridY = 6;
+constexpr uint32_t kTargetSeq = 0xffffffffu; /* sensor noise of the target */
+
+double ms_since(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(
+               std::chrono::steady_clock::now() - t0)
+        .count();
+}
+
+void set_err(char *err, unsigned len, const char *msg)
+{
+    if (err != nullptr && len > 0) {
+        std::snprintf(err, len, "%s", msg);
+    }
+}
+
+} // namespace
+
+struct sim_frontend {
+    sim_frontend_params_t p;
+    simfe::Scene scene;
+    cv::Ptr<cv::ORB> orb_tgt;
+    cv::Ptr<cv::ORB> orb_cur;
+    cv::BFMatcher matcher{ cv::NORM_HAMMING, false };
+
+    cv::Mat img_tgt;
+    std::vector<cv::KeyPoint> kp_tgt;
+    cv::Mat desc_tgt;
+    std::vector<cv::Vec3d> X_tgt;  /* ray-cast 3D point of each feature */
+    std::vector<int> hit_tgt;      /* surface index, -1 for none        */
+
+    cv::Mat img_cur;
+    std::vector<cv::KeyPoint> kp_cur;
+    cv::Mat desc_cur;
+    std::vector<cv::DMatch> kept;  /* queryIdx: current, trainIdx: target */
+    std::vector<uint8_t> kept_bad;
+    bool have_cur = false;
+
+    cv::Mat mapx, mapy, depth;     /* render work buffers */
+    sim_frontend_frame_stats_t last{};
+    sim_frontend_totals_t tot{};
+};
+
+namespace {
+
+/* Render at `pose` with the sensor noise of frame `seq`. */
+void render_frame(sim_frontend *f, const sim_pose_t &pose, uint32_t seq,
+                  cv::Mat &img)
+{
+    f->scene.render(pose, img, f->mapx, f->mapy, f->depth);
+    if (f->p.image_noise > 0.0) {
+        cv::Mat noise(img.size(), CV_16S);
+        cv::RNG rng(f->p.seed * 0x9e3779b97f4a7c15ULL + seq + 1u);
+        rng.fill(noise, cv::RNG::NORMAL, 0.0, f->p.image_noise);
+        cv::Mat sum;
+        img.convertTo(sum, CV_16S);
+        sum += noise;
+        sum.convertTo(img, CV_8U); /* saturates to 0..255 */
+    }
+}
+
+/* Move keypoints to the sub-pixel corner (cv::cornerSubPix, 7x7 window).
+ * ORB places a corner found on a coarse pyramid level to within a level's
+ * pixel, 1..2 px at level 0; the textures' corners are polygon vertices,
+ * which a projective map sends to vertices, so refining both images puts
+ * both ends of a match on the same scene point.  A keypoint that the
+ * refinement moves by more than 1.5 px was not on a clean corner: it keeps
+ * ORB's position. */
+void refine(const cv::Mat &img, std::vector<cv::KeyPoint> &kp)
+{
+    if (kp.empty()) {
+        return;
+    }
+    std::vector<cv::Point2f> pts;
+    pts.reserve(kp.size());
+    for (const cv::KeyPoint &k : kp) {
+        pts.push_back(k.pt);
+    }
+    cv::cornerSubPix(img, pts, cv::Size(3, 3), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::COUNT |
+                                          cv::TermCriteria::EPS,
+                                      20, 0.01));
+    for (size_t i = 0; i < kp.size(); ++i) {
+        const cv::Point2f d = pts[i] - kp[i].pt;
+        if (std::isfinite(pts[i].x) && std::isfinite(pts[i].y) &&
+            d.dot(d) <= 2.25f) {
+            kp[i].pt = pts[i];
+        }
+    }
+}
+
+/* Keypoints of the target image: the strongest ORB corners spread over a
+ * grid of kGridX x kGridY cells (each cell keeps its best share first, the
+ * rest goes to the strongest left over), at most target_features, then
+ * described.  Spreading them keeps features near the image borders, which
+ * are all that stays in view when the robot looks far to one side. */
+bool describe_target(sim_frontend *f)
+{
+    std::vector<cv::KeyPoint> all;
+    f->orb_tgt->detect(f->img_tgt, all);
+    std::stable_sort(all.begin(), all.end(),
+                     [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
+                         return a.response > b.response;
+                     });
+    const int cap = f->p.target_features;
+    const int per_cell = (cap + kGridX * kGridY - 1) / (kGridX * kGridY);
+    std::vector<int> in_cell(kGridX * kGridY, 0);
+    std::vector<uint8_t> taken(all.size(), 0);
+    std::vector<cv::KeyPoint> kp;
+    for (size_t i = 0; i < all.size() && (int)kp.size() < cap; ++i) {
+        int gx = std::min(kGridX - 1, (int)(all[i].pt.x * kGridX / SIM_FRONTEND_WIDTH));
+        int gy = std::min(kGridY - 1, (int)(all[i].pt.y * kGridY / SIM_FRONTEND_HEIGHT));
+        int &cnt = in_cell[(size_t)(gy * kGridX + gx)];
+        if (cnt < per_cell) {
+            ++cnt;
+            taken[i] = 1;
+            kp.push_back(all[i]);
+        }
+    }
+    for (size_t i = 0; i < all.size() && (int)kp.size() < cap; ++i) {
+        if (!taken[i]) {
+            kp.push_back(all[i]);
+        }
+    }
+    f->orb_tgt->compute(f->img_tgt, kp, f->desc_tgt);
+    if (f->p.subpixel) {
+        refine(f->img_tgt, kp);
+    }
+    f->kp_tgt = kp;
+    if ((int)kp.size() < kMinTargetFeatures) {
+        return false;
+    }
+    const sim_pose_t origin = { 0.0, 0.0, 0.0 };
+    f->X_tgt.assign(kp.size(), cv::Vec3d(0, 0, 0));
+    f->hit_tgt.assign(kp.size(), -1);
+    for (size_t i = 0; i < kp.size(); ++i) {
+        double X[3];
+        int s = f->scene.cast(origin, kp[i].pt.x - SIM_FRONTEND_WIDTH / 2.0,
+                              kp[i].pt.y - SIM_FRONTEND_HEIGHT / 2.0, X);
+        f->hit_tgt[i] = s;
+        if (s >= 0) {
+            f->X_tgt[i] = cv::Vec3d(X[0], X[1], X[2]);
+        }
+    }
+    return true;
+}
+
+/* Current -> target matches that pass the ratio test (and the mutual best
+ * check), one per target feature, best max_matches by Hamming distance. */
+void match(sim_frontend *f)
+{
+    f->kept.clear();
+    if (f->desc_cur.empty() || f->desc_tgt.empty()) {
+        return;
+    }
+    std::vector<std::vector<cv::DMatch>> knn;
+    f->matcher.knnMatch(f->desc_cur, f->desc_tgt, knn, 2);
+    std::vector<int> best_cur_of_tgt;
+    if (f->p.cross_check) {
+        std::vector<cv::DMatch> rev;
+        f->matcher.match(f->desc_tgt, f->desc_cur, rev);
+        best_cur_of_tgt.assign((size_t)f->desc_tgt.rows, -1);
+        for (const cv::DMatch &m : rev) {
+            best_cur_of_tgt[(size_t)m.queryIdx] = m.trainIdx;
+        }
+    }
+    std::vector<cv::DMatch> cand;
+    for (const auto &k : knn) {
+        if (k.empty()) {
+            continue;
+        }
+        /* With a single neighbour there is nothing to compare against:
+         * such a match is ambiguous by construction and is dropped. */
+        if (k.size() < 2 || !(k[0].distance < f->p.ratio * k[1].distance)) {
+            continue;
+        }
+        if (f->p.cross_check &&
+            best_cur_of_tgt[(size_t)k[0].trainIdx] != k[0].queryIdx) {
+            continue;
+        }
+        cand.push_back(k[0]);
+    }
+    std::stable_sort(cand.begin(), cand.end(),
+                     [](const cv::DMatch &a, const cv::DMatch &b) {
+                         return a.distance < b.distance;
+                     });
+    std::vector<uint8_t> used((size_t)f->desc_tgt.rows, 0);
+    for (const cv::DMatch &m : cand) {
+        if ((int)f->kept.size() >= f->p.max_matches) {
+            break;
+        }
+        if (used[(size_t)m.trainIdx]) {
+            continue;
+        }
+        used[(size_t)m.trainIdx] = 1;
+        f->kept.push_back(m);
+    }
+}
+
+} // namespace
+
+extern "C" {
+
+void sim_frontend_params_default(sim_frontend_params_t *p)
+{
+    p->seed = 0;
+    p->n_objects = 6;
+    p->obj_zmin_m = 15.0;
+    p->obj_zmax_m = 40.0;
+    p->target_features = 500;
+    p->current_features = 1500;
+    p->ratio = 0.7;
+    p->cross_check = 1;
+    p->max_matches = SPVS_MAX_MATCHES;
+    p->mismatch_px = 3.0;
+    p->image_noise = 1.5;
+    p->subpixel = 1;
+}
+
+sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
+                                    const sim_camera_t *cam,
+                                    const sim_plane_t *pl, char *err,
+                                    unsigned err_len)
+{
+    if (p == nullptr || cam == nullptr || pl == nullptr) {
+        set_err(err, err_len, "front end: no parameters, camera or plane");
+        return nullptr;
+    }
+    char msg[200];
+    if (p->n_objects < 0 || p->n_objects > SIM_FRONTEND_MAX_OBJECTS) {
+        std::snprintf(msg, sizeof(msg), "front end: objects must be 0..%d, got %d",
+                      SIM_FRONTEND_MAX_OBJECTS, p->n_objects);
+    } else if (!(p->obj_zmin_m > SIM_MIN_DEPTH_M) ||
+               !(p->obj_zmax_m > p->obj_zmin_m) || !std::isfinite(p->obj_zmax_m)) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: object depths need 0.1 < zmin < zmax, finite");
+    } else if (p->target_features < kMinTargetFeatures ||
+               p->target_features > SPVS_MAX_FEATURES) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: target features must be %d..%d, got %d",
+                      kMinTargetFeatures, SPVS_MAX_FEATURES, p->target_features);
+    } else if (p->current_features < 16 || p->current_features > 20000) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: current features must be 16..20000, got %d",
+                      p->current_features);
+    } else if (!(p->ratio > 0.0 && p->ratio <= 1.0)) {
+        std::snprintf(msg, sizeof(msg), "front end: ratio must be in (0, 1]");
+    } else if (p->max_matches < 1 || p->max_matches > SPVS_MAX_MATCHES) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: max matches must be 1..%d, got %d",
+                      SPVS_MAX_MATCHES, p->max_matches);
+    } else if (!(p->mismatch_px > 0.0) || !std::isfinite(p->mismatch_px) ||
+               !(p->image_noise >= 0.0) || !std::isfinite(p->image_noise)) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: mismatch distance and noise must be finite, >= 0");
+    } else if (cam->width_px != SIM_FRONTEND_WIDTH ||
+               cam->height_px != SIM_FRONTEND_HEIGHT ||
+               !(cam->alpha_x_px > 0.0) || !(cam->alpha_y_px > 0.0)) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: the camera must be 640x480 with positive focal");
+    } else {
+        msg[0] = '\0';
+    }
+    if (msg[0] != '\0') {
+        set_err(err, err_len, msg);
+        return nullptr;
+    }
+
+    sim_frontend *f = nullptr;
+    try {
+        f = new sim_frontend();
+        f->p = *p;
+        std::string why = f->scene.build(*cam, *pl, p->seed, p->n_objects,
+                                         p->obj_zmin_m, p->obj_zmax_m);
+        if (!why.empty()) {
+            std::snprintf(msg, sizeof(msg), "front end: %s", why.c_str());
+            set_err(err, err_len, msg);
+            delete f;
+            return nullptr;
+        }
+        /* The target asks ORB for six times what it keeps, so that the
+         * spreading grid has corners to choose from in every cell. */
+        /* Four pyramid levels of 1.2 span a 2x change of scale, more than
+         * the runs' 10 m approach to a plane 45..100 m away needs, at half
+         * the cost of OpenCV's default eight. */
+        f->orb_tgt = cv::ORB::create(p->target_features * 6,
+                                     1.2f, kOrbLevels);
+        f->orb_cur = cv::ORB::create(p->current_features, 1.2f, kOrbLevels);
+        const sim_pose_t origin = { 0.0, 0.0, 0.0 };
+        render_frame(f, origin, kTargetSeq, f->img_tgt);
+        if (!describe_target(f)) {
+            std::snprintf(msg, sizeof(msg),
+                          "front end: the target image gives %zu features, "
+                          "fewer than %d (is the plane in view?)",
+                          f->kp_tgt.size(), kMinTargetFeatures);
+            set_err(err, err_len, msg);
+            delete f;
+            return nullptr;
+        }
+        f->tot.min_matches = UINT16_MAX;
+        return f;
+    } catch (const std::exception &e) {
+        std::snprintf(msg, sizeof(msg), "front end: %s", e.what());
+        set_err(err, err_len, msg);
+        delete f;
+        return nullptr;
+    }
+}
+
+void sim_frontend_destroy(sim_frontend_t *f)
+{
+    delete f;
+}
+
+uint16_t sim_frontend_observe(sim_frontend_t *f, uint32_t seq,
+                              const sim_pose_t *pose, sim_obs_t *obs,
+                              uint16_t cap, sim_frontend_frame_stats_t *st)
+{
+    if (f == nullptr || pose == nullptr || obs == nullptr) {
+        return 0;
+    }
+    sim_frontend_frame_stats_t s{};
+    s.seq = seq;
+    uint16_t n = 0;
+    if (!std::isfinite(pose->x_m) || !std::isfinite(pose->z_m) ||
+        !std::isfinite(pose->phi_rad)) {
+        f->have_cur = false;
+        f->kept.clear();
+    } else {
+        try {
+            auto t0 = std::chrono::steady_clock::now();
+            render_frame(f, *pose, seq, f->img_cur);
+            s.render_ms = ms_since(t0);
+            t0 = std::chrono::steady_clock::now();
+            f->kp_cur.clear();
+            f->orb_cur->detectAndCompute(f->img_cur, cv::noArray(), f->kp_cur,
+                                         f->desc_cur);
+            match(f);
+            if (f->p.subpixel) {
+                /* Only the matched keypoints need it. */
+                std::vector<cv::KeyPoint> km;
+                for (const cv::DMatch &m : f->kept) {
+                    km.push_back(f->kp_cur[(size_t)m.queryIdx]);
+                }
+                refine(f->img_cur, km);
+                for (size_t i = 0; i < km.size(); ++i) {
+                    f->kp_cur[(size_t)f->kept[i].queryIdx].pt = km[i].pt;
+                }
+            }
+            s.match_ms = ms_since(t0);
+            f->have_cur = true;
+        } catch (const std::exception &) {
+            /* An OpenCV failure on one frame is a frame without matches:
+             * the controller then stops safely. */
+            f->have_cur = false;
+            f->kept.clear();
+        }
+        s.n_keypoints = (uint16_t)std::min<size_t>(f->kp_cur.size(), UINT16_MAX);
+    }
+
+    f->kept_bad.assign(f->kept.size(), 0);
+    const double cx = SIM_FRONTEND_WIDTH / 2.0, cy = SIM_FRONTEND_HEIGHT / 2.0;
+    for (size_t i = 0; i < f->kept.size() && n < cap; ++i) {
+        const cv::DMatch &m = f->kept[i];
+        const cv::KeyPoint &kt = f->kp_tgt[(size_t)m.trainIdx];
+        const cv::KeyPoint &kc = f->kp_cur[(size_t)m.queryIdx];
+        sim_obs_t &o = obs[n];
+        o.feature = (uint16_t)m.trainIdx;
+        o.x_tgt = kt.pt.x - cx;
+        o.y_tgt = kt.pt.y - cy;
+        o.x_cur = kc.pt.x - cx;
+        o.y_cur = kc.pt.y - cy;
+        int hit = f->hit_tgt[(size_t)m.trainIdx];
+        o.on_plane = hit == 0 ? 1 : 0;
+        /* The truth: where the feature's 3D point projects in this camera. */
+        bool bad = true;
+        if (hit >= 0) {
+            const cv::Vec3d &X = f->X_tgt[(size_t)m.trainIdx];
+            double Xa[3] = { X[0], X[1], X[2] }, p[2];
+            if (sim_project(&f->scene.cam, pose, Xa, p, nullptr) == 0) {
+                bad = std::hypot(p[0] - o.x_cur, p[1] - o.y_cur) >
+                      f->p.mismatch_px;
+            }
+        }
+        o.mismatched = bad ? 1 : 0;
+        f->kept_bad[i] = o.mismatched;
+        s.n_mismatches = (uint16_t)(s.n_mismatches + o.mismatched);
+        s.n_offplane = (uint16_t)(s.n_offplane + (o.on_plane ? 0 : 1));
+        ++n;
+    }
+    f->kept.resize(n);
+    f->kept_bad.resize(n);
+    s.n_matches = n;
+
+    f->last = s;
+    sim_frontend_totals_t &t = f->tot;
+    t.frames++;
+    t.matches += n;
+    t.mismatches += s.n_mismatches;
+    t.min_matches = std::min(t.min_matches, n);
+    t.max_matches = std::max(t.max_matches, n);
+    if (n > 0) {
+        t.max_mismatch_rate =
+            std::max(t.max_mismatch_rate, (double)s.n_mismatches / n);
+    }
+    t.render_ms += s.render_ms;
+    t.match_ms += s.match_ms;
+    if (st != nullptr) {
+        *st = s;
+    }
+    return n;
+}
+
+uint16_t sim_frontend_observe_cb(void *user, uint32_t seq,
+                                 const sim_world_t *w, const sim_pose_t *pose,
+                                 sim_obs_t *obs, uint16_t cap)
+{
+    (void)w;
+    return sim_frontend_observe((sim_frontend_t *)user, seq, pose, obs, cap,
+                                nullptr);
+}
+
+void sim_frontend_last(const sim_frontend_t *f, sim_frontend_frame_stats_t *st)
+{
+    *st = f->last;
+}
+
+void sim_frontend_totals(const sim_frontend_t *f, sim_frontend_totals_t *t)
+{
+    *t = f->tot;
+    if (t->frames == 0) {
+        t->min_matches = 0;
+    }
+}
+
+void sim_frontend_reset_totals(sim_frontend_t *f)
+{
+    f->tot = sim_frontend_totals_t{};
+    f->tot.min_matches = UINT16_MAX;
+}
+
+uint16_t sim_frontend_target_count(const sim_frontend_t *f)
+{
+    return (uint16_t)f->kp_tgt.size();
+}
+
+int sim_frontend_target_point(const sim_frontend_t *f, uint16_t i,
+                              double p_tgt[2], double X[3], int *on_plane)
+{
+    if (f == nullptr || i >= f->kp_tgt.size() || f->hit_tgt[i] < 0) {
+        return -1;
+    }
+    p_tgt[0] = f->kp_tgt[i].pt.x - SIM_FRONTEND_WIDTH / 2.0;
+    p_tgt[1] = f->kp_tgt[i].pt.y - SIM_FRONTEND_HEIGHT / 2.0;
+    for (int k = 0; k < 3; ++k) {
+        X[k] = f->X_tgt[i][k];
+    }
+    if (on_plane != nullptr) {
+        *on_plane = f->hit_tgt[i] == 0 ? 1 : 0;
+    }
+    return 0;
+}
+
+static int write_png(const cv::Mat &img, const char *path, char *err,
+                     unsigned err_len)
+{
+    char msg[300];
+    try {
+        if (path != nullptr && cv::imwrite(path, img)) {
+            return 0;
+        }
+    } catch (const std::exception &) {
+        /* reported below */
+    }
+    std::snprintf(msg, sizeof(msg), "cannot write the image '%s'",
+                  path ? path : "(null)");
+    set_err(err, err_len, msg);
+    return -1;
+}
+
+int sim_frontend_save_target(const sim_frontend_t *f, const char *path,
+                             char *err, unsigned err_len)
+{
+    return write_png(f->img_tgt, path, err, err_len);
+}
+
+int sim_frontend_save_frame(const sim_frontend_t *f, const char *path,
+                            char *err, unsigned err_len)
+{
+    if (!f->have_cur) {
+        set_err(err, err_len, "no frame rendered yet");
+        return -1;
+    }
+    return write_png(f->img_cur, path, err, err_len);
+}
+
+int sim_frontend_save_matches(const sim_frontend_t *f, const char *path,
+                              char *err, unsigned err_len)
+{
+    if (!f->have_cur) {
+        set_err(err, err_len, "no frame rendered yet");
+        return -1;
+    }
+    cv::Mat both, tgt, cur;
+    cv::cvtColor(f->img_tgt, tgt, cv::COLOR_GRAY2BGR);
+    cv::cvtColor(f->img_cur, cur, cv::COLOR_GRAY2BGR);
+    cv::hconcat(tgt, cur, both);
+    const cv::Point2f shift((float)SIM_FRONTEND_WIDTH, 0.0f);
+    /* Correct matches first, mismatches on top so that they stay visible. */
+    for (int pass = 0; pass < 2; ++pass) {
+        for (size_t i = 0; i < f->kept.size(); ++i) {
+            if (f->kept_bad[i] != pass) {
+                continue;
+            }
+            const cv::Point2f a = f->kp_tgt[(size_t)f->kept[i].trainIdx].pt;
+            const cv::Point2f b = f->kp_cur[(size_t)f->kept[i].queryIdx].pt + shift;
+            const cv::Scalar col = pass ? cv::Scalar(0, 0, 255)
+                                        : cv::Scalar(0, 200, 0);
+            cv::line(both, a, b, col, 1, cv::LINE_AA);
+            cv::circle(both, a, 3, col, 1, cv::LINE_AA);
+            cv::circle(both, b, 3, col, 1, cv::LINE_AA);
+        }
+    }
+    return write_png(both, path, err, err_len);
+}
+
+int sim_frontend_opencv_h(const sim_obs_t *obs, uint16_t n, double thresh_px,
+                          double H[9])
+{
+    if (obs == nullptr || n < 4 || !(thresh_px > 0.0)) {
+        return -1;
+    }
+    try {
+        std::vector<cv::Point2d> src, dst;
+        for (uint16_t i = 0; i < n; ++i) {
+            src.emplace_back(obs[i].x_tgt, obs[i].y_tgt);
+            dst.emplace_back(obs[i].x_cur, obs[i].y_cur);
+        }
+        cv::Mat Hm = cv::findHomography(src, dst, cv::RANSAC, thresh_px);
+        if (Hm.empty() || std::fabs(Hm.at<double>(2, 2)) < 1e-12) {
+            return -1;
+        }
+        for (int i = 0; i < 9; ++i) {
+            H[i] = Hm.at<double>(i / 3, i % 3) / Hm.at<double>(2, 2);
+        }
+        return 0;
+    } catch (const std::exception &) {
+        return -1;
+    }
+}
+
+} // extern "C"
