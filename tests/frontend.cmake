@@ -5,6 +5,10 @@ if(TARGET spvs_frontend)
   # The front end is C++: its users link with the C++ driver.
   enable_language(CXX)
 
+  spvs_add_test(NAME test_frontend SOURCES test_frontend.c
+                LIBS spvs_frontend LABELS unit TIMEOUT 120)
+  set_target_properties(test_frontend PROPERTIES LINKER_LANGUAGE CXX)
+
   # Closed loops from images: Methods I, II, III from the paper's main pose
   # and further poses of its Figure 5.  METHOD X_M Z_M PHI_DEG per entry.
   spvs_add_test(NAME test_frontend_loop SOURCES test_frontend_loop.c

@@ -230,7 +230,7 @@ extern "C" {
 void sim_frontend_params_default(sim_frontend_params_t *p)
 {
     p->seed = 0;
-    p->n_objects = 6;
+    p->n_objects = 4;
     p->obj_zmin_m = 15.0;
     p->obj_zmax_m = 40.0;
     p->target_features = 500;

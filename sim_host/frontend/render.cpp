@@ -146,7 +146,7 @@ std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
             double x = rng.uniform(-280.0, 280.0);
             double y = rng.uniform(-200.0, 200.0);
             double Z = rng.uniform(zmin_m, zmax_m);
-            double w = rng.uniform(2.0, 4.5);
+            double w = rng.uniform(1.5, 3.0);
             double X = (x - cam.x0_px) * Z / cam.alpha_x_px;
             double Yc = y * Z / cam.alpha_y_px;
             Surface o;

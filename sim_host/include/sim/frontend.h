@@ -44,7 +44,7 @@ extern "C" {
 
 typedef struct {
     uint64_t seed;          /* textures and object placement              */
-    int n_objects;          /* off-plane quads, 0..SIM_FRONTEND_MAX_OBJECTS (6) */
+    int n_objects;          /* off-plane quads, 0..SIM_FRONTEND_MAX_OBJECTS (4) */
     double obj_zmin_m;      /* their depth range in the target camera (15) */
     double obj_zmax_m;      /* (40)                                        */
     int target_features;    /* ORB keypoints kept on the target image, 16..
