@@ -23,7 +23,9 @@ if(TARGET spvs_frontend)
   set(frontend_loop_cases
     "m1_a|1|-3|-10|-30"
     "m2_a|2|-3|-10|-30"
-    "m3_a|3|-3|-10|-30")
+    "m3_a|3|-3|-10|-30"
+    "m3_b|3|6|8|10"
+    "m3_c|3|0|-8|-40")
   foreach(case IN LISTS frontend_loop_cases)
     string(REPLACE "|" ";" case_args "${case}")
     list(POP_FRONT case_args case_name)

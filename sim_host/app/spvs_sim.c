@@ -25,6 +25,9 @@
 #ifdef SPVS_HAVE_ZENOH
 #include "sim/link_zenoh.h"
 #endif
+#ifdef SPVS_HAVE_FRONTEND
+#include "sim/frontend.h"
+#endif
 
 #define PI 3.14159265358979323846
 #define EXIT_LINK 1
@@ -43,6 +46,10 @@ typedef struct {
     const char *lcm_matches_channel;
     double keep_last_s;
     uint32_t seed32;
+    int images;                 /* --frontend images                      */
+    const char *save_frames_dir;
+    uint32_t save_every;        /* frames between saved PNGs              */
+    long save_matches_frame;    /* -1: none                               */
 } options_t;
 
 static const char *const usage_text =
@@ -73,6 +80,11 @@ static const char *const usage_text =
     "                        error: drive on the newest command received, for\n"
     "                        at most S s of frame time, then stop (off)\n"
     "  --realtime            pace frames at dt in wall-clock time\n"
+    "  --frontend F          points (default): exact projected points;\n"
+    "                        images: ORB matches in rendered images\n"
+    "  --save-frames DIR     images: write every Nth frame as DIR/frame_NNNNN.png\n"
+    "  --save-every N        images: N for --save-frames (10)\n"
+    "  --save-matches FRAME  images: write DIR/matches_FRAME.png (or ./)\n"
     "  --json                last stdout line: one JSON object with the result\n"
     "  --quiet               no human-readable report\n"
     "  --help                this text\n"
@@ -147,6 +159,8 @@ static void parse_options(int argc, char **argv, options_t *o)
     o->lcm_url = "udpm://239.255.76.67:7667?ttl=0";
     o->zenoh_endpoint = "tcp/127.0.0.1:7447";
     o->timeout_s = 2.0;
+    o->save_every = 10;
+    o->save_matches_frame = -1;
 
     for (int i = 1; i < argc; ++i) {
         const char *arg = argv[i];
@@ -200,7 +214,8 @@ static void parse_options(int argc, char **argv, options_t *o)
             "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
             "--dt", "--max-time", "--trace", "--record", "--transport",
             "--lcm-url", "--zenoh-endpoint", "--timeout",
-            "--lcm-matches-channel", "--keep-last" };
+            "--lcm-matches-channel", "--keep-last", "--frontend",
+            "--save-frames", "--save-every", "--save-matches" };
         int known = 0;
         for (size_t k = 0; k < sizeof(valued) / sizeof(valued[0]); ++k) {
             if (strcmp(name, valued[k]) == 0) {
@@ -289,6 +304,29 @@ static void parse_options(int argc, char **argv, options_t *o)
             o->lcm_url = val;
         } else if (strcmp(name, "--zenoh-endpoint") == 0) {
             o->zenoh_endpoint = val;
+        } else if (strcmp(name, "--frontend") == 0) {
+            if (strcmp(val, "points") == 0) {
+                o->images = 0;
+            } else if (strcmp(val, "images") == 0) {
+#ifdef SPVS_HAVE_FRONTEND
+                o->images = 1;
+#else
+                usage_error("--frontend images: this build has no image "
+                            "front end (OpenCV)");
+#endif
+            } else {
+                usage_error("--frontend: '%s' is not points or images", val);
+            }
+        } else if (strcmp(name, "--save-frames") == 0) {
+            o->save_frames_dir = val;
+        } else if (strcmp(name, "--save-every") == 0) {
+            uint32_t n = parse_seed(name, val);
+            if (n == 0) {
+                usage_error("--save-every: 0 is not a frame count");
+            }
+            o->save_every = n;
+        } else if (strcmp(name, "--save-matches") == 0) {
+            o->save_matches_frame = (long)parse_seed(name, val);
         } else if (strcmp(name, "--timeout") == 0) {
             o->timeout_s = parse_number(name, val);
             if (!(o->timeout_s > 0.0 && o->timeout_s <= 3600.0)) {
@@ -306,6 +344,9 @@ static void parse_options(int argc, char **argv, options_t *o)
                 usage_error("--keep-last: %s s is outside (0, 3600]", val);
             }
         }
+    }
+    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
+        usage_error("--save-frames and --save-matches need --frontend images");
     }
     /* Whatever the single checks missed (combinations, ranges). */
     char err[160];
@@ -403,9 +444,10 @@ static void print_json(const options_t *o, const sim_result_t *r)
            c->start.phi_rad * 180.0 / PI);
     printf(",\"noise_px\":%.9g,\"outliers\":%.9g,\"drift_deg_per_m\":%.9g"
            ",\"focal_mm\":%.9g,\"pp_offset_px\":%.9g,\"dt_s\":%.9g"
-           ",\"path_m\":%.9g,\"transport\":",
+           ",\"path_m\":%.9g,\"frontend\":\"%s\",\"transport\":",
            c->noise_px, c->outliers, c->drift_deg_per_m, c->focal_true_mm,
-           c->pp_offset_px, c->dt_s, r->path_m);
+           c->pp_offset_px, c->dt_s, r->path_m,
+           o->images ? "images" : "points");
     json_string(stdout, o->transport);
     fputs("}\n", stdout);
 }
@@ -442,6 +484,46 @@ static void print_report(const sim_result_t *r)
            sim_status_str(r->status), r->reason[0] ? ": " : "", r->reason,
            r->time_s, (unsigned)r->frames, r->path_m);
 }
+
+/* ---- image front end ------------------------------------------------------ */
+
+#ifdef SPVS_HAVE_FRONTEND
+typedef struct {
+    sim_frontend_t *fe;
+    const options_t *o;
+    char err[200];
+    int failed;
+} images_t;
+
+/* sim_config_t.observe: match the rendered frame, then save the pictures
+ * asked for.  A picture that cannot be written makes the exit status 1. */
+static uint16_t observe_images(void *user, uint32_t seq, const sim_world_t *w,
+                               const sim_pose_t *pose, sim_obs_t *obs,
+                               uint16_t cap)
+{
+    images_t *im = user;
+    uint16_t n = sim_frontend_observe_cb(im->fe, seq, w, pose, obs, cap);
+    const options_t *o = im->o;
+    char path[1200];
+    const char *dir = o->save_frames_dir ? o->save_frames_dir : ".";
+    if (o->save_frames_dir && seq % o->save_every == 0) {
+        snprintf(path, sizeof(path), "%s/frame_%05u.png", dir, (unsigned)seq);
+        if (sim_frontend_save_frame(im->fe, path, im->err,
+                                    (unsigned)sizeof(im->err)) != 0) {
+            im->failed = 1;
+        }
+    }
+    if (o->save_matches_frame >= 0 && (long)seq == o->save_matches_frame) {
+        snprintf(path, sizeof(path), "%s/matches_%05u.png", dir,
+                 (unsigned)seq);
+        if (sim_frontend_save_matches(im->fe, path, im->err,
+                                      (unsigned)sizeof(im->err)) != 0) {
+            im->failed = 1;
+        }
+    }
+    return n;
+}
+#endif
 
 /* ---- transports ---------------------------------------------------------- */
 
@@ -511,6 +593,29 @@ int main(int argc, char **argv)
         }
     }
 
+#ifdef SPVS_HAVE_FRONTEND
+    images_t images;
+    memset(&images, 0, sizeof(images));
+    if (o.images) {
+        static sim_world_t w;
+        char ferr[200];
+        if (sim_config_world(&o.cfg, &w, ferr, sizeof(ferr)) != 0) {
+            usage_error("%s", ferr);
+        }
+        sim_frontend_params_t fp;
+        sim_frontend_params_default(&fp);
+        fp.seed = o.cfg.seed;
+        images.fe = sim_frontend_create(&fp, &w.cam, &w.plane, ferr,
+                                        sizeof(ferr));
+        if (images.fe == NULL) {
+            usage_error("%s", ferr);
+        }
+        images.o = &o;
+        o.cfg.observe = observe_images;
+        o.cfg.observe_user = &images;
+    }
+#endif
+
     char err[200] = "";
     sim_link_t link;
     if (open_link(&o, &link, err, sizeof(err)) != 0) {
@@ -543,6 +648,28 @@ int main(int argc, char **argv)
     if (!o.quiet) {
         print_report(&res);
     }
+#ifdef SPVS_HAVE_FRONTEND
+    if (images.fe != NULL) {
+        sim_frontend_totals_t t;
+        sim_frontend_totals(images.fe, &t);
+        if (!o.quiet) {
+            printf("images: %u frames, matches per frame mean %.1f (min %u, "
+                   "max %u), mismatches %.1f %% (worst frame %.1f %%)\n",
+                   (unsigned)t.frames,
+                   t.frames ? (double)t.matches / t.frames : 0.0,
+                   (unsigned)t.min_matches, (unsigned)t.max_matches,
+                   t.matches ? 100.0 * (double)t.mismatches / (double)t.matches
+                             : 0.0,
+                   100.0 * t.max_mismatch_rate);
+        }
+        sim_frontend_destroy(images.fe);
+        images.fe = NULL;
+        if (images.failed) {
+            out_bad = 1;
+            snprintf(sinks.err, sizeof(sinks.err), "%.150s", images.err);
+        }
+    }
+#endif
     if (o.json) {
         print_json(&o, &res);
     }
