@@ -33,6 +33,10 @@ import time
 LCM_URL = "udpm://239.255.76.67:7667?ttl=0"
 SPVS_E_STALE = -8
 PROC_LIMIT_S = 120  # timeout(1) bound of every process started here
+# --foreground: a signal sent here reaches the process once.  Without it
+# timeout(1) also signals its own process group, so the process can get a
+# signal twice and timeout itself can die of it, hiding the exit status.
+TIMEOUT = ["timeout", "--foreground", "-k", "3", str(PROC_LIMIT_S)]
 
 
 class Fail(Exception):
@@ -73,7 +77,7 @@ class Env:
         full_env = dict(os.environ, LCM_DEFAULT_URL=LCM_URL)
         if env:
             full_env.update(env)
-        p = subprocess.Popen(["timeout", "-k", "3", str(PROC_LIMIT_S)] + argv,
+        p = subprocess.Popen(TIMEOUT + argv,
                              stdout=out, stderr=err, env=full_env)
         p.name = name
         p.files = (out, err)
@@ -143,7 +147,7 @@ def last_json(text, what):
 
 
 def in_process(env, method, seed, noise):
-    q = subprocess.run(["timeout", "-k", "3", str(PROC_LIMIT_S), env.sim] +
+    q = subprocess.run(TIMEOUT + [env.sim] +
                        sim_args(method, seed, noise), capture_output=True,
                        text=True)
     expect(q.returncode == 0, "in-process run exited %d: %s"
@@ -251,8 +255,8 @@ def check_loop(env, a):
     end = time.monotonic() + 3
     while last not in env.text("example", "out") and time.monotonic() < end:
         time.sleep(0.05)
-    expect(env.stop(example, signal.SIGINT) == 0,
-           "the example subscriber did not exit 0 on SIGINT")
+    rc = env.stop(example, signal.SIGINT)
+    expect(rc == 0, "the example subscriber exited %d on SIGINT" % rc)
     lines = [l for l in env.text("example", "out").splitlines()
              if l.startswith("cmd seq ") and not l.startswith("cmd seq -1 ")]
     seqs = set(int(l.split()[2]) for l in lines)
@@ -314,8 +318,9 @@ def check_restart(env, a):
            "the stop has status %d, v %g, w %g (want %d, 0, 0)"
            % (stop.status, stop.v, stop.w, SPVS_E_STALE))
     # The node's loop checks its watchdog every 50 ms; allow that and
-    # scheduling on a loaded machine.
-    expect(watchdog - 0.02 <= delay <= watchdog + 0.15,
+    # scheduling on a loaded machine (arrival times are taken here, after
+    # LCM and a Python thread).
+    expect(0.8 * watchdog <= delay <= watchdog + 0.2,
            "the stop came %.3f s after the last command (watchdog %.2f s)"
            % (delay, watchdog))
     moving = [x for t, x in after if x.v != 0.0 or x.w != 0.0]

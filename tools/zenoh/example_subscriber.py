@@ -5,13 +5,15 @@ is an LCM-encoded spvs.cmd_t (lcm_types/cmd_t.lcm): an 8-byte type
 fingerprint, then big-endian int64 seq, int64 utime (us), double v (m/s),
 double w (rad/s), int8 step, int16 status -- 43 bytes in all.
 
-  .venv/bin/python tools/zenoh/example_subscriber.py --connect tcp/127.0.0.1:7447
+  .venv/bin/python tools/zenoh/example_subscriber.py \
+      --connect tcp/127.0.0.1:7447
 
-Stops after --count commands (0: never) or on Ctrl-C.
+Stops after --count commands (0: never), on Ctrl-C or SIGTERM.
 """
 
 import argparse
 import json
+import signal
 import struct
 import sys
 import threading
@@ -51,15 +53,18 @@ def main():
         if a.count and seen[0] >= a.count:
             done.set()
 
+    # Ctrl-C and SIGTERM only end the wait: an exception raised inside
+    # session.close() (a second Ctrl-C) would leave the session open and
+    # the process hanging at exit.
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: done.set())
     session = zenoh.open(cfg)
     try:
         session.declare_subscriber("spvs/%s/cmd" % a.robot, on_cmd)
         while not done.wait(0.2):
             pass
-    except KeyboardInterrupt:
-        pass
     finally:
-        session.close()  # an open session would keep the process alive
+        session.close()
 
 
 if __name__ == "__main__":

@@ -108,7 +108,8 @@ def load_lcm_types(types_dir=None):
             raise RuntimeError("lcm-gen failed: %s"
                                % e.stderr.decode(errors="replace").strip())
     if not os.path.isfile(os.path.join(types_dir, "spvs", "matches_t.py")):
-        raise RuntimeError("no generated spvs/matches_t.py in '%s'" % types_dir)
+        raise RuntimeError("no generated spvs/matches_t.py in '%s'"
+                           % types_dir)
     sys.path.insert(0, types_dir)
     import spvs  # noqa: E402  (generated package, path set just above)
     return spvs
