@@ -25,3 +25,15 @@ if(TARGET spvs-lcm-faults)
                          TIMEOUT 150)
   endforeach()
 endif()
+
+# Memcheck on spvs-sim (in process) and on spvs-sim with spvs-node over LCM
+# (label valgrind).  Not in a sanitizer build: ASan and valgrind exclude
+# each other.
+find_program(SPVS_VALGRIND valgrind)
+if(SPVS_VALGRIND AND NOT SPVS_SANITIZE AND TARGET spvs_node_lib AND TARGET spvs-sim)
+  add_test(NAME valgrind_node_sim
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/faults/valgrind_loop.sh
+                   $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>)
+  set_tests_properties(valgrind_node_sim PROPERTIES LABELS "valgrind;lcm;process"
+                       TIMEOUT 600)
+endif()

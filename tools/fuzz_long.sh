@@ -1,32 +1,44 @@
 #!/usr/bin/env bash
 # The documented long fuzzing run (docs/ROBUSTNESS.md): builds the libFuzzer
 # targets with clang (ASan + UBSan) and runs
-#   fuzz_core  for CORE_RUNS executions (default 10,000,000),
-#   fuzz_node  for NODE_SECONDS of wall time (default 600),
-# each from the committed seeds in a fresh corpus folder, and prints the
-# executions, time and crash count of each.  A crash, hang (10 s per input),
+#   fuzz_core  for CORE_RUNS executions in all (default 10,000,000),
+#   fuzz_node  for NODE_SECONDS of wall time per worker (default 600),
+# each split over JOBS independent workers (default: the number of cores;
+# worker K uses libFuzzer -seed=K and its own corpus), all from the
+# committed seeds in fresh corpus folders.  Prints each worker's executions,
+# time and crash count, then the totals.  A crash, hang (10 s per input),
 # leak or sanitizer report fails the run (exit 1) and leaves a reproducer in
-# BUILD/crash-TARGET/; replay it with BUILD/TARGET FILE.
+# BUILD/crash-TARGET-K/; replay it with BUILD/TARGET FILE.
 #
 # usage: tools/fuzz_long.sh [BUILD_DIR]   (default build/fuzz-long)
-# environment: CORE_RUNS, NODE_SECONDS, JOBS (parallel workers per target, 1)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 dir="${1:-$root/build/fuzz-long}"
 core_runs="${CORE_RUNS:-10000000}"
 node_seconds="${NODE_SECONDS:-600}"
-jobs="${JOBS:-1}"
+jobs="${JOBS:-$(nproc 2>/dev/null || echo 1)}"
 
 command -v clang >/dev/null || { echo "fuzz_long.sh: clang not found (scripts/install_deps.sh)" >&2; exit 2; }
 "$root/tests/fuzz/run_fuzz.sh" build "$dir" >/dev/null
-# A fresh corpus, so that the figures describe a run from the seeds.
-rm -rf "$dir/corpus-fuzz_core" "$dir/corpus-fuzz_node"
+rm -rf "$dir"/corpus-fuzz_* "$dir"/crash-fuzz_*
 
-extra=()
-if [ "$jobs" -gt 1 ]; then extra=(-fork="$jobs"); fi
-echo "fuzz_long: $(clang --version | head -1), $(nproc) cores, started $(date -u +%FT%TZ)"
+echo "fuzz_long: $(clang --version | head -1), $jobs workers on $(nproc) cores, started $(date -u +%FT%TZ)"
 status=0
-"$root/tests/fuzz/run_fuzz.sh" run "$dir" fuzz_core "runs=$core_runs" "${extra[@]}" || status=1
-"$root/tests/fuzz/run_fuzz.sh" run "$dir" fuzz_node "$node_seconds" "${extra[@]}" || status=1
+# run TARGET BUDGET: JOBS workers in parallel; prints their lines and a total.
+run() {
+  local target=$1 budget=$2 pids=() k
+  for ((k = 1; k <= jobs; k++)); do
+    SPVS_FUZZ_WORKER=$k "$root/tests/fuzz/run_fuzz.sh" run "$dir" "$target" "$budget" \
+        >"$dir/$target-$k.summary" 2>&1 &
+    pids+=($!)
+  done
+  for k in "${!pids[@]}"; do wait "${pids[$k]}" || status=1; done
+  cat "$dir/$target"-*.summary
+  awk -v t="$target" '/executions in/ { n += $3; if ($6 > s) s = $6; c += $NF }
+       END { printf "fuzz %s total: %d executions, %.1f s wall, crashes: %d\n", t, n, s, c }' \
+      "$dir/$target"-*.summary
+}
+run fuzz_core "runs=$(( (core_runs + jobs - 1) / jobs ))"
+run fuzz_node "$node_seconds"
 echo "fuzz_long: finished $(date -u +%FT%TZ), status $status"
 exit $status

@@ -9,6 +9,8 @@
 #       to BUILD_DIR/corpus-TARGET (the source tree is never written), crash
 #       reproducers to BUILD_DIR/crash-TARGET/.  Prints one summary line:
 #       "fuzz TARGET: EXECS executions in SECS s, ... crashes: 0".
+#       SPVS_FUZZ_WORKER=K (optional) names a parallel worker: its corpus,
+#       crashes and log get the suffix -K and libFuzzer's -seed=K.
 # Exit status: 0 clean, 1 a crash, leak, hang or sanitizer report, 2 misuse.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -40,17 +42,21 @@ case "$budget" in
   *) limit=(-max_total_time="$budget") ;;
 esac
 
-corpus="$dir/corpus-$target"
-crashes="$dir/crash-$target"
+suffix="" seedflag=()
+if [ -n "${SPVS_FUZZ_WORKER:-}" ]; then
+  suffix="-$SPVS_FUZZ_WORKER"; seedflag=(-seed="$SPVS_FUZZ_WORKER")
+fi
+corpus="$dir/corpus-$target$suffix"
+crashes="$dir/crash-$target$suffix"
 # Reproducers of an earlier run are not this run's findings.
 rm -rf "$crashes"
 mkdir -p "$corpus" "$crashes"
-log="$dir/$target.log"
+log="$dir/$target$suffix.log"
 start=$(date +%s.%N)
 set +e
 # -timeout: one input taking 10 s is a hang; -rss_limit_mb: a leak.
 "$exe" "${limit[@]}" -max_len=$maxlen -timeout=10 -rss_limit_mb=2048 \
-       -print_final_stats=1 -artifact_prefix="$crashes/" "$@" \
+       -print_final_stats=1 -artifact_prefix="$crashes/" "${seedflag[@]}" "$@" \
        "$corpus" "$seeds" >"$log" 2>&1
 rc=$?
 set -e
@@ -60,8 +66,8 @@ speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
 cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
 ncrash=$(find "$crashes" -type f | wc -l)
 secs=$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.1f", b - a }')
-printf 'fuzz %s: %s executions in %s s (%s exec/s), coverage %s edges, corpus %s inputs, crashes: %s\n' \
-       "$target" "${execs:-?}" "$secs" \
+printf 'fuzz %s%s: %s executions in %s s (%s exec/s), coverage %s edges, corpus %s inputs, crashes: %s\n' \
+       "$target" "$suffix" "${execs:-?}" "$secs" \
        "${speed:-?}" "${cov:-?}" "$(find "$corpus" -type f | wc -l)" "$ncrash"
 if [ $rc -ne 0 ] || [ "$ncrash" -ne 0 ]; then
   echo "fuzz $target FAILED (exit $rc); the last lines of $log:" >&2
