@@ -213,7 +213,16 @@ class Bridge:
             self.log.error("dropped message on %s: %s"
                            % ("SPVS_" + what.upper(), why))
             return
-        pub.put(data)
+        try:
+            pub.put(data)
+        except Exception as e:
+            # Zenoh refusing one sample (session closing, congestion) is
+            # not a reason to stop relaying the next ones.
+            self.counts["failed_" + what] += 1
+            self.log.error("putting SPVS_%s seq %d on %s failed: %s"
+                           % (what.upper(), msg.seq, key,
+                              common.short_error(e)))
+            return
         self.counts[what] += 1
         if self.log.level >= 3:
             self.log.info("SPVS_%s seq %d -> %s" % (what.upper(), msg.seq,
@@ -240,7 +249,13 @@ class Bridge:
                 if not self.queue:
                     return
                 data = self.queue.popleft()
-            self.lcm.publish(common.CH_MATCHES, data)
+            try:
+                self.lcm.publish(common.CH_MATCHES, data)
+            except OSError as e:
+                self.counts["failed_matches"] += 1
+                self.log.error("publishing on %s failed: %s"
+                               % (common.CH_MATCHES, e))
+                continue
             self.counts["matches"] += 1
 
     def run(self):
