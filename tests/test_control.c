@@ -144,9 +144,28 @@ static void test_closed_loop_law(void **state)
     }
 }
 
-/* First command from (-3, -10, -30 deg): v = 0 and the robot turns towards
- * phi_t = -16.7 deg (w > 0) with every method; from (5, 2, -50 deg) it turns
- * towards phi_t = -68.2 deg (w < 0). */
+/* The start: hold_frames frames standing still while the plane check and the
+ * signs are decided from their sums, then the first command.  From (-3, -10,
+ * -30 deg): v = 0 and the robot turns towards phi_t = -16.7 deg (w > 0) with
+ * every method; from (5, 2, -50 deg) towards phi_t = -68.2 deg (w < 0). */
+static void start_frames(spvs_control_t *c, const spvs_control_params_t *p,
+                         const synth_pose_t *pose, const synth_plane_t *pl, int expect_last,
+                         spvs_real *v, spvs_real *w)
+{
+    spvs_control_input_t in;
+    for (uint16_t k = 0; k < p->hold_frames; k++) {
+        make_input(pose, pl, 0.1 * k, &in);
+        int rc = spvs_control_step(c, p, &in, v, w);
+        if (k + 1u < p->hold_frames) {
+            assert_int_equal(rc, SPVS_OK);
+            assert_true(*v == 0 && *w == 0);
+            assert_int_equal(c->step, SPVS_STEP_ROTATE);
+        } else {
+            assert_int_equal(rc, expect_last);
+        }
+    }
+}
+
 static void test_first_command_signs(void **state)
 {
     (void)state;
@@ -155,18 +174,15 @@ static void test_first_command_signs(void **state)
         spvs_control_params_t p;
         spvs_control_params_default(&p, (spvs_method_t)m);
         spvs_control_t c;
-        spvs_control_input_t in;
         spvs_real v, w;
         synth_pose_t a = {-3, -10, -30 * DEG};
         spvs_control_reset(&c);
-        make_input(&a, &pl, 0, &in);
-        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        start_frames(&c, &p, &a, &pl, SPVS_OK, &v, &w);
         assert_true(v == 0 && w > 0);
         assert_int_equal(c.ahead, 1);
         synth_pose_t b = {5, 2, -50 * DEG};
         spvs_control_reset(&c);
-        make_input(&b, &pl, 0, &in);
-        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        start_frames(&c, &p, &b, &pl, SPVS_OK, &v, &w);
         assert_true(v == 0 && w < 0);
         assert_int_equal(c.ahead, -1);
     }
@@ -195,14 +211,13 @@ static void test_plane_check(void **state)
         spvs_control_params_default(&prm, (spvs_method_t)cases[i].method);
         spvs_control_t c;
         spvs_control_reset(&c);
-        spvs_control_input_t in;
-        make_input(&p, cases[i].pl, 0, &in);
         spvs_real v = 1, w = 1;
-        assert_int_equal(spvs_control_step(&c, &prm, &in, &v, &w), cases[i].expect);
+        start_frames(&c, &prm, &p, cases[i].pl, cases[i].expect, &v, &w);
         if (cases[i].expect != SPVS_OK) {
             assert_true(v == 0 && w == 0);
             assert_int_equal(c.step, SPVS_STEP_FAILED);
-            in.t_s = 1;
+            spvs_control_input_t in;
+            make_input(&p, cases[i].pl, 1.0, &in);
             assert_int_equal(spvs_control_step(&c, &prm, &in, &v, &w), cases[i].expect);
             assert_true(v == 0 && w == 0);
         }
@@ -258,9 +273,12 @@ static void test_method3_eq11(void **state)
         assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
         if (c.use_eq11 && switched_at < 0) {
             switched_at = k;
-            /* The parallax model here is 20 px per metre: 5 px at 0.25 m. */
+            /* The parallax model here is 20 px per metre: 5 px at 0.25 m;
+             * the switch comes once it has stayed under 5 px for
+             * hold_frames frames (the robot moves 0.031 m per frame here). */
             double r = sqrt(pose.x * pose.x + pose.z * pose.z);
-            assert_true(r < 0.26 && r > 0.2);
+            double r_expect = 0.25 - (p.hold_frames - 1) * 0.0313;
+            assert_true(r < 0.25 && fabs(r - r_expect) < 0.032);
         }
         if (c.step == SPVS_STEP_ALIGN) {
             break;

@@ -39,6 +39,8 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     p->tol_h13_px = SPVS_R(0.5);
     p->lock_ex_px = SPVS_R(28.0); /* alpha_x tan(2 deg) */
     p->switch_parallax_px = SPVS_R(5.0);
+    p->tol_det = SPVS_R(0.015);
+    p->hold_heading_ratio = SPVS_R(0.1);
     p->min_signal_ratio = SPVS_R(0.1);
     p->step_timeout_s = SPVS_R(120.0);
     p->hold_frames = 3;
@@ -83,7 +85,7 @@ int spvs_control_params_check(const spvs_control_params_t *p)
     }
     const spvs_real pos[] = {p->alpha_x, p->alpha_y, p->k_w, p->k_v, p->k_w3,
                              p->k_w11, p->v_max, p->w_max, p->tol_align,
-                             p->tol_translate, p->tol_h13_px, p->lock_ex_px,
+                             p->tol_translate, p->tol_h13_px, p->lock_ex_px, p->tol_det,
                              p->step_timeout_s};
     for (unsigned i = 0; i < sizeof pos / sizeof pos[0]; i++) {
         /* Written so that NaN fails too. */
@@ -93,6 +95,7 @@ int spvs_control_params_check(const spvs_control_params_t *p)
     }
     if (!(p->w_min_escape >= SPVS_R(0.0) && p->w_min_escape <= p->w_max) ||
         !(p->switch_parallax_px >= SPVS_R(0.0)) ||
+        !(p->hold_heading_ratio >= SPVS_R(0.0) && p->hold_heading_ratio < SPVS_R(1.0)) ||
         !(p->min_signal_ratio >= SPVS_R(0.0) && p->min_signal_ratio < SPVS_R(1.0)) ||
         p->hold_frames < 1u || p->fit_min_frames < 2u ||
         !(p->fit_min_span_m > SPVS_R(0.0))) {
@@ -111,7 +114,11 @@ void spvs_control_reset(spvs_control_t *c)
     c->ahead = 0;
     c->sign_sin_phit = 0;
     c->trans_sign0 = 0;
-    c->prev_sign = 0;
+    c->trans_d0 = SPVS_R(0.0);
+    c->run_sign = 0;
+    c->held_sign = 0;
+    c->run_len = 0;
+    c->low_parallax = 0;
     c->use_eq11 = 0;
     c->checked_plane = 0;
     c->hold = 0;
@@ -124,6 +131,10 @@ void spvs_control_reset(spvs_control_t *c)
     for (int k = 0; k < 3; k++) {
         c->normal_est[k] = SPVS_R(0.0);
     }
+    c->h32_sum = SPVS_R(0.0);
+    c->ahead_votes = 0;
+    c->n_start = 0;
+    c->at_target = 0;
     c->odo_s = SPVS_R(0.0);
     c->last_v = SPVS_R(0.0);
     c->last_t = SPVS_R(-1.0);
@@ -143,19 +154,36 @@ static void next_step(spvs_control_t *c, spvs_step_t step, spvs_real t_s)
     c->step = step;
     c->step_t0 = t_s;
     c->hold = 0;
-    c->prev_sign = 0;
+    c->run_sign = 0;
+    c->held_sign = 0;
+    c->run_len = 0;
 }
 
-/* A step ends when its signal crosses zero between two frames (with noise the
- * first crossing is where the signal meets the noise floor) or stays under
- * tol for hold_frames frames (noise-free exponential approach).  prev holds
- * the signal's sign on the previous frame. */
+/* A step ends when its signal changes sign and the new sign holds for
+ * hold_frames frames after the old one had held as long (with noise the
+ * first lasting change happens where the true signal meets the noise floor;
+ * a single wild frame cannot end a step), or when |signal| stays under tol
+ * for hold_frames frames (noise-free exponential approach). */
 static int step_done(spvs_control_t *c, const spvs_control_params_t *p,
-                     spvs_real signal, spvs_real tol, int8_t *prev)
+                     spvs_real signal, spvs_real tol)
 {
     int8_t s = sgn(signal);
-    int crossed = (*prev != 0 && s != 0 && s != *prev);
-    *prev = s;
+    if (s != 0 && s == c->run_sign) {
+        if (c->run_len < 65535u) {
+            c->run_len++;
+        }
+    } else {
+        c->run_sign = s;
+        c->run_len = 1;
+    }
+    int crossed = 0;
+    if (s != 0 && c->run_len >= p->hold_frames) {
+        if (c->held_sign == 0) {
+            c->held_sign = s;
+        } else if (c->held_sign != s) {
+            crossed = 1;
+        }
+    }
     if (SPVS_FABS(signal) < tol) {
         c->hold++;
     } else {
@@ -170,25 +198,29 @@ static int step_done(spvs_control_t *c, const spvs_control_params_t *p,
  *   (r/d) n_x = -e1 P - e3 Q,  (r/d) n_z = e3 P - e1 Q,
  *   (r/d) n_y = -(e3 alpha_y h32 + e1 alpha_y h12 / alpha_x),
  * with P = h11 - h33 and Q = h13 / alpha_x + alpha_x h31 (from eq. 5). */
-static int plane_check(spvs_control_t *c, const spvs_control_params_t *p,
-                       const spvs_control_input_t *in)
+static void plane_accumulate(spvs_control_t *c, const spvs_control_params_t *p,
+                             const spvs_control_input_t *in)
 {
     const spvs_real *H = in->H;
     spvs_real e1 = in->e_x_px / p->alpha_x;
     spvs_real e3 = SPVS_R(1.0);
     spvs_real en = SPVS_SQRT(e1 * e1 + e3 * e3);
-    spvs_real ahead = (spvs_real)c->ahead;
-    e1 = ahead * e1 / en;
-    e3 = ahead * e3 / en;
+    spvs_real side = in->e_dir_z > SPVS_R(0.0) ? SPVS_R(1.0) : SPVS_R(-1.0);
+    e1 = side * e1 / en;
+    e3 = side * e3 / en;
     spvs_real P = H[SPVS_H11] - H[SPVS_H33];
     spvs_real Q = H[SPVS_H13] / p->alpha_x + p->alpha_x * H[SPVS_H31];
-    spvs_real nx = -e1 * P - e3 * Q;
-    spvs_real nz = e3 * P - e1 * Q;
-    spvs_real ny = -(e3 * p->alpha_y * H[SPVS_H32] +
-                     e1 * p->alpha_y * H[SPVS_H12] / p->alpha_x);
-    c->normal_est[0] = nx;
-    c->normal_est[1] = ny;
-    c->normal_est[2] = nz;
+    c->normal_est[0] += -e1 * P - e3 * Q;
+    c->normal_est[2] += e3 * P - e1 * Q;
+    c->normal_est[1] += -(e3 * p->alpha_y * H[SPVS_H32] +
+                          e1 * p->alpha_y * H[SPVS_H12] / p->alpha_x);
+}
+
+/* Decide on the sums of hold_frames start frames, so that one frame with few
+ * matches cannot latch a failure. */
+static int plane_check(spvs_control_t *c, const spvs_control_params_t *p)
+{
+    const spvs_real nx = c->normal_est[0], ny = c->normal_est[1], nz = c->normal_est[2];
     spvs_real norm = SPVS_SQRT(nx * nx + ny * ny + nz * nz);
     if (!(norm > SPVS_R(0.0))) {
         return fail(c, p->method == SPVS_METHOD_II ? SPVS_E_PLANE_NY : SPVS_E_PLANE_NZ);
@@ -350,56 +382,72 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
     /* Start: the signs of the gains come from the parallax (paper, end of
      * section 3.3), and the plane must give this method a signal. */
     if (!c->checked_plane) {
+        const spvs_real *H = in->H;
+        spvs_real D = H[SPVS_H11] - H[SPVS_H33];
+        spvs_real Dy = p->alpha_y * H[SPVS_H32];
+        spvs_real det = H[SPVS_H11] * H[SPVS_H33] - H[SPVS_H13] * H[SPVS_H31];
+        int still = SPVS_FABS(D) < p->tol_translate && SPVS_FABS(Dy) < p->tol_translate &&
+                    SPVS_FABS(det - SPVS_R(1.0)) < p->tol_det;
         if (!in->e_valid || sgn(in->e_dir_z) == 0) {
-            /* No parallax at the start: if H also shows no translation (the
-             * step-2 signals of both kinds under their tolerance), the robot
-             * is already at the target up to a rotation, eq. (9): only step
-             * 3 is left.  Otherwise the signs cannot be chosen: stop. */
-            spvs_real D = in->H[SPVS_H11] - in->H[SPVS_H33];
-            spvs_real Dy = p->alpha_y * in->H[SPVS_H32];
-            if (c->step == SPVS_STEP_ROTATE && SPVS_FABS(D) < p->tol_translate &&
-                SPVS_FABS(Dy) < p->tol_translate) {
-                next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
-                next_step(c, SPVS_STEP_ALIGN, in->t_s);
-                c->checked_plane = 1;
-            } else {
-                return SPVS_E_NO_PARALLAX;
+            /* No parallax at the start.  If H shows no translation either
+             * (both kinds of step-2 signal and det H - 1 under their
+             * tolerances, for hold_frames frames) the robot is at the
+             * target up to a rotation, eq. (9): only step 3 is left.
+             * Otherwise the signs cannot be chosen: stop. */
+            c->at_target = still ? (uint16_t)(c->at_target + 1u) : 0u;
+            if (c->at_target < p->hold_frames) {
+                return still ? SPVS_OK : SPVS_E_NO_PARALLAX;
             }
-        }
-    }
-    if (!c->checked_plane) {
-        c->ahead = sgn(in->e_dir_z);
-        int rc = plane_check(c, p, in);
-        if (rc != SPVS_OK) {
-            return rc;
-        }
-        switch (p->method) {
-        case SPVS_METHOD_I: {
-            spvs_real f = align_signal(p, in);
-            c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
-            if (c->sign_w == 0) {
+            next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
+            next_step(c, SPVS_STEP_ALIGN, in->t_s);
+            c->checked_plane = 1;
+        } else {
+            /* The start takes hold_frames frames with an epipole, standing
+             * still: their sums decide the plane check and the signs. */
+            c->at_target = 0;
+            plane_accumulate(c, p, in);
+            c->h32_sum += H[SPVS_H32];
+            c->ahead_votes = (int16_t)(c->ahead_votes + sgn(in->e_dir_z));
+            c->n_start++;
+            if (c->n_start < p->hold_frames) {
+                return SPVS_OK;
+            }
+            c->ahead = c->ahead_votes >= 0 ? 1 : -1;
+            int rc = plane_check(c, p);
+            if (rc != SPVS_OK) {
+                return rc;
+            }
+            switch (p->method) {
+            case SPVS_METHOD_I: {
+                spvs_real f = align_signal(p, in);
+                c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
+                if (c->sign_w == 0) {
+                    c->sign_w = 1;
+                }
+                break;
+            }
+            case SPVS_METHOD_II:
+                /* sign(k_w) = -sign(n_y) sign(e_z) = sign(h32); sign(k_v) is
+                 * chosen when step 2 starts. */
+                c->sign_w = sgn(c->h32_sum);
+                break;
+            case SPVS_METHOD_III:
+            default:
                 c->sign_w = 1;
+                break;
             }
-            break;
+            c->checked_plane = 1;
         }
-        case SPVS_METHOD_II:
-            /* sign(k_w) = -sign(n_y) sign(e_z) = sign(h32);
-             * sign(k_v) = sign(n_y) = -sign(h32) sign(e_z). */
-            c->sign_w = sgn(in->H[SPVS_H32]);
-            c->sign_v = (int8_t)(-c->sign_w * c->ahead);
-            break;
-        case SPVS_METHOD_III:
-        default:
-            c->sign_w = 1;
-            break;
-        }
-        c->checked_plane = 1;
     }
 
     /* Method III needs the epipole until it has switched to eq. (11). */
     if (p->method == SPVS_METHOD_III && !c->use_eq11 && c->step != SPVS_STEP_ALIGN) {
-        if (c->step == SPVS_STEP_TRANSLATE && in->parallax_px >= SPVS_R(0.0) &&
-            in->parallax_px < p->switch_parallax_px) {
+        int low = c->step == SPVS_STEP_TRANSLATE && in->parallax_px >= SPVS_R(0.0) &&
+                  in->parallax_px < p->switch_parallax_px;
+        c->low_parallax = low ? (uint16_t)(c->low_parallax + 1u) : 0u;
+        /* The parallax must stay low for hold_frames frames: one frame with
+         * few off-plane points in view must not latch the switch. */
+        if (c->low_parallax >= p->hold_frames) {
             c->use_eq11 = 1;
             if (c->n_phit == 0u) {
                 c->cos_phit = in->H[SPVS_H11];
@@ -417,11 +465,15 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
         learn_phit(c, p, in);
         wc = rotation(c, p, in);
         spvs_real a = align_signal(p, in);
-        int done = step_done(c, p, a, p->tol_align, &c->prev_sign);
+        int done = step_done(c, p, a, p->tol_align);
         /* Method I: a zero of eq. (19) away from the target line is false. */
         if (p->method == SPVS_METHOD_I && in->e_valid &&
             SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
             done = 0;
+            /* The sign change at a false zero is spent here: only a change
+             * after it counts. */
+            c->held_sign = sgn(a);
+            c->hold = 0;
         }
         if (done) {
             next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
@@ -436,7 +488,18 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
         spvs_real D = translate_signal(p, in);
         if (c->trans_sign0 == 0) {
             c->trans_sign0 = sgn(D);
-            if (p->method != SPVS_METHOD_II) {
+            c->trans_d0 = SPVS_FABS(D);
+            /* Whether the target is ahead is read again here, facing the
+             * line, where e_z is largest (at the start it can be near zero
+             * when the target is side-on). */
+            if (in->e_valid && sgn(in->e_dir_z) != 0) {
+                c->ahead = sgn(in->e_dir_z);
+            }
+            if (p->method == SPVS_METHOD_II) {
+                /* sign(k_v) = sign(n_y) = -sign(h32) sign(e_z), with the
+                 * sign of h32 at the start (sign_w). */
+                c->sign_v = (int8_t)(-c->sign_w * c->ahead);
+            } else {
                 /* Eqs. (20), (22): v = -k_v (h11 - h33) = k_v z n_z / (d cos
                  * phi_t) on the line, so sign(k_v) = -sign(D) sign(e_z) makes
                  * v drive towards the target. */
@@ -444,9 +507,22 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
             }
         }
         spvs_real Df = fitted_signal(c, p, in->t_s, D);
+        /* det H = 1 + n^T c / d whatever the heading and the calibration
+         * (eq. 2): a step-2 signal that crossed zero while det H says the
+         * robot is still away from the target crossed through a turn. */
+        spvs_real det = in->H[SPVS_H11] * in->H[SPVS_H33] - in->H[SPVS_H13] * in->H[SPVS_H31];
+        int det_ok = SPVS_FABS(det - SPVS_R(1.0)) < p->tol_det;
         vc = -(spvs_real)c->sign_v * p->k_v * Df;
         wc = rotation(c, p, in);
-        if (step_done(c, p, Df, p->tol_translate, &c->prev_sign)) {
+        /* Near the target the rotation signals of eqs. (20)-(22) vanish with
+         * the distance while their noise does not: in the last tenth of the
+         * line the heading is held (beyond the paper; Method III's eq. (11)
+         * does not vanish and stays on). */
+        if (SPVS_FABS(Df) < p->hold_heading_ratio * c->trans_d0 &&
+            !(p->method == SPVS_METHOD_III && c->use_eq11)) {
+            wc = SPVS_R(0.0);
+        }
+        if (step_done(c, p, Df, p->tol_translate) && det_ok) {
             next_step(c, SPVS_STEP_ALIGN, in->t_s);
             vc = SPVS_R(0.0);
             wc = SPVS_R(0.0);
@@ -456,7 +532,7 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
     case SPVS_STEP_ALIGN: {
         /* Eq. (17)/(18) as chosen by the paper: w = -k_w3 h13. */
         wc = -p->k_w3 * in->H[SPVS_H13];
-        if (step_done(c, p, in->H[SPVS_H13], p->tol_h13_px, &c->prev_sign)) {
+        if (step_done(c, p, in->H[SPVS_H13], p->tol_h13_px)) {
             next_step(c, SPVS_STEP_DONE, in->t_s);
             wc = SPVS_R(0.0);
         }

@@ -70,6 +70,8 @@ void spvs_reset(spvs_t *s)
     s->has_good = 0;
     s->n_plane = 0;
     s->n_pts = 0;
+    s->n_ehist = 0;
+    s->i_ehist = 0;
     for (uint32_t i = 0; i < SPVS_MAX_FEATURES; i++) {
         s->offplane[i] = 0;
     }
@@ -292,6 +294,29 @@ int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
 
 /* ---- off-plane points, epipole and parallax ------------------------------ */
 
+/* H^-1 normalised to h22 = 1 (the inverse of a planar-motion H has the same
+ * form).  Returns 0 when H is singular. */
+static int h_inverse(const spvs_real H[9], spvs_real Hi[9])
+{
+    /* Planar form: H = [[a b c] [0 1 0] [g h i]]. */
+    const spvs_real a = H[0], b = H[1], c = H[2], g = H[6], h = H[7], i = H[8];
+    spvs_real det = a * i - c * g;
+    if (!(SPVS_FABS(det) > SPVS_R(1.0e-9))) {
+        return 0;
+    }
+    spvs_real id = SPVS_R(1.0) / det;
+    Hi[0] = i * id;
+    Hi[1] = (c * h - b * i) * id;
+    Hi[2] = -c * id;
+    Hi[3] = SPVS_R(0.0);
+    Hi[4] = SPVS_R(1.0);
+    Hi[5] = SPVS_R(0.0);
+    Hi[6] = -g * id;
+    Hi[7] = (b * g - a * h) * id;
+    Hi[8] = a * id;
+    return 1;
+}
+
 /* Collects the off-plane candidates: matches of remembered off-plane features
  * first, then plane-set matches with a large transfer error.  Returns how many
  * of the candidates are remembered features. */
@@ -305,14 +330,29 @@ static uint16_t collect_candidates(spvs_t *s, uint16_t *n_cand)
         s->cand[nc++] = i;
     }
     uint16_t n_known = nc;
+    /* Where H stretches the image (points seen at a grazing angle), a plane
+     * point's noise is magnified in the current image and its forward error
+     * is large; its error back in the target image is not.  An off-plane
+     * point's parallax shows in both, so both must exceed the threshold. */
+    spvs_real Hi[9];
+    int have_inv = h_inverse(s->H_sc, Hi);
     for (uint16_t i = 0; i < s->n_plane && nc < SPVS_MAX_OFFPLANE; i++) {
         if (s->mask[i]) {
             continue;
         }
         spvs_real e2 = spvs_h_transfer_err2(s->H_sc, s->pts[i]);
-        if (e2 > off2) {
-            s->cand[nc++] = i;
+        if (!(e2 > off2)) {
+            continue;
         }
+        if (have_inv) {
+            const spvs_real *q = s->pts[i];
+            const spvs_real back[4] = {q[2], q[3], q[0], q[1]};
+            spvs_real b2 = spvs_h_transfer_err2(Hi, back);
+            if (b2 >= SPVS_R(0.0) && !(b2 > off2)) {
+                continue;
+            }
+        }
+        s->cand[nc++] = i;
     }
     *n_cand = nc;
     return n_known;
@@ -368,6 +408,35 @@ static void remember(spvs_t *s, uint16_t n_cand, int e_ok, spvs_real parallax_px
     }
 }
 
+/* The epipole handed to the controller is the median of the last
+ * SPVS_EPIPOLE_MEDIAN frames' estimates, and its side (ahead or behind) their
+ * majority: one frame whose few off-plane points give a wild estimate must
+ * not turn the robot (bound: SPVS_EPIPOLE_MEDIAN values). */
+static void epipole_filter(spvs_t *s, const spvs_epipole_t *ep, spvs_control_input_t *in)
+{
+    s->ehist_x[s->i_ehist] = ep->e_x_px;
+    s->ehist_z[s->i_ehist] = (int8_t)(ep->dir_z > SPVS_R(0.0) ? 1 : -1);
+    s->i_ehist = (uint8_t)((s->i_ehist + 1u) % SPVS_EPIPOLE_MEDIAN);
+    if (s->n_ehist < SPVS_EPIPOLE_MEDIAN) {
+        s->n_ehist++;
+    }
+    spvs_real v[SPVS_EPIPOLE_MEDIAN];
+    int votes = 0;
+    for (uint8_t i = 0; i < s->n_ehist; i++) {
+        spvs_real key = s->ehist_x[i];
+        uint8_t k = i;
+        while (k > 0 && v[k - 1] > key) {
+            v[k] = v[k - 1];
+            k--;
+        }
+        v[k] = key;
+        votes += s->ehist_z[i];
+    }
+    in->e_x_px = v[s->n_ehist / 2];
+    in->e_dir_x = ep->dir_x;
+    in->e_dir_z = votes > 0 ? SPVS_R(1.0) : (votes < 0 ? SPVS_R(-1.0) : ep->dir_z);
+}
+
 int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                 spvs_output_t *out)
 {
@@ -399,7 +468,8 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
      * their consecutive-frame counts no longer describe continuous motion. */
     if (s->has_good && t_s - s->last_good_t_s > s->p.max_frame_gap_s) {
         s->ctl.hold = 0;
-        s->ctl.prev_sign = 0;
+        s->ctl.run_sign = 0;
+        s->ctl.run_len = 0;
     }
     s->has_good = 1;
     s->last_good_t_s = t_s;
@@ -422,9 +492,12 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
     for (int k = 0; k < 9; k++) {
         in.H[k] = out->H[k];
     }
-    in.e_x_px = e_ok ? ep.e_x_px : SPVS_R(0.0);
-    in.e_dir_x = e_ok ? ep.dir_x : SPVS_R(0.0);
-    in.e_dir_z = e_ok ? ep.dir_z : SPVS_R(0.0);
+    in.e_x_px = SPVS_R(0.0);
+    in.e_dir_x = SPVS_R(0.0);
+    in.e_dir_z = SPVS_R(0.0);
+    if (e_ok) {
+        epipole_filter(s, &ep, &in);
+    }
     in.parallax_px = parallax;
     in.t_s = t_s;
     in.e_valid = (uint8_t)e_ok;

@@ -63,6 +63,11 @@ typedef struct {
     spvs_real tol_h13_px;     /* step 3 ends: |h13| under this (pixels)       */
     spvs_real lock_ex_px;     /* |e_x| under this counts as facing the target */
     spvs_real switch_parallax_px; /* Method III switches to eq. (11) below   */
+    spvs_real hold_heading_ratio; /* step 2: once the fitted signal is under
+                                 this fraction of its start value, the
+                                 heading is held (w = 0), except on eq. (11) */
+    spvs_real tol_det;        /* step 2 may end only with |det H - 1| under
+                                 this (det H = 1 + n^T c / d, eq. 2)         */
     spvs_real min_signal_ratio;   /* plane check: the normal component the
                                      method relies on, relative, must exceed */
     spvs_real step_timeout_s; /* a step longer than this fails                */
@@ -75,8 +80,8 @@ typedef struct {
 typedef struct {
     spvs_real H[9];      /* H_cur_tgt, centred pixels, h22 = 1              */
     spvs_real e_x_px;    /* x of the epipole, pixels (when e_valid)         */
-    spvs_real e_dir_x;   /* signed epipole direction (see epipole.h)        */
-    spvs_real e_dir_z;
+    spvs_real e_dir_x;   /* signed epipole direction (see epipole.h); only  */
+    spvs_real e_dir_z;   /*   the sign of e_dir_z is used: target ahead     */
     spvs_real parallax_px; /* median off-plane parallax, negative: unknown  */
     spvs_real t_s;       /* frame time, seconds                             */
     uint8_t e_valid;     /* the epipole estimate is usable this frame       */
@@ -91,7 +96,11 @@ typedef struct {
     int8_t ahead;            /* +1 target in front, -1 behind, 0 unknown    */
     int8_t sign_sin_phit;    /* Method III: sign of sin(phi_t)              */
     int8_t trans_sign0;      /* sign of the step-2 signal at its start      */
-    int8_t prev_sign;        /* sign of the step's signal last frame        */
+    spvs_real trans_d0;      /* |step-2 signal| at its start                */
+    int8_t run_sign;         /* sign of the step's signal, current run      */
+    int8_t held_sign;        /* the sign that has held hold_frames frames   */
+    uint16_t run_len;        /* frames in the current run of run_sign       */
+    uint16_t low_parallax;   /* Method III: consecutive frames under 5 px   */
     uint8_t use_eq11;        /* Method III: parallax gone, eq. (11) in use  */
     uint8_t checked_plane;   /* the plane check has been made               */
     uint16_t hold;           /* consecutive frames the step-end test held   */
@@ -99,7 +108,11 @@ typedef struct {
     spvs_real cos_phit;      /* Method III: learnt cos(phi_t)               */
     uint32_t n_phit;         /* frames averaged into cos_phit               */
     spvs_real t_step_end[4]; /* time each step ended (index 1..3), s        */
-    spvs_real normal_est[3]; /* (r/d) n estimated at the plane check        */
+    spvs_real normal_est[3]; /* sum of (r/d) n over the start frames        */
+    spvs_real h32_sum;       /* sum of h32 over the start frames            */
+    int16_t ahead_votes;     /* sum of sign(e_z) over the start frames      */
+    uint16_t n_start;        /* start frames seen (decision at hold_frames) */
+    uint16_t at_target;      /* consecutive start frames showing no motion  */
     /* Step 2: the translation signal D against the distance driven s (from
      * the commanded v), fitted by least squares D ~ a + b s (docs/CONTROL.md). */
     spvs_real odo_s;         /* distance commanded since step 2 began, m    */

@@ -85,6 +85,11 @@ typedef struct {
     uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates (pts index) */
     uint8_t support[SPVS_MAX_OFFPLANE];
     spvs_epipole_work_t ework;
+    /* The last SPVS_EPIPOLE_MEDIAN epipole estimates (x in pixels, side). */
+    spvs_real ehist_x[SPVS_EPIPOLE_MEDIAN];
+    int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
+    uint8_t n_ehist;
+    uint8_t i_ehist;
     /* Off-plane memory, per target feature: >= 2 means off the plane. */
     int8_t offplane[SPVS_MAX_FEATURES];
 } spvs_t;

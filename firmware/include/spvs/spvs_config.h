@@ -46,6 +46,11 @@
 #define SPVS_EPIPOLE_MAX_HYP 16
 #endif
 
+/* The controller sees the median of this many frames' epipoles (odd). */
+#ifndef SPVS_EPIPOLE_MEDIAN
+#define SPVS_EPIPOLE_MEDIAN 5
+#endif
+
 /* RANSAC hypotheses: min(adaptive count for the confidence, this cap). */
 #ifndef SPVS_RANSAC_MAX_ITERS
 #define SPVS_RANSAC_MAX_ITERS 200
@@ -91,6 +96,9 @@
 #endif
 #if (SPVS_EPIPOLE_MAX_HYP < 1) || (SPVS_EPIPOLE_MAX_HYP > SPVS_MAX_OFFPLANE)
 #error "SPVS_EPIPOLE_MAX_HYP must be in 1..SPVS_MAX_OFFPLANE"
+#endif
+#if (SPVS_EPIPOLE_MEDIAN < 1) || (SPVS_EPIPOLE_MEDIAN > 15) || ((SPVS_EPIPOLE_MEDIAN % 2) == 0)
+#error "SPVS_EPIPOLE_MEDIAN must be odd, in 1..15"
 #endif
 #if (SPVS_RANSAC_MAX_ITERS < 1) || (SPVS_RANSAC_MAX_ITERS > 100000)
 #error "SPVS_RANSAC_MAX_ITERS must be in 1..100000"
