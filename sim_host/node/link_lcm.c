@@ -39,7 +39,11 @@ typedef struct {
     spvs_cmd_t newer;
     lcm_subscription_t *sub_cmd;
     lcm_subscription_t *sub_state;
+    uint32_t resends;        /* frames published again while waiting */
 } link_lcm_t;
+
+/* Wait before publishing an unanswered frame again, seconds. */
+#define RESEND_S 0.25
 
 static double now_s(void)
 {
@@ -137,10 +141,26 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
         return -1;
     }
 
-    /* Wait for the answer, bounded by the timeout whatever else arrives. */
-    double deadline = now_s() + l->timeout_s;
+    /* Wait for the answer, bounded by the timeout whatever else arrives.
+     * UDP may lose the frame, or the node may not have subscribed yet when
+     * a run starts, so the frame goes out again every RESEND_S; the node
+     * answers a repeated frame with its previous answer and never runs the
+     * core twice, so this cannot change the result. */
+    double t_sent = now_s();
+    double deadline = t_sent + l->timeout_s;
     while (!l->got_cmd) {
-        double left = deadline - now_s();
+        double t = now_s();
+        if (t - t_sent >= RESEND_S) {
+            if (spvs_wire_publish_matches(l->lcm, &l->msg) != 0) {
+                snprintf(err, err_len,
+                         "LCM link: publishing frame %u on %s failed",
+                         (unsigned)seq, l->url);
+                return -1;
+            }
+            l->resends++;
+            t_sent = t;
+        }
+        double left = deadline - t;
         if (left <= 0.0 && l->keep_last) {
             keep_last_command(l, t_s, out);
             return 0;
@@ -152,7 +172,8 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
                      (unsigned)seq, l->timeout_s, l->url);
             return -1;
         }
-        int ms = (int)ceil(left * 1000.0);
+        double wait = left < RESEND_S ? left : RESEND_S;
+        int ms = (int)ceil(wait * 1000.0);
         if (lcm_handle_timeout(l->lcm, ms > 0 ? ms : 1) < 0) {
             snprintf(err, err_len, "LCM link: receive failed on %s", l->url);
             return -1;

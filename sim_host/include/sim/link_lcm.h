@@ -5,7 +5,10 @@
  * SPVS_CMD whose seq equals it, ignoring any other (watchdog stops, answers
  * to other senders); the SPVS_STATE with the same seq, published by the node
  * just before the command, fills the telemetry.  A run is thus deterministic
- * and runs as fast as the two processes allow.  Each open link draws a fresh
+ * and runs as fast as the two processes allow.  A frame still unanswered
+ * after 0.25 s is published again (a lost datagram, or a node that was not
+ * yet listening); the node answers a repeat with its previous answer, so
+ * this never changes the result.  Each open link draws a fresh
  * run_id, so a running node resets its controller for the new run.
  */
 #ifndef SIM_LINK_LCM_H
