@@ -245,7 +245,7 @@ static const char usage_text[] =
     "  --lcm-url URL       LCM provider (default $LCM_DEFAULT_URL)\n"
     "  --in CH             channel listened to (SPVS_MATCHES_RAW)\n"
     "  --out CH            channel forwarded to (SPVS_MATCHES)\n"
-    "  --seed S            fault generator seed, integer (1)\n"
+    "  --seed S            fault generator seed, integer >= 0 (1)\n"
     "  --drop P            fraction of frames lost, [0, 1] (0)\n"
     "  --delay-max S       uniform delay of each frame, [0, S] seconds (0)\n"
     "  --dup P             fraction of frames sent twice (0)\n"
@@ -311,8 +311,11 @@ int main(int argc, char **argv)
         } else {
             return bad("unknown option", a);
         }
-        if (rc != 0)
-            return bad(a, v);
+        if (rc != 0) {
+            fprintf(stderr, "spvs-lcm-faults: %s: '%s' is not a number in "
+                            "the range --help gives\n", a, v);
+            return 2;
+        }
     }
     if (strcmp(in_ch, r.out_ch) == 0)
         return bad("--in and --out must differ", in_ch);
