@@ -13,7 +13,9 @@
  *     current point, a feature index out of range;
  *   - the count, from 0 to past SPVS_MAX_MATCHES;
  *   - the frame time: one period on, repeated, backwards, NaN, infinite, a
- *     gap longer than max_frame_gap_s, or raw bits.
+ *     gap longer than max_frame_gap_s, 40 s on (step timeouts), raw bits;
+ *   - the plane, from a wall to a floor, and the start pose, which may be
+ *     the target itself.
  *
  * Invariants checked after every call (a violation aborts, which libFuzzer
  * reports as a crash):
@@ -31,7 +33,7 @@
 
 #include "spvs/spvs.h"
 
-#define MAX_FRAMES 12
+#define MAX_FRAMES 16
 /* Counts past the capacity exercise SPVS_E_CAPACITY. */
 #define MAX_N (SPVS_MAX_MATCHES + 8)
 #define N_PLANE_PTS 90
@@ -89,6 +91,12 @@ static void fail(const char *what, int status, double v, double w, int step)
     abort();
 }
 
+#ifdef FUZZ_CORE_STATS
+/* Built into replay_stats only: what a corpus reaches (statuses, steps). */
+unsigned long fuzz_core_status_seen[SPVS_STATUS_COUNT];
+unsigned long fuzz_core_step_seen[8];
+#endif
+
 static void check_output(int rc, const spvs_output_t *out,
                          const spvs_params_t *p, uint16_t n, int estimate_only)
 {
@@ -126,6 +134,12 @@ static void check_output(int rc, const spvs_output_t *out,
     if (out->n_matches != n || out->n_inliers > out->n_matches) {
         fail("match counts inconsistent", rc, v, w, step);
     }
+#ifdef FUZZ_CORE_STATS
+    fuzz_core_status_seen[-rc]++;
+    if (!estimate_only) {
+        fuzz_core_step_seen[step]++;
+    }
+#endif
 }
 
 /* The world of the consistent scene: plane points on n^T X = -d and
@@ -138,8 +152,15 @@ typedef struct {
 
 static void world_make(world_t *wd, reader_t *r)
 {
-    double n[3] = {rd_range(r, -0.6, 0.6), rd_range(r, -0.8, 0.8), -1.0};
+    /* Any plane facing the target camera, from a wall (n_y = 0) to a floor
+     * (n_z = 0), so that the plane checks of the methods are reached. */
+    double n[3] = {rd_range(r, -0.6, 0.6), rd_range(r, -1.0, 1.0),
+                   -rd_range(r, 0.0, 1.0)};
     double norm = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(norm > 1e-3)) {
+        n[2] = -1.0;
+        norm = 1.0;
+    }
     for (int k = 0; k < 3; k++) {
         n[k] /= norm;
     }
@@ -163,9 +184,10 @@ static void world_make(world_t *wd, reader_t *r)
             wd->X[i][k] = lambda * ray[k];
         }
     }
-    wd->x_m = rd_range(r, -4.0, 4.0);
-    wd->z_m = rd_range(r, -12.0, -0.05);
-    wd->phi_rad = rd_range(r, -1.2, 1.2);
+    /* Byte 128, 0, 128 is exactly the target pose (0, 0, 0). */
+    wd->x_m = ((double)rd_u8(r) - 128.0) / 32.0;
+    wd->z_m = -(double)rd_u8(r) / 21.0;
+    wd->phi_rad = ((double)rd_u8(r) - 128.0) / 100.0;
 }
 
 /* Image of world point i in the current camera (R of eq. 3), pixels centred
@@ -285,7 +307,7 @@ static double next_time(reader_t *r, double t_s, double *dt_s)
 {
     const double zero = (double)(r->at > r->n ? 1 : 0) * 0.0;
     uint8_t code = rd_u8(r);
-    switch (code % 12u) {
+    switch (code % 13u) {
     case 0: return t_s;                      /* repeated: stale            */
     case 1: return t_s - 0.1;                /* backwards                  */
     case 2: return zero / zero;              /* NaN                        */
@@ -293,6 +315,7 @@ static double next_time(reader_t *r, double t_s, double *dt_s)
     case 4: return t_s + 5.0;                /* gap past max_frame_gap_s   */
     case 5: return (double)rd_float_bits(r); /* anything                   */
     case 6: *dt_s = rd_range(r, 0.01, 0.5); return t_s + *dt_s;
+    case 7: return t_s + 40.0;               /* towards the step timeout   */
     default: *dt_s = 0.1; return t_s + 0.1;  /* one control period         */
     }
 }

@@ -19,14 +19,15 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def world(method, d_byte=128, pose=(128, 200, 128)):
-    """Head, PRNG seed, plane normal (2 bytes), distance, point hash, pose."""
+def world(method, d_byte=128, pose=(160, 100, 160), normal=(200, 60, 190)):
+    """Head, PRNG seed, plane normal (3 bytes), distance, point hash, pose
+    (x = (b - 128) / 32 m, z = -b / 21 m, phi = (b - 128) / 100 rad)."""
     head = bytes([method - 1, 0])
-    plane = bytes([200, 60, d_byte]) + struct.pack(">I", 0x9E3779B9)
+    plane = bytes(normal) + bytes([d_byte]) + struct.pack(">I", 0x9E3779B9)
     return head + plane + bytes(pose)
 
 
-def scene_frame(count=120, damage=b"", time_code=7, time_extra=b""):
+def scene_frame(count=120, damage=b"", time_code=8, time_extra=b""):
     """Mode 4 (consistent scene), the time code and its extra bytes, the
     count, one damage code per match."""
     codes = (damage + bytes(count))[:count]
@@ -39,29 +40,41 @@ def core_seeds():
         body = b"".join(scene_frame() for _ in range(11))
         seeds["scene_m%d" % m] = world(m) + bytes([11]) + body
     # Facing the target from 2 m: the steps can end within a few frames.
-    near = world(3, pose=(128, 250, 128))
-    seeds["near_target"] = near + bytes([11]) + b"".join(
-        scene_frame(time_code=6, time_extra=bytes([255])) for _ in range(11))
+    near = world(3, pose=(128, 6, 128))
+    seeds["near_target"] = near + bytes([15]) + b"".join(
+        scene_frame(time_code=6, time_extra=bytes([255])) for _ in range(15))
+    # At the target position, turned by 0.3 rad: straight to step 3.
+    at = world(3, pose=(128, 0, 158))
+    seeds["at_target"] = at + bytes([15]) + b"".join(
+        scene_frame(time_code=6, time_extra=bytes([255])) for _ in range(15))
+    # A floor (n_z = 0) for Methods I and III, a wall (n_y = 0) for II.
+    floor = world(1, d_byte=0, normal=(128, 255, 0))
+    seeds["floor_m1"] = floor + bytes([6]) + b"".join(scene_frame() for _ in range(6))
+    wall = world(2, normal=(128, 128, 255))
+    seeds["wall_m2"] = wall + bytes([6]) + b"".join(scene_frame() for _ in range(6))
+    # 40 s steps: past the step time bound.
+    seeds["step_timeout"] = world(3) + bytes([6]) + b"".join(
+        scene_frame(time_code=7 if k else 8) for k in range(6))
     # Every kind of per-match damage, one frame each.
     dmg = b"".join(scene_frame(damage=bytes([0] * 20 + [c] * 3)) for c in range(1, 11))
     seeds["damage"] = world(3) + bytes([10]) + dmg
     # Times: repeated, backwards, NaN, infinite, a long gap, raw bits.
     times = b"".join(scene_frame(time_code=c,
                                  time_extra=b"\x7f\xc0\x00\x00" if c == 5 else b"")
-                     for c in (7, 0, 1, 2, 3, 4, 5, 7))
+                     for c in (8, 0, 1, 2, 3, 4, 5, 8))
     seeds["times"] = world(1) + bytes([8]) + times
     # Raw float bits: a NaN, an infinity, a denormal, a huge value.
-    raw = bytes([0, 7]) + struct.pack(">H", 5)
+    raw = bytes([0, 8]) + struct.pack(">H", 5)
     for bits in (0x7FC00000, 0x7F800000, 0x00000001, 0x7F7FFFFF, 0x3F800000):
         raw += struct.pack(">IIII", bits, 0x3F800000, bits, 0x40000000) + b"\x00\x01"
     seeds["raw"] = world(2) + bytes([1]) + raw
     # Coincident points, collinear points, all mismatches, a count past the
     # capacity (raw mode reads zeros past the end of the input).
-    seeds["coincident"] = world(3) + bytes([1, 1, 7, 30, 100, 100, 100, 100, 100])
-    seeds["collinear"] = world(3) + bytes([1, 2, 7]) + struct.pack(">H", 200) + bytes(5)
-    seeds["mismatches"] = world(3) + bytes([1, 3, 7]) + struct.pack(">H", 150) + b"\x12\x34\x56\x78"
-    seeds["over_capacity"] = world(3) + bytes([1, 0, 7]) + struct.pack(">H", 260)
-    seeds["estimate_only"] = world(3) + bytes([1, 0x82, 7]) + struct.pack(">H", 40) + bytes(5)
+    seeds["coincident"] = world(3) + bytes([1, 1, 8, 30, 100, 100, 100, 100, 100])
+    seeds["collinear"] = world(3) + bytes([1, 2, 8]) + struct.pack(">H", 200) + bytes(5)
+    seeds["mismatches"] = world(3) + bytes([1, 3, 8]) + struct.pack(">H", 150) + b"\x12\x34\x56\x78"
+    seeds["over_capacity"] = world(3) + bytes([1, 0, 8]) + struct.pack(">H", 260)
+    seeds["estimate_only"] = world(3) + bytes([1, 0x82, 8]) + struct.pack(">H", 40) + bytes(5)
     return seeds
 
 
