@@ -578,6 +578,9 @@ int main(int argc, char **argv)
             usage_error("--trace: cannot open '%s': %s", o.trace_path,
                         strerror(errno));
         }
+        /* Line-buffered, so that a reader following the trace (the demo's
+         * progress lines) sees each frame as it happens. */
+        setvbuf(sinks.trace, NULL, _IOLBF, 0);
         fputs("t,x,z,phi_deg,v,w,step,status,h11,h12,h13,h31,h32,h33,e_x,"
               "parallax,n_inliers,n_matches\n", sinks.trace);
     }
