@@ -151,7 +151,7 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
     while (!l->got_cmd) {
         double t = now_s();
         if (t - t_sent >= RESEND_S) {
-            if (spvs_wire_publish_matches(l->lcm, &l->msg) != 0) {
+            if (publish_frame(l) != 0) {
                 snprintf(err, err_len,
                          "LCM link: publishing frame %u on %s failed",
                          (unsigned)seq, l->url);
