@@ -2,7 +2,7 @@
 # The documented long fuzzing run (docs/ROBUSTNESS.md): builds the libFuzzer
 # targets with clang (ASan + UBSan) and runs
 #   fuzz_core  for CORE_RUNS executions in all (default 10,000,000),
-#   fuzz_node  for NODE_SECONDS of wall time per worker (default 600),
+#   fuzz_node  for NODE_SECONDS of wall time per worker (default 300),
 # each split over JOBS independent workers (default: the number of cores;
 # worker K uses libFuzzer -seed=K and its own corpus), all from the
 # committed seeds in fresh corpus folders.  Prints each worker's executions,
@@ -15,7 +15,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 dir="${1:-$root/build/fuzz-long}"
 core_runs="${CORE_RUNS:-10000000}"
-node_seconds="${NODE_SECONDS:-600}"
+node_seconds="${NODE_SECONDS:-300}"
 jobs="${JOBS:-$(nproc 2>/dev/null || echo 1)}"
 
 command -v clang >/dev/null || { echo "fuzz_long.sh: clang not found (scripts/install_deps.sh)" >&2; exit 2; }
