@@ -119,17 +119,8 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
                          char *err, unsigned err_len)
 {
     link_lcm_t *l = (link_lcm_t *)ctx;
-    if (!isfinite(t_s) || t_s < 0.0 || t_s > 9.0e12) {
-        snprintf(err, err_len, "LCM link: frame %u has a bad time %g s",
-                 (unsigned)seq, t_s);
-        return -1;
-    }
-    int64_t utime = (int64_t)llround(t_s * 1e6);
-    if (spvs_wire_matches_from_core(&l->msg, seq, utime, l->run_id, m, n) !=
-        SPVS_OK) {
-        snprintf(err, err_len, "LCM link: frame %u has %u matches, more than "
-                 "the message capacity %d", (unsigned)seq, (unsigned)n,
-                 SPVS_MAX_MATCHES);
+    if (spvs_wire_frame_from_sim(&l->msg, seq, t_s, l->run_id, m, n, "LCM link",
+                                 err, err_len) != 0) {
         return -1;
     }
     l->want_seq = seq;

@@ -181,3 +181,22 @@ int spvs_wire_publish_state(lcm_t *lcm, const spvs_state_t *st)
         return -1;
     return lcm_publish(lcm, SPVS_CH_STATE, buf, (unsigned)len) < 0 ? -1 : 0;
 }
+
+int spvs_wire_frame_from_sim(spvs_matches_t *msg, uint32_t seq, double t_s,
+                             int64_t run_id, const spvs_match_t *m, uint16_t n,
+                             const char *who, char *err, unsigned err_len)
+{
+    if (!isfinite(t_s) || t_s < 0.0 || t_s > 9.0e12) {
+        snprintf(err, err_len, "%s: frame %u has a bad time %g s", who,
+                 (unsigned)seq, t_s);
+        return -1;
+    }
+    int64_t utime = (int64_t)llround(t_s * 1e6);
+    if (spvs_wire_matches_from_core(msg, seq, utime, run_id, m, n) != SPVS_OK) {
+        snprintf(err, err_len, "%s: frame %u has %u matches, more than the "
+                 "message capacity %d", who, (unsigned)seq, (unsigned)n,
+                 SPVS_MAX_MATCHES);
+        return -1;
+    }
+    return 0;
+}

@@ -45,6 +45,14 @@ int spvs_wire_matches_from_core(spvs_matches_t *msg, int64_t seq,
                                 int64_t utime, int64_t run_id,
                                 const spvs_match_t *m, uint16_t n);
 
+/* A simulator frame as a matches message: checks the frame time t_s (finite,
+ * 0..9e12 s), converts it to microseconds and fills msg as
+ * spvs_wire_matches_from_core() does.  `who` names the link in the one-line
+ * reason written to err on failure.  Returns 0 or -1. */
+int spvs_wire_frame_from_sim(spvs_matches_t *msg, uint32_t seq, double t_s,
+                             int64_t run_id, const spvs_match_t *m, uint16_t n,
+                             const char *who, char *err, unsigned err_len);
+
 /* Check a decoded matches message before it reaches the core.
  * Returns SPVS_OK; SPVS_E_CAPACITY (count negative or above the capacity);
  * SPVS_E_NONFINITE (a NaN or infinite coordinate among the first count);

@@ -228,17 +228,8 @@ static int exchange(link_zenoh_t *l, uint32_t seq, double t_s,
                     const spvs_match_t *m, uint16_t n, spvs_output_t *out,
                     char *err, unsigned err_len)
 {
-    if (!isfinite(t_s) || t_s < 0.0 || t_s > 9.0e12) {
-        snprintf(err, err_len, "Zenoh link: frame %u has a bad time %g s",
-                 (unsigned)seq, t_s);
-        return -1;
-    }
-    int64_t utime = (int64_t)llround(t_s * 1e6);
-    if (spvs_wire_matches_from_core(&l->msg, seq, utime, l->run_id, m, n) !=
-        SPVS_OK) {
-        snprintf(err, err_len, "Zenoh link: frame %u has %u matches, more "
-                 "than the message capacity %d", (unsigned)seq, (unsigned)n,
-                 SPVS_MAX_MATCHES);
+    if (spvs_wire_frame_from_sim(&l->msg, seq, t_s, l->run_id, m, n, "Zenoh link",
+                                 err, err_len) != 0) {
         return -1;
     }
     int len = spvs_matches_t_encode(l->tx + 4, 0, SPVS_WIRE_MATCHES_BYTES,
