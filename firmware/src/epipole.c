@@ -5,24 +5,11 @@
 
 #include "spvs/epipole.h"
 #include "spvs/homography.h"
+#include "core_util.h"
 
 /* A candidate whose line direction is shorter than this (scaled units) lies
  * too close to the horizon row or has too little parallax to say anything. */
 #define DIR_MIN2 SPVS_R(1.0e-12)
-
-/* Insertion sort of at most SPVS_MAX_OFFPLANE values. */
-static void sort_small(spvs_real *v, uint16_t n)
-{
-    for (uint16_t i = 1; i < n; i++) {
-        spvs_real key = v[i];
-        uint16_t k = i;
-        while (k > 0 && v[k - 1] > key) {
-            v[k] = v[k - 1];
-            k--;
-        }
-        v[k] = key;
-    }
-}
 
 int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
                           const uint16_t *cand, uint16_t n_cand,
@@ -133,7 +120,7 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
             par[n_par++] = e2;
         }
     }
-    sort_small(tans, n_t);
+    spvs_sort_small(tans, n_t);
     spvs_real tmed = (n_t & 1u) ? tans[n_t / 2]
                                 : SPVS_R(0.5) * (tans[n_t / 2 - 1] + tans[n_t / 2]);
     /* The direction at angle atan(tmed) from b: b + tmed b_perp, with b_perp
@@ -153,7 +140,7 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
         out->e_x_px = scale * ex / ez;
     }
 
-    sort_small(par, n_par);
+    spvs_sort_small(par, n_par);
     if (n_par > 0) {
         out->parallax_px = scale * SPVS_SQRT(par[n_par / 2]);
     }

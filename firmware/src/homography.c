@@ -5,19 +5,13 @@
 #include <math.h>
 
 #include "spvs/homography.h"
+#include "core_util.h"
 
 /* A 3x3 determinant this small (scaled units, so entries are O(1)) means the
  * sample is degenerate: collinear target points or a y-row with no content. */
 #define DET_EPS SPVS_R(1.0e-7)
 /* H p_tgt must have a third coordinate above this to be in front. */
 #define W_EPS SPVS_R(1.0e-6)
-
-static int is_finite(spvs_real x)
-{
-    /* Written without isfinite() so no libm call is needed on any target:
-     * NaN fails the first test, +-Inf the second. */
-    return (x == x) && (x - x == SPVS_R(0.0));
-}
 
 /* Solve the 3x3 system A x = b by the adjugate; returns 0 when |det| is
  * below det_eps (relative to nothing: callers keep entries O(1)). */
@@ -77,7 +71,7 @@ int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
         return SPVS_E_DEGENERATE;
     }
     for (int i = 0; i < 3; i++) {
-        if (!is_finite(h1[i]) || !is_finite(h3[i])) {
+        if (!spvs_is_finite(h1[i]) || !spvs_is_finite(h3[i])) {
             return SPVS_E_DEGENERATE;
         }
     }
@@ -185,7 +179,7 @@ int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
         return SPVS_E_DEGENERATE;
     }
     for (int k = 0; k < 3; k++) {
-        if (!is_finite(h1[k]) || !is_finite(h3[k])) {
+        if (!spvs_is_finite(h1[k]) || !spvs_is_finite(h3[k])) {
             return SPVS_E_DEGENERATE;
         }
     }
@@ -378,7 +372,7 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
         return SPVS_E_DEGENERATE;
     }
     for (int k = 0; k < 9; k++) {
-        if (!is_finite(Hc[k])) {
+        if (!spvs_is_finite(Hc[k])) {
             return SPVS_E_DEGENERATE;
         }
     }

@@ -5,6 +5,7 @@
 #include <math.h>
 
 #include "spvs/spvs.h"
+#include "core_util.h"
 
 /* Off-plane memory: a feature counts as off the plane at this score. */
 #define OFFPLANE_ON 2
@@ -138,11 +139,6 @@ static int est_refine(void *ctx, spvs_real *H, const uint8_t *mask)
 
 /* ---- input validation and the estimation stage --------------------------- */
 
-static int is_finite(spvs_real x)
-{
-    return (x == x) && (x - x == SPVS_R(0.0));
-}
-
 /* Checks the frame and copies it into the work buffers in scaled units, the
  * matches of features not known to be off the plane first (n_plane of them). */
 static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
@@ -154,7 +150,7 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
     for (uint16_t i = 0; i < n; i++) {
         const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
         for (int j = 0; j < 4; j++) {
-            if (!is_finite(c[j])) {
+            if (!spvs_is_finite(c[j])) {
                 return SPVS_E_NONFINITE;
             }
             if (SPVS_FABS(c[j]) > lim) {
@@ -369,16 +365,12 @@ static spvs_real known_parallax_px(spvs_t *s, uint16_t n_known)
         if (e2 < SPVS_R(0.0)) {
             continue;
         }
-        uint16_t j = nv++;
-        while (j > 0 && v[j - 1] > e2) {
-            v[j] = v[j - 1];
-            j--;
-        }
-        v[j] = e2;
+        v[nv++] = e2;
     }
     if (nv == 0) {
         return SPVS_R(-1.0);
     }
+    spvs_sort_small(v, nv);
     return (spvs_real)SPVS_COORD_SCALE * SPVS_SQRT(v[nv / 2]);
 }
 
@@ -423,15 +415,10 @@ static void epipole_filter(spvs_t *s, const spvs_epipole_t *ep, spvs_control_inp
     spvs_real v[SPVS_EPIPOLE_MEDIAN];
     int votes = 0;
     for (uint8_t i = 0; i < s->n_ehist; i++) {
-        spvs_real key = s->ehist_x[i];
-        uint8_t k = i;
-        while (k > 0 && v[k - 1] > key) {
-            v[k] = v[k - 1];
-            k--;
-        }
-        v[k] = key;
+        v[i] = s->ehist_x[i];
         votes += s->ehist_z[i];
     }
+    spvs_sort_small(v, s->n_ehist);
     in->e_x_px = v[s->n_ehist / 2];
     in->e_dir_x = ep->dir_x;
     in->e_dir_z = votes > 0 ? SPVS_R(1.0) : (votes < 0 ? SPVS_R(-1.0) : ep->dir_z);
@@ -445,7 +432,7 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
     }
     clear_output(out, n);
     int rc = SPVS_OK;
-    if (!is_finite(t_s)) {
+    if (!spvs_is_finite(t_s)) {
         rc = SPVS_E_NONFINITE;
     } else if (s->has_last && !(t_s > s->last_t_s)) {
         /* A frame not after the last one is a duplicate or out of order:
