@@ -32,6 +32,7 @@
 #include <string.h>
 
 #include "spvs/spvs.h"
+#include "fuzz_reader.h"
 
 #define MAX_FRAMES 16
 /* Counts past the capacity exercise SPVS_E_CAPACITY. */
@@ -39,49 +40,6 @@
 #define N_PLANE_PTS 90
 #define N_OFF_PTS 30
 #define FOCAL_PX 800.0
-
-/* A reader over the fuzz bytes: past the end it returns zeros, so every
- * input, however short, is a complete description. */
-typedef struct {
-    const uint8_t *p;
-    size_t n;
-    size_t at;
-} reader_t;
-
-static uint8_t rd_u8(reader_t *r)
-{
-    return r->at < r->n ? r->p[r->at++] : 0u;
-}
-
-static uint16_t rd_u16(reader_t *r)
-{
-    uint16_t hi = rd_u8(r);
-    return (uint16_t)((hi << 8) | rd_u8(r));
-}
-
-static uint32_t rd_u32(reader_t *r)
-{
-    uint32_t v = 0;
-    for (int i = 0; i < 4; i++) {
-        v = (v << 8) | rd_u8(r);
-    }
-    return v;
-}
-
-/* Raw float bits: NaN payloads, infinities, denormals all reachable. */
-static float rd_float_bits(reader_t *r)
-{
-    uint32_t u = rd_u32(r);
-    float f;
-    memcpy(&f, &u, sizeof(f));
-    return f;
-}
-
-/* A value in [lo, hi] from one byte. */
-static double rd_range(reader_t *r, double lo, double hi)
-{
-    return lo + (hi - lo) * (double)rd_u8(r) / 255.0;
-}
 
 static void fail(const char *what, int status, double v, double w, int step)
 {

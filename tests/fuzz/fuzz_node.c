@@ -31,37 +31,10 @@
 
 #include <lcm/lcm.h>
 
+#include "fuzz_reader.h"
 #include "node.h"
 
 #define MAX_MSGS 6
-
-typedef struct {
-    const uint8_t *p;
-    size_t n;
-    size_t at;
-} reader_t;
-
-static uint8_t rd_u8(reader_t *r)
-{
-    return r->at < r->n ? r->p[r->at++] : 0u;
-}
-
-static uint32_t rd_u32(reader_t *r)
-{
-    uint32_t v = 0;
-    for (int i = 0; i < 4; i++) {
-        v = (v << 8) | rd_u8(r);
-    }
-    return v;
-}
-
-static float rd_float_bits(reader_t *r)
-{
-    uint32_t u = rd_u32(r);
-    float f;
-    memcpy(&f, &u, sizeof(f));
-    return f;
-}
 
 /* What the SPVS_CMD subscription saw since the last reset. */
 typedef struct {
