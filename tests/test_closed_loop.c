@@ -53,21 +53,12 @@ static void run(int method, double x, double z, double phi_deg, double noise,
     c.noise_px = noise;
     c.seed = seed;
 
-    spvs_params_t p;
-    sim_inproc_params(&p, method, c.focal_assumed_mm / c.pixel_mm, seed);
-    sim_link_t link;
     char err[160];
-    int rc = sim_link_inproc_open(&p, &link, err, sizeof(err));
-    if (rc != 0) {
-        print_message("cannot open the in-process link: %s\n", err);
-    }
-    assert_int_equal(rc, 0);
     memset(st, 0, sizeof(*st));
     st->dt_s = c.dt_s;
-    rc = sim_run(&c, &link, res, watch_step2, st, err, sizeof(err));
-    link.close(link.ctx);
+    int rc = sim_run_inproc(&c, res, watch_step2, st, err, sizeof(err));
     if (rc != 0) {
-        print_message("sim_run refused the set-up: %s\n", err);
+        print_message("the run did not take place: %s\n", err);
     }
     assert_int_equal(rc, 0);
 }

@@ -107,16 +107,10 @@ static void closed_loop_from_images(void **state)
     c.observe = sim_frontend_observe_cb;
     c.observe_user = fe;
 
-    spvs_params_t p;
-    sim_inproc_params(&p, c.method, c.focal_assumed_mm / c.pixel_mm,
-                      (uint32_t)c.seed);
-    sim_link_t link;
-    assert_int_equal(sim_link_inproc_open(&p, &link, err, sizeof(err)), 0);
     loop_stats_t st;
     memset(&st, 0, sizeof(st));
     sim_result_t r;
-    int rc = sim_run(&c, &link, &r, watch, &st, err, sizeof(err));
-    link.close(link.ctx);
+    int rc = sim_run_inproc(&c, &r, watch, &st, err, sizeof(err));
     double wall = now_s() - t0;
     sim_frontend_totals_t tot;
     sim_frontend_totals(fe, &tot);

@@ -54,3 +54,18 @@ int sim_link_inproc_open(const spvs_params_t *p, sim_link_t *out, char *err,
     out->close = inproc_close;
     return 0;
 }
+
+int sim_run_inproc(const sim_config_t *c, sim_result_t *res, sim_frame_cb cb,
+                   void *user, char *err, unsigned err_len)
+{
+    spvs_params_t p;
+    sim_inproc_params(&p, c->method, c->focal_assumed_mm / c->pixel_mm,
+                      (uint32_t)c->seed);
+    sim_link_t link;
+    if (sim_link_inproc_open(&p, &link, err, err_len) != 0) {
+        return -1;
+    }
+    int rc = sim_run(c, &link, res, cb, user, err, err_len);
+    link.close(link.ctx);
+    return rc;
+}

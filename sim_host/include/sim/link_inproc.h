@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "sim/link.h"
+#include "sim/sim.h"
 #include "spvs/spvs.h"
 
 #ifdef __cplusplus
@@ -25,6 +26,13 @@ void sim_inproc_params(spvs_params_t *p, int method, double alpha_px,
  * the parameters). */
 int sim_link_inproc_open(const spvs_params_t *p, sim_link_t *out, char *err,
                          unsigned err_len);
+
+/* One closed-loop run of configuration c against an in-process controller
+ * with sim_inproc_params() of c (method, assumed focal length, seed): opens
+ * the link, sim_run()s, closes it.  Returns sim_run()'s value, or -1 with a
+ * reason in err when the link cannot be opened. */
+int sim_run_inproc(const sim_config_t *c, sim_result_t *res, sim_frame_cb cb,
+                   void *user, char *err, unsigned err_len);
 
 #ifdef __cplusplus
 }
