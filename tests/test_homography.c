@@ -204,7 +204,7 @@ static void test_refit(void **state)
             g.H[2] += SPVS_R(3.0);
             g.H[8] -= SPVS_R(0.01);
             spvs_h_rescale(g.H, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
-            assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, g.H), SPVS_OK);
+            assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, g.H), SPVS_OK);
             assert_int_equal(g.guard, SENTINEL);
             double He[9];
             to_pixels(g.H, He);
@@ -241,7 +241,7 @@ static void test_refit_too_few(void **state)
     spvs_real pts[4][4] = {{0}};
     uint8_t use[4] = {1, 1, 0, 0};
     spvs_real H[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, 4, H), SPVS_E_TOO_FEW);
+    assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, 4, SPVS_REFIT_MAX_ITERS, H), SPVS_E_TOO_FEW);
     assert_true(H[0] == SPVS_R(1.0) && H[2] == SPVS_R(0.0));
 }
 

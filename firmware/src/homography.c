@@ -311,9 +311,35 @@ static spvs_real refit_pass(const spvs_real (*pts)[4], const uint8_t *use, uint1
     return cost;
 }
 
-int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                 spvs_real H[9])
+/* The summed squared transfer error of the used points at H, alone (the
+ * check of a last Gauss-Newton step needs no normal equations);
+ * SPVS_REAL_MAX when a point is behind the camera. */
+static spvs_real refit_cost(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                            const spvs_real H[9])
 {
+    spvs_real cost = SPVS_R(0.0);
+    for (uint16_t i = 0; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        spvs_real e2 = spvs_h_transfer_err2(H, pts[i]);
+        if (e2 < SPVS_R(0.0)) {
+            return SPVS_REAL_MAX;
+        }
+        cost += e2;
+    }
+    return cost;
+}
+
+int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                 uint16_t max_iters, spvs_real H[9])
+{
+    if (max_iters < 1u) {
+        max_iters = 1u;
+    }
+    if (max_iters > SPVS_REFIT_MAX_ITERS) {
+        max_iters = SPVS_REFIT_MAX_ITERS;
+    }
     uint16_t used = 0;
     for (uint16_t i = 0; i < n; i++) {
         used = (uint16_t)(used + (use[i] ? 1u : 0u));
@@ -335,10 +361,12 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
     /* Each pass evaluates the cost of the last step and linearises there.
      * A step that raises the cost is undone and ends the refit; so does a
      * relative improvement under 1e-4 (a Gauss-Newton from a RANSAC start
-     * gets there in one or two steps).  Bound: SPVS_REFIT_MAX_ITERS + 1
+     * gets there in one or two steps).  The pass after the last step only
+     * evaluates the cost.  Bound: max_iters + 1 <= SPVS_REFIT_MAX_ITERS + 1
      * passes. */
-    for (int it = 0; it <= SPVS_REFIT_MAX_ITERS; it++) {
-        spvs_real cost = refit_pass(pts, use, n, Hc, N, g);
+    for (uint16_t it = 0; it <= max_iters; it++) {
+        spvs_real cost = it < max_iters ? refit_pass(pts, use, n, Hc, N, g)
+                                        : refit_cost(pts, use, n, Hc);
         if (!(cost <= prev)) {
             for (int k = 0; k < 9; k++) {
                 Hc[k] = Hprev[k];
@@ -348,7 +376,7 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
         have = 1;
         int small = (prev - cost) <= SPVS_R(1.0e-4) * cost;
         prev = cost;
-        if (small || it == SPVS_REFIT_MAX_ITERS) {
+        if (small || it == max_iters) {
             break;
         }
         spvs_real d[6];

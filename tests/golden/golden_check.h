@@ -148,7 +148,7 @@ static inline void golden_run_h(const spvs_golden_h_t *g, golden_h_result_t *r)
     }
     use[SPVS_GOLDEN_N_NOISY] = 0xA5u;
     r->st_refit = spvs_h_refit((const spvs_real(*)[4])noisy, use,
-                               SPVS_GOLDEN_N_NOISY, H);
+                               SPVS_GOLDEN_N_NOISY, SPVS_REFIT_MAX_ITERS, H);
     spvs_h_rescale(H, (spvs_real)SPVS_COORD_SCALE);
     golden_h_copy(g->H, Hpx_true);
     golden_h_copy(g->H_fit, Hpx_fit);

@@ -42,12 +42,14 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4]);
 
 /* Least-squares refit of H on the points flagged in `use` (nonzero entries),
  * minimising the sum of squared transfer errors in the current image
- * (Gauss-Newton from the given H, at most SPVS_REFIT_MAX_ITERS iterations).
+ * (Gauss-Newton from the given H; stops when a step gains under 1e-4 of the
+ * cost or raises it, which is undone).
  * pts: n points, scaled units; use: n flags; H: start value in, result out.
+ * max_iters: Gauss-Newton steps at most, clamped to 1..SPVS_REFIT_MAX_ITERS.
  * Returns SPVS_OK, SPVS_E_TOO_FEW (fewer than 3 flagged points) or
  * SPVS_E_DEGENERATE (singular normal equations); on error H is unchanged. */
 SPVS_NODISCARD int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use,
-                                uint16_t n, spvs_real H[9]);
+                                uint16_t n, uint16_t max_iters, spvs_real H[9]);
 
 /* Weighted linear least-squares fit of H on the flagged points, using the
  * block structure: row 3 from the y-equations weighted by 1 / w0^2 (w0 the

@@ -56,9 +56,9 @@
 #define SPVS_RANSAC_MAX_ITERS 200
 #endif
 
-/* Gauss-Newton iterations of the transfer-error refit.  It stops earlier
- * once a step gains under 1e-4 of the cost; in spvs_update it starts from a
- * linear fit on the same inliers and stops after one step. */
+/* Most Gauss-Newton steps spvs_h_refit takes (callers ask for fewer; it
+ * stops earlier once a step gains under 1e-4 of the cost).  spvs_update
+ * starts it from a linear fit on the same inliers and asks for one step. */
 #ifndef SPVS_REFIT_MAX_ITERS
 #define SPVS_REFIT_MAX_ITERS 5
 #endif
