@@ -105,16 +105,16 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
  * exit is checked once per block. */
 #define SCORE_BLOCK 8
 
-/* Squared algebraic transfer residual of point q under H, written to *e2;
- * returns 1 when q is an inlier: |w p_cur - (h1.p, y_tgt)|^2 <= t^2 w^2 with
- * w = h3.p > 0 (the transfer error in the current image, without the
- * division). */
-static inline int score_point(const spvs_real *H, const spvs_real *q, spvs_real t2,
-                              spvs_real *e2)
+/* Squared algebraic transfer residual of the match (x, y) -> (u, v) under
+ * H, written to *e2; returns 1 for an inlier: |w (u, v) - (h1.p, y)|^2 <=
+ * t^2 w^2 with w = h3.p > 0 (the transfer error in the current image,
+ * without the division). */
+static inline int32_t score_point(const spvs_real *H, spvs_real x, spvs_real y,
+                                  spvs_real u, spvs_real v, spvs_real t2, spvs_real *e2)
 {
-    spvs_real w = H[6] * q[0] + H[7] * q[1] + H[8];
-    spvs_real ex = q[2] * w - (H[0] * q[0] + H[1] * q[1] + H[2]);
-    spvs_real ey = q[3] * w - q[1];
+    spvs_real w = H[6] * x + H[7] * y + H[8];
+    spvs_real ex = u * w - (H[0] * x + H[1] * y + H[2]);
+    spvs_real ey = v * w - y;
     spvs_real e = ex * ex + ey * ey;
     *e2 = e;
     return (w > SPVS_R(0.0)) & (e <= t2 * w * w);
@@ -139,14 +139,10 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
         const uint16_t i0 = (uint16_t)(b * SCORE_BLOCK);
         int32_t ok[SCORE_BLOCK];
         spvs_real e[SCORE_BLOCK];
-        const spvs_real *X = &s->soa[0][i0], *Y = &s->soa[1][i0], *U = &s->soa[2][i0], *V = &s->soa[3][i0];
+        const spvs_real *x = &s->col[0][i0], *y = &s->col[1][i0];
+        const spvs_real *u = &s->col[2][i0], *v = &s->col[3][i0];
         for (int j = 0; j < SCORE_BLOCK; j++) {
-            spvs_real w = H[6] * X[j] + H[7] * Y[j] + H[8];
-            spvs_real ex = U[j] * w - (H[0] * X[j] + H[1] * Y[j] + H[2]);
-            spvs_real ey = V[j] * w - Y[j];
-            spvs_real ee = ex * ex + ey * ey;
-            e[j] = ee;
-            ok[j] = (w > SPVS_R(0.0)) & (ee <= t2 * w * w);
+            ok[j] = score_point(H, x[j], y[j], u[j], v[j], t2, &e[j]);
         }
         for (int j = 0; j < SCORE_BLOCK; j++) {
             cl[j] += ok[j] ? e[j] : SPVS_R(0.0);
@@ -173,7 +169,7 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
     }
     for (uint16_t i = (uint16_t)(n_blocks * SCORE_BLOCK); i < n; i++) {
         spvs_real e;
-        int ok = score_point(H, s->pts[i], t2, &e);
+        int32_t ok = score_point(H, s->col[0][i], s->col[1][i], s->col[2][i], s->col[3][i], t2, &e);
         inl = (uint16_t)(inl + (uint16_t)ok);
         c += ok ? e : SPVS_R(0.0);
         if (mask) {
@@ -220,10 +216,10 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
         s->pts[k][1] = c[1] * inv;
         s->pts[k][2] = c[2] * inv;
         s->pts[k][3] = c[3] * inv;
-        s->soa[0][k] = c[0] * inv;
-        s->soa[1][k] = c[1] * inv;
-        s->soa[2][k] = c[2] * inv;
-        s->soa[3][k] = c[3] * inv;
+        s->col[0][k] = c[0] * inv;
+        s->col[1][k] = c[1] * inv;
+        s->col[2][k] = c[2] * inv;
+        s->col[3][k] = c[3] * inv;
         s->feat[k] = m[i].feature;
     }
     s->n_plane = front;
