@@ -100,10 +100,17 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
     return spvs_h_solve3(pts, model);
 }
 
-/* Points scored per block: the inner loop over a block has a fixed trip
- * count and no branch, so a compiler can run it on SIMD lanes; the early
- * exit is checked once per block. */
+/* Points scored per block.  The inner loops over a block have a fixed trip
+ * count and no branch, so a compiler runs them on SIMD lanes where the
+ * target has them; the early exit is checked once per block.  Without SIMD
+ * (Cortex-M4F) a block is one point, so the exit comes at the first point
+ * that makes `need` unreachable.  Counts, masks and the cost (summed in point
+ * order) are the same for every block size. */
+#if defined(__SSE2__) || defined(__ARM_NEON)
 #define SCORE_BLOCK 8
+#else
+#define SCORE_BLOCK 1
+#endif
 
 /* Squared algebraic transfer residual of the match (x, y) -> (u, v) under
  * H, written to *e2; returns 1 for an inlier: |w (u, v) - (h1.p, y)|^2 <=
@@ -130,54 +137,45 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
     const uint16_t n = s->n_plane;
     const uint16_t max_out = (uint16_t)(need <= n ? (uint16_t)(n - need) : 0u);
     const uint16_t n_blocks = (uint16_t)(n / SCORE_BLOCK);
-    uint16_t inl = 0;
-    spvs_real cl[SCORE_BLOCK] = {0};
-    int32_t kl[SCORE_BLOCK] = {0};
+    int32_t inl = 0;
     spvs_real c = SPVS_R(0.0);
     /* Bound: n / SCORE_BLOCK blocks, then fewer than SCORE_BLOCK points. */
     for (uint16_t b = 0; b < n_blocks; b++) {
         const uint16_t i0 = (uint16_t)(b * SCORE_BLOCK);
-        int32_t ok[SCORE_BLOCK];
-        spvs_real e[SCORE_BLOCK];
         const spvs_real *x = &s->col[0][i0], *y = &s->col[1][i0];
         const spvs_real *u = &s->col[2][i0], *v = &s->col[3][i0];
+        int32_t ok[SCORE_BLOCK];
+        spvs_real e[SCORE_BLOCK];
         for (int j = 0; j < SCORE_BLOCK; j++) {
             ok[j] = score_point(H, x[j], y[j], u[j], v[j], t2, &e[j]);
         }
         for (int j = 0; j < SCORE_BLOCK; j++) {
-            cl[j] += ok[j] ? e[j] : SPVS_R(0.0);
-            kl[j] += ok[j];
+            inl += ok[j];
+            c += ok[j] ? e[j] : SPVS_R(0.0);
         }
-        uint16_t k = 0;
-        for (int j = 0; j < SCORE_BLOCK; j++) {
-            k = (uint16_t)(k + (uint16_t)kl[j]);
-        }
-        inl = k;
         if (mask) {
             for (int j = 0; j < SCORE_BLOCK; j++) {
                 mask[i0 + j] = (uint8_t)ok[j];
             }
         }
-        /* Outliers so far exceed what `need` allows: it cannot be reached. */
-        if ((uint16_t)(i0 + SCORE_BLOCK - inl) > max_out) {
+        /* More outliers so far than `need` allows: it cannot be reached. */
+        if (i0 + SCORE_BLOCK - inl > (int32_t)max_out) {
             *cost = c;
-            return inl;
+            return (uint16_t)inl;
         }
-    }
-    for (int j = 0; j < SCORE_BLOCK; j++) {
-        c += cl[j];
     }
     for (uint16_t i = (uint16_t)(n_blocks * SCORE_BLOCK); i < n; i++) {
         spvs_real e;
-        int32_t ok = score_point(H, s->col[0][i], s->col[1][i], s->col[2][i], s->col[3][i], t2, &e);
-        inl = (uint16_t)(inl + (uint16_t)ok);
+        int32_t ok = score_point(H, s->col[0][i], s->col[1][i], s->col[2][i],
+                                 s->col[3][i], t2, &e);
+        inl += ok;
         c += ok ? e : SPVS_R(0.0);
         if (mask) {
             mask[i] = (uint8_t)ok;
         }
     }
     *cost = c;
-    return inl;
+    return (uint16_t)inl;
 }
 
 /* LO step: polish a hypothesis with the weighted linear fit on its inliers. */
