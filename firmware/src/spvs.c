@@ -101,15 +101,17 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
 }
 
 /* Points scored per block.  The inner loops over a block have a fixed trip
- * count and no branch, so a compiler runs them on SIMD lanes where the
- * target has them; the early exit is checked once per block.  Without SIMD
- * (Cortex-M4F) a block is one point, so the exit comes at the first point
- * that makes `need` unreachable.  Counts, masks and the cost (summed in point
- * order) are the same for every block size. */
-#if defined(__SSE2__) || defined(__ARM_NEON)
+ * count and no branch, so a compiler runs them on SIMD lanes; the early exit
+ * is checked once per block.  Without SIMD (SPVS_SIMD_COLUMNS 0, e.g. the
+ * Cortex-M4F) a block is one point read from pts, so the exit comes at the
+ * first point that makes `need` unreachable.  Counts, masks and the cost
+ * (summed in point order) are the same for every block size. */
+#if SPVS_SIMD_COLUMNS
 #define SCORE_BLOCK 8
+#define PT(s, i, k) ((s)->col[k][i])
 #else
 #define SCORE_BLOCK 1
+#define PT(s, i, k) ((s)->pts[i][k])
 #endif
 
 /* Squared algebraic transfer residual of the match (x, y) -> (u, v) under
@@ -142,12 +144,11 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
     /* Bound: n / SCORE_BLOCK blocks, then fewer than SCORE_BLOCK points. */
     for (uint16_t b = 0; b < n_blocks; b++) {
         const uint16_t i0 = (uint16_t)(b * SCORE_BLOCK);
-        const spvs_real *x = &s->col[0][i0], *y = &s->col[1][i0];
-        const spvs_real *u = &s->col[2][i0], *v = &s->col[3][i0];
         int32_t ok[SCORE_BLOCK];
         spvs_real e[SCORE_BLOCK];
         for (int j = 0; j < SCORE_BLOCK; j++) {
-            ok[j] = score_point(H, x[j], y[j], u[j], v[j], t2, &e[j]);
+            ok[j] = score_point(H, PT(s, i0 + j, 0), PT(s, i0 + j, 1), PT(s, i0 + j, 2),
+                                PT(s, i0 + j, 3), t2, &e[j]);
         }
         for (int j = 0; j < SCORE_BLOCK; j++) {
             inl += ok[j];
@@ -166,8 +167,8 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
     }
     for (uint16_t i = (uint16_t)(n_blocks * SCORE_BLOCK); i < n; i++) {
         spvs_real e;
-        int32_t ok = score_point(H, s->col[0][i], s->col[1][i], s->col[2][i],
-                                 s->col[3][i], t2, &e);
+        int32_t ok = score_point(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3),
+                                 t2, &e);
         inl += ok;
         c += ok ? e : SPVS_R(0.0);
         if (mask) {
@@ -214,10 +215,11 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
         s->pts[k][1] = c[1] * inv;
         s->pts[k][2] = c[2] * inv;
         s->pts[k][3] = c[3] * inv;
-        s->col[0][k] = c[0] * inv;
-        s->col[1][k] = c[1] * inv;
-        s->col[2][k] = c[2] * inv;
-        s->col[3][k] = c[3] * inv;
+#if SPVS_SIMD_COLUMNS
+        for (int j = 0; j < 4; j++) {
+            s->col[j][k] = s->pts[k][j];
+        }
+#endif
         s->feat[k] = m[i].feature;
     }
     s->n_plane = front;

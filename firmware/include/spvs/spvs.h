@@ -78,10 +78,11 @@ typedef struct {
     uint16_t n_plane;
     spvs_real H_sc[9];                  /* this frame's H, scaled units     */
     spvs_real pts[SPVS_MAX_MATCHES][4];
+#if SPVS_SIMD_COLUMNS
     /* The same points in columns (x_tgt, y_tgt, x_cur, y_cur), for the
-     * blocked inlier count, whose fixed-length loops run on SIMD lanes where
-     * the target has them. */
+     * blocked inlier count on SIMD lanes (spvs_config.h). */
     spvs_real col[4][SPVS_MAX_MATCHES];
+#endif
     uint16_t feat[SPVS_MAX_MATCHES];
     uint16_t idx[SPVS_MAX_MATCHES];     /* RANSAC index scratch             */
     uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among pts          */

@@ -8,6 +8,7 @@
  *
  * Memory of one spvs_t instance (see spvs.h) grows with:
  *   SPVS_MAX_MATCHES  x (4 scalars + 2 index bytes + 1 flag byte)
+ *                       (+ 4 scalars with SPVS_SIMD_COLUMNS)
  *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
  *   SPVS_MAX_OFFPLANE x 3 scalars
  */
@@ -81,7 +82,24 @@
 #define SPVS_MAX_COORD_PX 8192
 #endif
 
+/* 1: keep a second copy of the frame's points in columns and count inliers in
+ * blocks of 8 on it, which a compiler runs on SIMD lanes (SPVS_MAX_MATCHES x
+ * 4 more scalars in spvs_t).  0: count point by point on the one copy.  The
+ * result is the same either way; the default is 1 where the compiler says
+ * the target has SSE2 or NEON, 0 elsewhere (Cortex-M4F).  Compile the core
+ * and the code that allocates spvs_t with the same setting. */
+#ifndef SPVS_SIMD_COLUMNS
+#if defined(__SSE2__) || defined(__ARM_NEON)
+#define SPVS_SIMD_COLUMNS 1
+#else
+#define SPVS_SIMD_COLUMNS 0
+#endif
+#endif
+
 /* ---- range checks ------------------------------------------------------ */
+#if (SPVS_SIMD_COLUMNS != 0) && (SPVS_SIMD_COLUMNS != 1)
+#error "SPVS_SIMD_COLUMNS must be 0 or 1"
+#endif
 #if (SPVS_USE_DOUBLE != 0) && (SPVS_USE_DOUBLE != 1)
 #error "SPVS_USE_DOUBLE must be 0 or 1"
 #endif
