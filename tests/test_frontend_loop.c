@@ -1,5 +1,5 @@
 /*
- * test_frontend_loop.c - the closed loop fed from rendered images: ORB
+ * test_frontend_loop.c - the closed loop fed from rendered images: SIFT
  * matches of each current image against the target image (sim/frontend.h)
  * drive the in-process controller.  One run per ctest entry; the case is
  * given on the command line as METHOD X_M Z_M PHI_DEG.
@@ -90,6 +90,9 @@ static void closed_loop_from_images(void **state)
     c.start.z_m = lc->z_m;
     c.start.phi_rad = lc->phi_deg * DEG;
     c.max_time_s = MAX_SIM_TIME_S;
+    /* The front end's wide camera, and the controller told so. */
+    c.focal_true_mm = SIM_FRONTEND_FOCAL_MM;
+    c.focal_assumed_mm = SIM_FRONTEND_FOCAL_MM;
 
     static sim_world_t world;
     char err[200];

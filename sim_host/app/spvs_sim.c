@@ -47,6 +47,7 @@ typedef struct {
     double keep_last_s;
     uint32_t seed32;
     int images;                 /* --frontend images                      */
+    int focal_given;            /* --focal-mm was given                   */
     const char *save_frames_dir;
     uint32_t save_every;        /* frames between saved PNGs              */
     long save_matches_frame;    /* -1: none                               */
@@ -63,7 +64,8 @@ static const char *const usage_text =
     "  --noise SIGMA_PX      Gaussian image noise, pixels (0)\n"
     "  --outliers FRACTION   mismatched fraction of each frame, [0,1) (0)\n"
     "  --drift DEG_PER_M     odometry drift in rotation, deg per metre (0)\n"
-    "  --focal-mm F          TRUE focal length, mm; the controller assumes 6 (6)\n"
+    "  --focal-mm F          TRUE focal length, mm; the controller assumes 6,\n"
+    "                        or 3 with --frontend images (6; images: 3)\n"
     "  --pp-offset PX        TRUE principal point x offset, pixels (0)\n"
     "  --seed S              seed of scene, noise and RANSAC, 0..4294967295 (0)\n"
     "  --dt S                control period, seconds (0.1)\n"
@@ -81,7 +83,7 @@ static const char *const usage_text =
     "                        at most S s of frame time, then stop (off)\n"
     "  --realtime            pace frames at dt in wall-clock time\n"
     "  --frontend F          points (default): exact projected points;\n"
-    "                        images: ORB matches in rendered images\n"
+    "                        images: SIFT matches in rendered images\n"
     "  --save-frames DIR     images: write every Nth frame as DIR/frame_NNNNN.png\n"
     "  --save-every N        images: N for --save-frames (10)\n"
     "  --save-matches FRAME  images: write DIR/matches_FRAME.png (or ./)\n"
@@ -271,6 +273,7 @@ static void parse_options(int argc, char **argv, options_t *o)
             c->drift_deg_per_m = parse_number(name, val);
         } else if (strcmp(name, "--focal-mm") == 0) {
             c->focal_true_mm = parse_number(name, val);
+            o->focal_given = 1;
             if (!(c->focal_true_mm > 0.0)) {
                 usage_error("--focal-mm: %s mm is not positive", val);
             }
@@ -348,6 +351,17 @@ static void parse_options(int argc, char **argv, options_t *o)
     if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
         usage_error("--save-frames and --save-matches need --frontend images");
     }
+#ifdef SPVS_HAVE_FRONTEND
+    /* Images are taken with the front end's wide camera, and the
+     * controller is told its focal length (--focal-mm still sets the true
+     * one, for calibration errors). */
+    if (o->images) {
+        o->cfg.focal_assumed_mm = SIM_FRONTEND_FOCAL_MM;
+        if (!o->focal_given) {
+            o->cfg.focal_true_mm = SIM_FRONTEND_FOCAL_MM;
+        }
+    }
+#endif
     /* Whatever the single checks missed (combinations, ranges). */
     char err[160];
     if (sim_config_check(&o->cfg, err, sizeof(err)) != 0) {

@@ -1,5 +1,5 @@
-/* frontend.cpp - ORB features, ratio-test matching and the C interface of
- * the image front end (sim/frontend.h). */
+/* frontend.cpp - features (SIFT by default, or ORB), ratio-test matching
+ * and the C interface of the image front end (sim/frontend.h). */
 #include "sim/frontend.h"
 
 #include <algorithm>
@@ -21,7 +21,8 @@
 namespace {
 
 constexpr int kMinTargetFeatures = 16;
-constexpr int kOrbLevels = 4;
+constexpr int kSiftLayers = 3;  /* OpenCV's and Lowe's default      */
+constexpr int kMaxLevels = 16;
 constexpr int kGridX = 8; /* target keypoint spreading grid */
 constexpr int kGridY = 6;
 constexpr uint32_t kTargetSeq = 0xffffffffu; /* sensor noise of the target */
@@ -45,8 +46,8 @@ void set_err(char *err, unsigned len, const char *msg)
 struct sim_frontend {
     sim_frontend_params_t p;
     simfe::Scene scene;
-    cv::Ptr<cv::ORB> orb_tgt;
-    cv::Ptr<cv::ORB> orb_cur;
+    cv::Ptr<cv::Feature2D> det_tgt;
+    cv::Ptr<cv::Feature2D> det_cur;
     cv::BFMatcher matcher{ cv::NORM_HAMMING, false };
 
     cv::Mat img_tgt;
@@ -86,12 +87,13 @@ void render_frame(sim_frontend *f, const sim_pose_t &pose, uint32_t seq,
 }
 
 /* Move keypoints to the sub-pixel corner (cv::cornerSubPix, 7x7 window).
- * ORB places a corner found on a coarse pyramid level to within a level's
- * pixel, 1..2 px at level 0; the textures' corners are polygon vertices,
- * which a projective map sends to vertices, so refining both images puts
- * both ends of a match on the same scene point.  A keypoint that the
- * refinement moves by more than 1.5 px was not on a clean corner: it keeps
- * ORB's position. */
+ * A keypoint found at a coarse scale is placed to within that scale's
+ * pixel, 1..2 px of the full image (SIFT on the halved image, ORB on its
+ * upper pyramid levels); the textures' corners are polygon vertices, which
+ * a projective map sends to vertices, so refining both images puts both
+ * ends of a match on the same scene point.  A keypoint that the refinement
+ * moves by more than 1.5 px was not on a clean corner: it keeps the
+ * detector's position. */
 void refine(const cv::Mat &img, std::vector<cv::KeyPoint> &kp)
 {
     if (kp.empty()) {
@@ -115,7 +117,44 @@ void refine(const cv::Mat &img, std::vector<cv::KeyPoint> &kp)
     }
 }
 
-/* Keypoints of the target image: the strongest ORB corners spread over a
+/* The image the detector works on: the image itself, or (detect_half) its
+ * half made with pixel-area averaging. */
+const cv::Mat &detector_image(const sim_frontend *f, const cv::Mat &img,
+                              cv::Mat &half)
+{
+    if (!f->p.detect_half) {
+        return img;
+    }
+    cv::resize(img, half, cv::Size(img.cols / 2, img.rows / 2), 0, 0,
+               cv::INTER_AREA);
+    return half;
+}
+
+/* Keypoints between the detector's image and the full image: half-image
+ * pixel i averages full pixels 2i and 2i + 1, centred at 2i + 0.5. */
+void keypoints_to_full(const sim_frontend *f, std::vector<cv::KeyPoint> &kp)
+{
+    if (!f->p.detect_half) {
+        return;
+    }
+    for (cv::KeyPoint &k : kp) {
+        k.pt = k.pt * 2.0f + cv::Point2f(0.5f, 0.5f);
+        k.size *= 2.0f;
+    }
+}
+
+void keypoints_to_half(const sim_frontend *f, std::vector<cv::KeyPoint> &kp)
+{
+    if (!f->p.detect_half) {
+        return;
+    }
+    for (cv::KeyPoint &k : kp) {
+        k.pt = (k.pt - cv::Point2f(0.5f, 0.5f)) * 0.5f;
+        k.size *= 0.5f;
+    }
+}
+
+/* Keypoints of the target image: the strongest keypoints spread over a
  * grid of kGridX x kGridY cells (each cell keeps its best share first, the
  * rest goes to the strongest left over), at most target_features, then
  * described.  Spreading them keeps features near the image borders, which
@@ -123,7 +162,10 @@ void refine(const cv::Mat &img, std::vector<cv::KeyPoint> &kp)
 bool describe_target(sim_frontend *f)
 {
     std::vector<cv::KeyPoint> all;
-    f->orb_tgt->detect(f->img_tgt, all);
+    cv::Mat half;
+    const cv::Mat &dimg = detector_image(f, f->img_tgt, half);
+    f->det_tgt->detect(dimg, all);
+    keypoints_to_full(f, all);
     std::stable_sort(all.begin(), all.end(),
                      [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
                          return a.response > b.response;
@@ -148,7 +190,9 @@ bool describe_target(sim_frontend *f)
             kp.push_back(all[i]);
         }
     }
-    f->orb_tgt->compute(f->img_tgt, kp, f->desc_tgt);
+    keypoints_to_half(f, kp);
+    f->det_tgt->compute(dimg, kp, f->desc_tgt);
+    keypoints_to_full(f, kp);
     if (f->p.subpixel) {
         refine(f->img_tgt, kp);
     }
@@ -230,9 +274,9 @@ extern "C" {
 void sim_frontend_params_default(sim_frontend_params_t *p)
 {
     p->seed = 0;
-    p->n_objects = 4;
-    p->obj_zmin_m = 15.0;
-    p->obj_zmax_m = 40.0;
+    p->n_objects = 10;
+    p->obj_zmin_m = 12.0;
+    p->obj_zmax_m = 35.0;
     p->target_features = 500;
     p->current_features = 1500;
     p->ratio = 0.7;
@@ -241,6 +285,9 @@ void sim_frontend_params_default(sim_frontend_params_t *p)
     p->mismatch_px = 3.0;
     p->image_noise = 1.5;
     p->subpixel = 1;
+    p->detector = SIM_FRONTEND_SIFT;
+    p->levels = kSiftLayers;
+    p->detect_half = 1;
 }
 
 sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
@@ -279,6 +326,17 @@ sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
                !(p->image_noise >= 0.0) || !std::isfinite(p->image_noise)) {
         std::snprintf(msg, sizeof(msg),
                       "front end: mismatch distance and noise must be finite, >= 0");
+    } else if (p->detector != SIM_FRONTEND_ORB &&
+               p->detector != SIM_FRONTEND_SIFT &&
+               p->detector != SIM_FRONTEND_AKAZE) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: detector must be ORB, SIFT or AKAZE, got %d",
+                      p->detector);
+    } else if (p->levels < 1 || p->levels > kMaxLevels ||
+               (p->detect_half != 0 && p->detect_half != 1)) {
+        std::snprintf(msg, sizeof(msg),
+                      "front end: levels must be 1..%d and detect_half 0 or 1",
+                      kMaxLevels);
     } else if (cam->width_px != SIM_FRONTEND_WIDTH ||
                cam->height_px != SIM_FRONTEND_HEIGHT ||
                !(cam->alpha_x_px > 0.0) || !(cam->alpha_y_px > 0.0)) {
@@ -304,14 +362,30 @@ sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
             delete f;
             return nullptr;
         }
-        /* The target asks ORB for six times what it keeps, so that the
-         * spreading grid has corners to choose from in every cell. */
-        /* Four pyramid levels of 1.2 span a 2x change of scale, more than
-         * the runs' 10 m approach to a plane 45..100 m away needs, at half
-         * the cost of OpenCV's default eight. */
-        f->orb_tgt = cv::ORB::create(p->target_features * 6,
-                                     1.2f, kOrbLevels);
-        f->orb_cur = cv::ORB::create(p->current_features, 1.2f, kOrbLevels);
+        /* The target asks for six times what it keeps, so that the
+         * spreading grid has corners to choose from in every cell.
+         * SIFT (the default): its descriptor, a histogram of gradient
+         * orientations pooled over a 4 x 4 grid, changes slowly under the
+         * foreshortening that a turn of 30..60 deg in front of an oblique
+         * plane brings; ORB's binary tests of pixel pairs do not, and
+         * from the Figure 5 poses ORB keeps too few plane matches (see
+         * docs/RESULTS_IMAGES.md).  Detecting on the halved image
+         * (detect_half) skips SIFT's costly doubled first octave and keeps
+         * the blobs of 2 px and more that survive the approach; the matched
+         * points are then refined on the full image. */
+        if (p->detector == SIM_FRONTEND_SIFT) {
+            f->det_tgt = cv::SIFT::create(p->target_features * 6, p->levels);
+            f->det_cur = cv::SIFT::create(p->current_features, p->levels);
+            f->matcher = cv::BFMatcher(cv::NORM_L2, false);
+        } else if (p->detector == SIM_FRONTEND_AKAZE) {
+            f->det_tgt = cv::AKAZE::create();
+            f->det_cur = cv::AKAZE::create();
+        } else {
+            /* levels of 1.2: four span a 2x change of scale. */
+            f->det_tgt = cv::ORB::create(p->target_features * 6, 1.2f,
+                                         p->levels);
+            f->det_cur = cv::ORB::create(p->current_features, 1.2f, p->levels);
+        }
         const sim_pose_t origin = { 0.0, 0.0, 0.0 };
         render_frame(f, origin, kTargetSeq, f->img_tgt);
         if (!describe_target(f)) {
@@ -359,8 +433,10 @@ uint16_t sim_frontend_observe(sim_frontend_t *f, uint32_t seq,
             s.render_ms = ms_since(t0);
             t0 = std::chrono::steady_clock::now();
             f->kp_cur.clear();
-            f->orb_cur->detectAndCompute(f->img_cur, cv::noArray(), f->kp_cur,
-                                         f->desc_cur);
+            cv::Mat half;
+            f->det_cur->detectAndCompute(detector_image(f, f->img_cur, half),
+                                         cv::noArray(), f->kp_cur, f->desc_cur);
+            keypoints_to_full(f, f->kp_cur);
             match(f);
             if (f->p.subpixel) {
                 /* Only the matched keypoints need it. */

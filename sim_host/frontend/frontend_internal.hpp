@@ -45,9 +45,9 @@ struct Scene {
     std::vector<Surface> surf;
     cv::Mat atlas;             /* CV_8U                                   */
 
-    /* Build from the plane: texture 2048 x 2048 texels of 8 cm centred
+    /* Build from the plane: texture 2048 x 2048 texels of 12 cm centred
      * where the target camera's optical axis meets the plane, plus up to
-     * n_objects quads (1.5..3 m wide) at depths [zmin, zmax) that the
+     * n_objects quads (2.5..5 m wide) at depths [zmin, zmax) that the
      * target camera sees in front of the plane.  Returns "" or a reason. */
     std::string build(const sim_camera_t &cam, const sim_plane_t &pl,
                       uint64_t seed, int n_objects, double zmin_m,

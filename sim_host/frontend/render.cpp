@@ -20,8 +20,16 @@ namespace {
 constexpr int kW = 640;
 constexpr int kH = 480;
 constexpr int kPlaneTex = 2048;      /* texels per side                   */
-constexpr double kPlaneTexel = 0.08; /* metres                            */
+/* One texel is 12 cm: the plane is 246 m across, so that it fills the
+ * view from every Figure 5 pose, and at its usual 50..100 m a pixel of the
+ * 400 px camera covers 12..25 cm, one or two texels. */
+constexpr double kPlaneTexel = 0.12; /* metres                            */
 constexpr int kObjTex = 128;         /* texels per side                   */
+/* Object widths: 2.5..5 m at 12..35 m are 30..170 px wide in the 400 px
+ * camera, big enough for a handful of features each; their parallax
+ * against the plane is what Methods II and III read the signs from. */
+constexpr double kObjMinW = 2.5;     /* metres                            */
+constexpr double kObjMaxW = 5.0;
 constexpr int kAtlasPad = 4;         /* texels between atlas tiles        */
 constexpr int kMaxObjectTries = 200; /* placement draws per object        */
 
@@ -146,7 +154,7 @@ std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
             double x = rng.uniform(-280.0, 280.0);
             double y = rng.uniform(-200.0, 200.0);
             double Z = rng.uniform(zmin_m, zmax_m);
-            double w = rng.uniform(1.5, 3.0);
+            double w = rng.uniform(kObjMinW, kObjMaxW);
             double X = (x - cam.x0_px) * Z / cam.alpha_x_px;
             double Yc = y * Z / cam.alpha_y_px;
             Surface o;

@@ -82,8 +82,8 @@ cv::Mat make_plane_texture(uint64_t seed, int w, int h)
     cv::RNG rng(mix(seed ^ 0x706c616e65ULL));
     cv::Mat tex = smooth_field(rng, w, h, 24, 70, 190);
     /* Three scales, coarse first so that finer shapes sit on top: about
-     * 18, 7 and 3 m across, 10..200 target-image pixels at the plane's
-     * usual distance (one texel is 8 cm; one pixel covers 8..17 cm there).
+     * 19, 8 and 3.4 m across (one texel is 12 cm), 15..130 pixels of the
+     * 400 px camera at the plane's usual 50..100 m.
      * Each scale covers about half of the texture, so shapes overlap in
      * random arrangements that make each corner's neighbourhood unique. */
     const double area = (double)w * (double)h;

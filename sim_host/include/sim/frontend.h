@@ -1,8 +1,9 @@
 /*
  * frontend.h - a vision front end for the simulator: render the camera image
- * of a textured scene at any pose, detect ORB features, match them against
- * the target image with a ratio test, and hand the matches to the loop as
- * sim_obs_t records (C-callable; the implementation is C++ with OpenCV).
+ * of a textured scene at any pose, detect SIFT (or ORB) features, match them
+ * against the target image with a ratio test, and hand the matches to the
+ * loop as sim_obs_t records (C-callable; the implementation is C++ with
+ * OpenCV).
  *
  * The scene: the dominant plane n^T X = -d of the run (a procedural texture
  * with corners at several scales, deterministic per seed) and a few
@@ -39,29 +40,46 @@ extern "C" {
 
 #define SIM_FRONTEND_WIDTH 640
 #define SIM_FRONTEND_HEIGHT 480
+/* Focal length of the camera the image runs use (sim_config_t's
+ * focal_true_mm and focal_assumed_mm), with its 0.0075 mm pixels 400 px:
+ * a field of view of 77 x 62 deg.  The paper's 6 mm (800 px, 44 deg) loses
+ * the target's view of the scene when the robot turns 40..50 deg to face
+ * the target line from the Figure 5 poses. */
+#define SIM_FRONTEND_FOCAL_MM 3.0
 /* Most off-plane quads a scene can hold. */
 #define SIM_FRONTEND_MAX_OBJECTS 16
 
+/* Feature detectors and descriptors (all in OpenCV's main modules). */
+#define SIM_FRONTEND_ORB 0
+#define SIM_FRONTEND_SIFT 1
+#define SIM_FRONTEND_AKAZE 2
+
 typedef struct {
     uint64_t seed;          /* textures and object placement              */
-    int n_objects;          /* off-plane quads, 0..SIM_FRONTEND_MAX_OBJECTS (4) */
-    double obj_zmin_m;      /* their depth range in the target camera (15) */
-    double obj_zmax_m;      /* (40)                                        */
-    int target_features;    /* ORB keypoints kept on the target image, 16..
+    int n_objects;          /* off-plane quads, 0..SIM_FRONTEND_MAX_OBJECTS (10) */
+    double obj_zmin_m;      /* their depth range in the target camera (12) */
+    double obj_zmax_m;      /* (35)                                        */
+    int target_features;    /* keypoints kept on the target image, 16..
                                SPVS_MAX_FEATURES (500)                      */
-    int current_features;   /* ORB keypoints on each current image (1500)  */
+    int current_features;   /* keypoints on each current image (1500)      */
     double ratio;           /* Lowe's ratio test, (0, 1] (0.7)             */
     int cross_check;        /* 1: keep only mutual best matches (1)        */
     int max_matches;        /* 1..SPVS_MAX_MATCHES (256)                   */
     double mismatch_px;     /* ground-truth mismatch distance, px (3)      */
     double image_noise;     /* sensor noise sigma, grey levels (1.5)       */
     int subpixel;           /* 1: refine matched corners to sub-pixel (1)  */
+    int detector;           /* SIM_FRONTEND_SIFT (default), _ORB, _AKAZE   */
+    int levels;             /* SIFT: layers per octave; ORB: pyramid levels
+                               of 1.2; 1..16 (3)                           */
+    int detect_half;        /* 1: detect and describe on the image halved,
+                               keypoints mapped back and refined on the
+                               full image (1)                              */
 } sim_frontend_params_t;
 
 /* What the front end saw in one frame. */
 typedef struct {
     uint32_t seq;
-    uint16_t n_keypoints;   /* ORB keypoints in the current image          */
+    uint16_t n_keypoints;   /* keypoints in the current image              */
     uint16_t n_matches;     /* matches handed on                           */
     uint16_t n_mismatches;  /* of those, farther than mismatch_px from the
                                truth                                       */
