@@ -48,7 +48,7 @@ struct sim_frontend {
     simfe::Scene scene;
     cv::Ptr<cv::Feature2D> det_tgt;
     cv::Ptr<cv::Feature2D> det_cur;
-    cv::BFMatcher matcher{ cv::NORM_HAMMING, false };
+    int norm = cv::NORM_HAMMING;   /* descriptor distance            */
 
     cv::Mat img_tgt;
     std::vector<cv::KeyPoint> kp_tgt;
@@ -223,32 +223,50 @@ void match(sim_frontend *f)
     if (f->desc_cur.empty() || f->desc_tgt.empty()) {
         return;
     }
-    std::vector<std::vector<cv::DMatch>> knn;
-    f->matcher.knnMatch(f->desc_cur, f->desc_tgt, knn, 2);
-    std::vector<int> best_cur_of_tgt;
-    if (f->p.cross_check) {
-        std::vector<cv::DMatch> rev;
-        f->matcher.match(f->desc_tgt, f->desc_cur, rev);
-        best_cur_of_tgt.assign((size_t)f->desc_tgt.rows, -1);
-        for (const cv::DMatch &m : rev) {
-            best_cur_of_tgt[(size_t)m.queryIdx] = m.trainIdx;
-        }
+    /* One distance matrix, current x target, serves both directions: the
+     * two nearest targets of each current feature (ratio test) and the
+     * nearest current feature of each target (mutual check). */
+    cv::Mat dist;
+    cv::batchDistance(f->desc_cur, f->desc_tgt, dist,
+                      f->norm == cv::NORM_L2 ? CV_32F : CV_32S, cv::noArray(),
+                      f->norm);
+    if (dist.type() != CV_32F) {
+        dist.convertTo(dist, CV_32F);
     }
+    const int nc = dist.rows, nt = dist.cols;
+    std::vector<int> best_cur_of_tgt((size_t)nt, -1);
+    std::vector<float> best_d_of_tgt((size_t)nt, INFINITY);
     std::vector<cv::DMatch> cand;
-    for (const auto &k : knn) {
-        if (k.empty()) {
-            continue;
+    for (int i = 0; i < nc; ++i) {
+        const float *d = dist.ptr<float>(i);
+        int j1 = -1;
+        float d1 = INFINITY, d2 = INFINITY;
+        for (int j = 0; j < nt; ++j) {
+            if (d[j] < d1) {
+                d2 = d1;
+                d1 = d[j];
+                j1 = j;
+            } else if (d[j] < d2) {
+                d2 = d[j];
+            }
+            if (d[j] < best_d_of_tgt[(size_t)j]) {
+                best_d_of_tgt[(size_t)j] = d[j];
+                best_cur_of_tgt[(size_t)j] = i;
+            }
         }
         /* With a single neighbour there is nothing to compare against:
          * such a match is ambiguous by construction and is dropped. */
-        if (k.size() < 2 || !(k[0].distance < f->p.ratio * k[1].distance)) {
-            continue;
+        if (j1 >= 0 && nt >= 2 && d1 < f->p.ratio * d2) {
+            cand.emplace_back(i, j1, d1);
         }
-        if (f->p.cross_check &&
-            best_cur_of_tgt[(size_t)k[0].trainIdx] != k[0].queryIdx) {
-            continue;
-        }
-        cand.push_back(k[0]);
+    }
+    if (f->p.cross_check) {
+        cand.erase(std::remove_if(cand.begin(), cand.end(),
+                                  [&](const cv::DMatch &m) {
+                                      return best_cur_of_tgt[(size_t)m.trainIdx] !=
+                                             m.queryIdx;
+                                  }),
+                   cand.end());
     }
     std::stable_sort(cand.begin(), cand.end(),
                      [](const cv::DMatch &a, const cv::DMatch &b) {
@@ -376,7 +394,7 @@ sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
         if (p->detector == SIM_FRONTEND_SIFT) {
             f->det_tgt = cv::SIFT::create(p->target_features * 6, p->levels);
             f->det_cur = cv::SIFT::create(p->current_features, p->levels);
-            f->matcher = cv::BFMatcher(cv::NORM_L2, false);
+            f->norm = cv::NORM_L2;
         } else if (p->detector == SIM_FRONTEND_AKAZE) {
             f->det_tgt = cv::AKAZE::create();
             f->det_cur = cv::AKAZE::create();
