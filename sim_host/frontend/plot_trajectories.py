@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Plot robot paths from spvs-sim --trace files side by side (top view, x
-right, z forward, metres; the target pose is the origin).
+right, z forward, metres; the target pose is the origin).  One panel per
+LABEL; several traces joined with '+' share a panel.
 
-usage: plot_trajectories.py OUT.png LABEL=TRACE.csv [LABEL=TRACE.csv ...]
+usage: plot_trajectories.py OUT.png LABEL=TRACE.csv[+TRACE.csv ...] [...]
 """
 import csv
 import sys
@@ -19,26 +20,32 @@ def main(argv):
         return 2
     runs = []
     for arg in argv[2:]:
-        label, sep, path = arg.partition("=")
+        label, sep, paths = arg.partition("=")
         if not sep:
             sys.stderr.write("plot_trajectories: '%s' is not LABEL=FILE\n" % arg)
             return 2
-        try:
-            with open(path, newline="") as f:
-                rows = list(csv.DictReader(f))
-            xs = [float(r["x"]) for r in rows]
-            zs = [float(r["z"]) for r in rows]
-        except (OSError, KeyError, ValueError) as e:
-            sys.stderr.write("plot_trajectories: cannot read '%s': %s\n" % (path, e))
-            return 1
-        runs.append((label, xs, zs))
+        paths_xz = []
+        for path in paths.split("+"):
+            try:
+                with open(path, newline="") as f:
+                    rows = list(csv.DictReader(f))
+                xs = [float(r["x"]) for r in rows]
+                zs = [float(r["z"]) for r in rows]
+            except (OSError, KeyError, ValueError) as e:
+                sys.stderr.write("plot_trajectories: cannot read '%s': %s\n"
+                                 % (path, e))
+                return 1
+            paths_xz.append((xs, zs))
+        runs.append((label, paths_xz))
     fig, axes = plt.subplots(1, len(runs), figsize=(3.2 * len(runs), 3.4),
                              sharex=True, sharey=True)
     if len(runs) == 1:
         axes = [axes]
-    for ax, (label, xs, zs) in zip(axes, runs):
-        ax.plot(xs, zs, "-", lw=1.5)
-        ax.plot(xs[:1], zs[:1], "o", ms=4, label="start")
+    for ax, (label, paths_xz) in zip(axes, runs):
+        for i, (xs, zs) in enumerate(paths_xz):
+            ax.plot(xs, zs, "-", lw=1.5, color="C%d" % (i % 10))
+            ax.plot(xs[:1], zs[:1], "o", ms=4, color="C%d" % (i % 10),
+                    label="start" if i == 0 else None)
         ax.plot([0], [0], "k^", ms=6, label="target")
         ax.set_title(label, fontsize=9)
         ax.set_xlabel("x (m)")
