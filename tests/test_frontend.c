@@ -295,7 +295,18 @@ static void test_bad_input(void **state)
     assert_null(sim_frontend_create(&p, &world.cam, &behind, err,
                                     sizeof(err)));
 
-    sim_frontend_t *f = make(0);
+    /* The most objects a scene holds: their textures fit in the atlas. */
+    sim_frontend_params_default(&p);
+    p.n_objects = SIM_FRONTEND_MAX_OBJECTS;
+    sim_frontend_t *f = sim_frontend_create(&p, &world.cam, &world.plane, err,
+                                            sizeof(err));
+    assert_non_null(f);
+    sim_pose_t near = { 0.0, -2.0, 0.0 };
+    assert_true(sim_frontend_observe(f, 0, &near, obs, SPVS_MAX_MATCHES,
+                                     NULL) >= 40);
+    sim_frontend_destroy(f);
+
+    f = make(0);
     double zero = 0.0;
     sim_pose_t nan_pose = { zero / zero, 0.0, 0.0 };
     assert_int_equal(sim_frontend_observe(f, 0, &nan_pose, obs,

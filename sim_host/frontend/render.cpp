@@ -149,6 +149,8 @@ std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
      * nearer than the plane, so it stands between camera and plane. */
     cv::RNG rng(seed * 0x2545f4914f6cdd1dULL + 0x51ed27ULL);
     const int tile = kObjTex + kAtlasPad;
+    /* Object tiles per atlas row: as many as fit in the plane's width. */
+    const int per_row = kPlaneTex / tile;
     for (int k = 0; k < n_objects; ++k) {
         for (int tries = 0; tries < kMaxObjectTries; ++tries) {
             double x = rng.uniform(-280.0, 280.0);
@@ -173,17 +175,19 @@ std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
                 continue;
             }
             o.tex_w = o.tex_h = kObjTex;
-            o.atlas_x = (k % 16) * tile;
-            o.atlas_y = kPlaneTex + kAtlasPad + (k / 16) * tile;
+            /* Tiles by placed object, so that the rows below count them. */
+            const int slot = (int)surf.size() - 1;
+            o.atlas_x = (slot % per_row) * tile;
+            o.atlas_y = kPlaneTex + kAtlasPad + (slot / per_row) * tile;
             o.on_plane = false;
             surf.push_back(o);
             break;
         }
     }
 
-    /* One atlas: the plane on top, the objects in a row beneath it. */
+    /* One atlas: the plane on top, the objects in rows beneath it. */
     int rows = kPlaneTex + kAtlasPad +
-               ((int)surf.size() > 1 ? tile * (((int)surf.size() - 2) / 16 + 1)
+               ((int)surf.size() > 1 ? tile * (((int)surf.size() - 2) / per_row + 1)
                                      : 0);
     atlas = cv::Mat(rows, kPlaneTex, CV_8U, cv::Scalar(128));
     make_plane_texture(seed, kPlaneTex, kPlaneTex)
