@@ -59,7 +59,8 @@
 
 /* Most Gauss-Newton steps spvs_h_refit takes (callers ask for fewer; it
  * stops earlier once a step gains under 1e-4 of the cost).  spvs_update
- * starts it from a linear fit on the same inliers and asks for one step. */
+ * starts it from a linear fit on the same inliers and asks for two steps
+ * (FINAL_GN_STEPS in spvs.c). */
 #ifndef SPVS_REFIT_MAX_ITERS
 #define SPVS_REFIT_MAX_ITERS 5
 #endif
