@@ -24,6 +24,7 @@ typedef struct {
     uint16_t count;
     int degenerate;
     int cost_down; /* 1: later models cost less */
+    uint32_t costs;
 } mock_t;
 
 static int mock_fit(void *ctx, const uint16_t *sample, spvs_real *model)
@@ -39,19 +40,27 @@ static int mock_fit(void *ctx, const uint16_t *sample, spvs_real *model)
 }
 
 static uint16_t mock_score(void *ctx, const spvs_real *model, spvs_real t2, uint16_t need,
-                           uint8_t *mask, spvs_real *cost)
+                           uint8_t *mask)
 {
     mock_t *m = (mock_t *)ctx;
     (void)t2;
     (void)need;
+    (void)model;
     m->scores++;
-    *cost = m->cost_down ? SPVS_R(1000.0) - model[0] : model[0];
     if (mask) {
         for (uint16_t i = 0; i < 100; i++) {
             mask[i] = (uint8_t)(i < m->count);
         }
     }
     return m->count;
+}
+
+static spvs_real mock_cost(void *ctx, const spvs_real *model, spvs_real t2)
+{
+    mock_t *m = (mock_t *)ctx;
+    (void)t2;
+    m->costs++;
+    return m->cost_down ? SPVS_R(1000.0) - model[0] : model[0];
 }
 
 static void test_needed(void **state)
@@ -70,8 +79,8 @@ static void test_needed(void **state)
 static void test_exact_iterations(void **state)
 {
     (void)state;
-    mock_t mk = {0, 0, 50, 0, 0};
-    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, NULL};
+    mock_t mk = {0, 0, 50, 0, 0, 0};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 200, 8};
     spvs_rng_t rng;
     spvs_rng_seed(&rng, 1);
@@ -98,23 +107,38 @@ static void test_exact_iterations(void **state)
     assert_true(out.model[0] == SPVS_R(1.0));
 
     /* The cap bounds the loop. */
-    mk = (mock_t){0, 0, 10, 0, 0};
+    mk = (mock_t){0, 0, 10, 0, 0, 0};
     o.max_iters = 20;
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
     assert_int_equal(st.iters, 20);
     assert_int_equal(mk.fits, 20);
 
-    /* Ties broken by the lower cost: here later models are cheaper. */
-    mk = (mock_t){0, 0, 10, 0, 1};
+    /* Ties broken by the lower cost: here later models are cheaper.  The
+     * cost is asked for only at ties: the first tie costs both models, each
+     * later one only the newcomer (the best's cost is kept). */
+    mk = (mock_t){0, 0, 10, 0, 1, 0};
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(20.0));
+    assert_int_equal(mk.costs, 20);
+    /* Later models costlier: the first stays. */
+    mk = (mock_t){0, 0, 10, 0, 0, 0};
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_true(out.model[0] == SPVS_R(1.0));
+    assert_int_equal(mk.costs, 20);
+    /* Without a cost callback a tie keeps the earlier model. */
+    mk = (mock_t){0, 0, 10, 0, 1, 0};
+    est.cost = NULL;
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_true(out.model[0] == SPVS_R(1.0));
+    assert_int_equal(mk.costs, 0);
+    est.cost = mock_cost;
 }
 
 static void test_statuses(void **state)
 {
     (void)state;
-    mock_t mk = {0, 0, 50, 1, 0};
-    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, NULL};
+    mock_t mk = {0, 0, 50, 1, 0, 0};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 30, 8};
     spvs_rng_t rng;
     spvs_rng_seed(&rng, 1);
@@ -127,7 +151,7 @@ static void test_statuses(void **state)
     assert_int_equal(st.iters, 30);
     assert_int_equal(st.degenerate, 30);
     /* Too few inliers for a consensus. */
-    mk = (mock_t){0, 0, 5, 0, 0};
+    mk = (mock_t){0, 0, 5, 0, 0, 0};
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_NO_CONSENSUS);
     /* Too few data. */
     est.n = 2;

@@ -7,6 +7,22 @@
 
 #include "spvs/common.h"
 
+/* Inlined at every call, so that a helper called with a constant selector
+ * (homography.c's point terms) compiles to the branch-free loop it names. */
+#if defined(__GNUC__) || defined(__clang__)
+#define SPVS_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define SPVS_ALWAYS_INLINE inline
+#endif
+
+/* Unroll the next loop completely (a fixed trip count of at most 32), so that
+ * the loop around it is a plain sequence a compiler can run on SIMD lanes. */
+#if defined(__GNUC__) || defined(__clang__)
+#define SPVS_UNROLL _Pragma("GCC unroll 32")
+#else
+#define SPVS_UNROLL
+#endif
+
 /* 1 when x is neither NaN nor infinite.  Written without isfinite() so no
  * libm call is needed on any target: NaN fails the first test, +-Inf the
  * second. */

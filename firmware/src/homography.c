@@ -99,83 +99,288 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
     return du * du + dv * dv;
 }
 
-int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                      spvs_real H[9])
+/* ---- sums over the used points ----------------------------------------
+ *
+ * The linear fit and the Gauss-Newton refit are sums over the flagged points
+ * of a few terms each.  Every sum runs in SUM_LANES interleaved lanes (point
+ * i goes to lane i mod SUM_LANES, each lane in point order) that are added
+ * pairwise at the end.  Where the points are in columns and the target has
+ * SIMD (SPVS_SIMD_COLUMNS), a block of SUM_LANES points fills the lanes at
+ * once; elsewhere each lane is summed alone, in registers.  Both loops make
+ * the same operations in the same order, so both layouts give bit-identical
+ * results on every target. */
+#define SUM_LANES 4
+#define SUM_BLOCK 16
+/* lanes_fold and sum_lanewise add four lanes as (0 + 1) + (2 + 3). */
+_Static_assert(SUM_LANES == 4, "the lane folds are written for four lanes");
+#define TERMS_MAX 25
+
+/* Which terms a point contributes. */
+enum {
+    /* Linear fit, row 3 (y-equations at the weights of the passed H): q q^T
+     * (6 entries) and q r with q = (y_cur / w) (x, y, 1), r = y_tgt / w. */
+    T_FIT_Y,
+    /* Linear fit, row 1 given row 3: q = (x, y, 1) / w, r = x_cur. */
+    T_FIT_X,
+    /* Gauss-Newton normal equations and cost (see gn_unpack). */
+    T_GN,
+    /* Squared transfer error alone. */
+    T_COST
+};
+#define NT_FIT 9
+#define NT_GN 25
+#define NT_COST 1
+
+/* The terms of one point (x, y) -> (u, v) under H (only row 1 and row 3 of
+ * H are read) for on = 1; for on = 0 (a point not used) w is taken as 1, so
+ * that everything stays finite, and every term is zero.  Returns 1 when
+ * w = h3 . p > W_EPS; otherwise the terms of a used point are meaningless. */
+static SPVS_ALWAYS_INLINE int32_t point_terms(int kind, const spvs_real *H, spvs_real x,
+                                              spvs_real y, spvs_real u, spvs_real v,
+                                              spvs_real on, spvs_real *t)
+{
+    const spvs_real w0 = H[6] * x + H[7] * y + H[8];
+    /* w0 * 1 + 0 is w0 exactly (and w0 <= W_EPS is rejected anyway). */
+    const spvs_real w = w0 * on + (SPVS_R(1.0) - on);
+    const spvs_real iw = SPVS_R(1.0) / w;
+    if (kind == T_FIT_Y || kind == T_FIT_X) {
+        /* on = 1 leaves every product as it was; on = 0 zeroes them all. */
+        const spvs_real sc = (kind == T_FIT_Y ? v * iw : iw) * on;
+        const spvs_real r = kind == T_FIT_Y ? y * iw : u;
+        const spvs_real q0 = sc * x, q1 = sc * y, q2 = sc;
+        t[0] = q0 * q0;
+        t[1] = q0 * q1;
+        t[2] = q0 * q2;
+        t[3] = q1 * q1;
+        t[4] = q1 * q2;
+        t[5] = q2 * q2;
+        t[6] = q0 * r;
+        t[7] = q1 * r;
+        t[8] = q2 * r;
+    } else {
+        /* Residuals r_x = (h1 . p) / w - x_cur, r_y = y_tgt / w - y_cur. */
+        const spvs_real pu = (H[0] * x + H[1] * y + H[2]) * iw;
+        const spvs_real pv = y * iw;
+        const spvs_real rx = pu - u;
+        const spvs_real ry = pv - v;
+        if (kind == T_COST) {
+            t[0] = (rx * rx + ry * ry) * on;
+        } else {
+            const spvs_real iw2 = iw * iw;
+            const spvs_real a[3] = {iw2 * on, (-pu * iw2) * on, ((pu * pu + pv * pv) * iw2) * on};
+            const spvs_real b1 = (-rx * iw) * on;
+            const spvs_real b3 = ((pu * rx + pv * ry) * iw) * on;
+            const spvs_real q[6] = {x * x, x * y, x, y * y, y, SPVS_R(1.0)};
+            SPVS_UNROLL
+            for (int m = 0; m < 3; m++) {
+                SPVS_UNROLL
+                for (int k = 0; k < 6; k++) {
+                    t[6 * m + k] = a[m] * q[k];
+                }
+            }
+            t[18] = b1 * x;
+            t[19] = b1 * y;
+            t[20] = b1;
+            t[21] = b3 * x;
+            t[22] = b3 * y;
+            t[23] = b3;
+            t[24] = (rx * rx + ry * ry) * on;
+        }
+    }
+    return w0 > W_EPS;
+}
+
+/* Adds the lanes pairwise into out[0..nt). */
+static SPVS_ALWAYS_INLINE void lanes_fold(int nt, spvs_real acc[][SUM_LANES], spvs_real *out)
+{
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        out[k] = (acc[k][0] + acc[k][1]) + (acc[k][2] + acc[k][3]);
+    }
+}
+
+/* Sums the `kind` terms of the points flagged in `use` into out[0..nt), the
+ * points given as point i's coordinate k at c[k][i * is].  Each lane is one
+ * loop, its sums in registers.  Returns the number of used points, or -1
+ * when one of them has w <= W_EPS. */
+static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, const spvs_real *H,
+                                               const spvs_real *const c[4], uint32_t is,
+                                               const uint8_t *use, uint16_t n, spvs_real *out)
+{
+    spvs_real acc[TERMS_MAX][SUM_LANES];
+    int32_t used = 0;
+    /* Bound: SUM_LANES lanes of at most n / SUM_LANES + 1 points. */
+    for (uint16_t j = 0; j < SUM_LANES; j++) {
+        spvs_real a[TERMS_MAX];
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            a[k] = SPVS_R(0.0);
+        }
+        for (uint16_t i = j; i < n; i = (uint16_t)(i + SUM_LANES)) {
+            if (!use[i]) {
+                continue;
+            }
+            const uint32_t o = (uint32_t)i * is;
+            spvs_real t[TERMS_MAX];
+            if (!point_terms(kind, H, c[0][o], c[1][o], c[2][o], c[3][o], SPVS_R(1.0), t)) {
+                return -1;
+            }
+            SPVS_UNROLL
+            for (int k = 0; k < nt; k++) {
+                a[k] += t[k];
+            }
+            used++;
+        }
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            acc[k][j] = a[k];
+        }
+    }
+    lanes_fold(nt, acc, out);
+    return used;
+}
+
+#if SPVS_SIMD_COLUMNS
+/* The same sums on points in columns c[0..3], a block of SUM_LANES points
+ * at a time: the loops over a block have a fixed trip count and no branch,
+ * so a compiler runs them on SIMD lanes.  An unused point adds +0, which
+ * leaves a lane's sum as it was (sums start at +0 and never become -0). */
+static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, const spvs_real *H,
+                                                const spvs_real *const c[4],
+                                                const uint8_t *use, uint16_t n,
+                                                spvs_real *out)
+{
+    spvs_real acc[TERMS_MAX][SUM_LANES];
+    int32_t bad[SUM_LANES];
+    int32_t cnt[SUM_LANES];
+    for (int j = 0; j < SUM_LANES; j++) {
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            acc[k][j] = SPVS_R(0.0);
+        }
+        bad[j] = 0;
+        cnt[j] = 0;
+    }
+    /* Local copies: nothing the loop stores can then alias them. */
+    spvs_real h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = H[k];
+    }
+    /* Blocks of SUM_BLOCK points, SUM_BLOCK / SUM_LANES rows of lanes each
+     * (the use flags, bytes, are widened for a whole block at once). */
+    const uint32_t n_blocks = (uint32_t)n / SUM_BLOCK;
+    /* Bound: n / SUM_BLOCK blocks. */
+    for (uint32_t b = 0; b < n_blocks; b++) {
+        const uint32_t i0 = b * SUM_BLOCK;
+        int32_t on[SUM_BLOCK];
+        spvs_real onf[SUM_BLOCK];
+        for (int j = 0; j < SUM_BLOCK; j++) {
+            on[j] = use[i0 + (uint32_t)j] != 0;
+        }
+        for (int j = 0; j < SUM_BLOCK; j++) {
+            onf[j] = (spvs_real)on[j];
+        }
+        for (uint32_t r = 0; r < SUM_BLOCK; r += SUM_LANES) {
+            const spvs_real *const px = c[0] + i0 + r, *const py = c[1] + i0 + r;
+            const spvs_real *const pu = c[2] + i0 + r, *const pv = c[3] + i0 + r;
+            for (int j = 0; j < SUM_LANES; j++) {
+                spvs_real t[TERMS_MAX];
+                const spvs_real f = onf[r + (uint32_t)j];
+                const int32_t ok = point_terms(kind, h, px[j], py[j], pu[j], pv[j], f, t);
+                bad[j] |= on[r + (uint32_t)j] & !ok;
+                cnt[j] += on[r + (uint32_t)j];
+                SPVS_UNROLL
+                for (int k = 0; k < nt; k++) {
+                    acc[k][j] += t[k];
+                }
+            }
+        }
+    }
+    /* The rest, fewer than SUM_BLOCK points, point by point (lane i mod
+     * SUM_LANES, as everywhere). */
+    for (uint32_t i = n_blocks * SUM_BLOCK; i < n; i++) {
+        const uint32_t j = i % SUM_LANES;
+        spvs_real t[TERMS_MAX];
+        const int32_t on = use[i] != 0;
+        const spvs_real f = (spvs_real)on;
+        const int32_t ok = point_terms(kind, h, c[0][i], c[1][i], c[2][i], c[3][i], f, t);
+        bad[j] |= on & !ok;
+        cnt[j] += on;
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            acc[k][j] += t[k];
+        }
+    }
+    int32_t any_bad = 0;
+    int32_t used = 0;
+    for (int j = 0; j < SUM_LANES; j++) {
+        any_bad |= bad[j];
+        used += cnt[j];
+    }
+    if (any_bad) {
+        return -1;
+    }
+    lanes_fold(nt, acc, out);
+    return used;
+}
+#endif
+
+/* Either layout: rows (pts, SPVS_SIMD_COLUMNS or not) or columns. */
+typedef struct {
+    const spvs_real (*rows)[4];
+    const spvs_real *const *cols;
+} pts_in_t;
+
+static SPVS_ALWAYS_INLINE int32_t sum_terms(int kind, int nt, const spvs_real *H,
+                                            const pts_in_t *in, const uint8_t *use,
+                                            uint16_t n, spvs_real *out)
+{
+    if (in->rows != 0) {
+        const spvs_real *const c[4] = {&in->rows[0][0], &in->rows[0][1], &in->rows[0][2],
+                                       &in->rows[0][3]};
+        return sum_lanewise(kind, nt, H, c, 4u, use, n, out);
+    }
+#if SPVS_SIMD_COLUMNS
+    return sum_blockwise(kind, nt, H, in->cols, use, n, out);
+#else
+    return sum_lanewise(kind, nt, H, in->cols, 1u, use, n, out);
+#endif
+}
+
+/* Solves the 3x3 normal equations of a linear-fit pass: s[0..5] the upper
+ * triangle of the symmetric matrix, s[6..8] the right side. */
+static int solve_fit(const spvs_real s[NT_FIT], spvs_real x[3])
+{
+    const spvs_real A[3][3] = {{s[0], s[1], s[2]}, {s[1], s[3], s[4]}, {s[2], s[4], s[5]}};
+    const spvs_real b[3] = {s[6], s[7], s[8]};
+    return solve3x3(A, b, x);
+}
+
+static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_real H[9])
 {
     /* Row 3: sum over the used points of (y_cur (h3 . p) - y_tgt)^2 / w0^2,
      * w0 the current H's third coordinate, is the y transfer error at w0. */
-    /* Unique entries of the symmetric normal matrices, kept in scalars so
-     * that the per-point work stays in registers. */
-    spvs_real a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;
-    spvs_real b0 = 0, b1 = 0, b2 = 0;
-    uint16_t used = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        const spvs_real *q = pts[i];
-        spvs_real w0 = H[6] * q[0] + H[7] * q[1] + H[8];
-        if (!(w0 > W_EPS)) {
-            return SPVS_E_DEGENERATE;
-        }
-        spvs_real iw = SPVS_R(1.0) / w0;
-        /* Row r = y_cur (x_tgt, y_tgt, 1) / w0, right side y_tgt / w0. */
-        spvs_real r2 = q[3] * iw;
-        spvs_real r0 = r2 * q[0];
-        spvs_real r1 = r2 * q[1];
-        spvs_real rhs = q[1] * iw;
-        a00 += r0 * r0;
-        a01 += r0 * r1;
-        a02 += r0 * r2;
-        a11 += r1 * r1;
-        a12 += r1 * r2;
-        a22 += r2 * r2;
-        b0 += r0 * rhs;
-        b1 += r1 * rhs;
-        b2 += r2 * rhs;
-        used++;
+    spvs_real sy[NT_FIT];
+    int32_t used = sum_terms(T_FIT_Y, NT_FIT, H, in, use, n, sy);
+    if (used < 0) {
+        return SPVS_E_DEGENERATE;
     }
     if (used < 3) {
         return SPVS_E_TOO_FEW;
     }
-    const spvs_real A[3][3] = {{a00, a01, a02}, {a01, a11, a12}, {a02, a12, a22}};
-    const spvs_real b[3] = {b0, b1, b2};
     spvs_real h3[3];
-    if (!solve3x3(A, b, h3)) {
+    if (!solve_fit(sy, h3)) {
         return SPVS_E_DEGENERATE;
     }
     /* Row 1 given row 3: sum of (h1 . p - x_cur w)^2 / w^2 is exactly the x
      * transfer error. */
-    spvs_real c00 = 0, c01 = 0, c02 = 0, c11 = 0, c12 = 0, c22 = 0;
-    spvs_real d0 = 0, d1 = 0, d2 = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        const spvs_real *q = pts[i];
-        spvs_real w = h3[0] * q[0] + h3[1] * q[1] + h3[2];
-        if (!(w > W_EPS)) {
-            return SPVS_E_DEGENERATE;
-        }
-        spvs_real iw = SPVS_R(1.0) / w;
-        spvs_real p0 = q[0] * iw;
-        spvs_real p1 = q[1] * iw;
-        spvs_real p2 = iw;
-        spvs_real rhs = q[2];
-        c00 += p0 * p0;
-        c01 += p0 * p1;
-        c02 += p0 * p2;
-        c11 += p1 * p1;
-        c12 += p1 * p2;
-        c22 += p2 * p2;
-        d0 += p0 * rhs;
-        d1 += p1 * rhs;
-        d2 += p2 * rhs;
+    const spvs_real Hw[9] = {0, 0, 0, 0, 0, 0, h3[0], h3[1], h3[2]};
+    spvs_real sx[NT_FIT];
+    if (sum_terms(T_FIT_X, NT_FIT, Hw, in, use, n, sx) < 0) {
+        return SPVS_E_DEGENERATE;
     }
-    const spvs_real B[3][3] = {{c00, c01, c02}, {c01, c11, c12}, {c02, c12, c22}};
-    const spvs_real c[3] = {d0, d1, d2};
     spvs_real h1[3];
-    if (!solve3x3(B, c, h1)) {
+    if (!solve_fit(sx, h1)) {
         return SPVS_E_DEGENERATE;
     }
     for (int k = 0; k < 3; k++) {
@@ -190,6 +395,20 @@ int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
     H[7] = h3[1];
     H[8] = h3[2];
     return SPVS_OK;
+}
+
+int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                      spvs_real H[9])
+{
+    const pts_in_t in = {pts, 0};
+    return fit_linear(&in, use, n, H);
+}
+
+int spvs_h_fit_linear_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
+                           spvs_real H[9])
+{
+    const pts_in_t in = {0, cols};
+    return fit_linear(&in, use, n, H);
 }
 
 /* Solve the 6x6 symmetric positive definite system N x = g by Cholesky.
@@ -240,99 +459,47 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
  * is a weighted sum of p p^T:
  *   N11 = sum p p^T / w^2, N13 = -sum u p p^T / w^2,
  *   N33 = sum (u^2 + v^2) p p^T / w^2,
- * and only the six distinct entries of p p^T are accumulated, per weight. */
-static spvs_real refit_pass(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+ * and only the six distinct entries of p p^T, q = (x^2, x y, x, y^2, y, 1),
+ * are summed per weight (terms 0-17 of T_GN), then the gradient halves
+ * g1 = -sum r_x p / w and g3 = sum (u r_x + v r_y) p / w (terms 18-23) and
+ * the cost (term 24). */
+static spvs_real refit_pass(const pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9], spvs_real N[6][6], spvs_real g[6])
 {
-    /* q = (x^2, x y, x, y^2, y, 1) */
-    spvs_real S1[6] = {0}, S2[6] = {0}, S3[6] = {0};
-    spvs_real G1[3] = {0}, G3[3] = {0};
-    spvs_real cost = SPVS_R(0.0);
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        const spvs_real *q = pts[i];
-        const spvs_real x = q[0], y = q[1];
-        spvs_real w = H[6] * x + H[7] * y + H[8];
-        if (!(w > W_EPS)) {
-            return SPVS_REAL_MAX;
-        }
-        spvs_real iw = SPVS_R(1.0) / w;
-        spvs_real u = (H[0] * x + H[1] * y + H[2]) * iw;
-        spvs_real v = y * iw;
-        spvs_real rx = u - q[2];
-        spvs_real ry = v - q[3];
-        cost += rx * rx + ry * ry;
-        spvs_real iw2 = iw * iw;
-        spvs_real a1 = iw2;
-        spvs_real a2 = -u * iw2;
-        spvs_real a3 = (u * u + v * v) * iw2;
-        spvs_real b1 = -rx * iw;
-        spvs_real b3 = (u * rx + v * ry) * iw;
-        const spvs_real xx = x * x, xy = x * y, yy = y * y;
-        S1[0] += a1 * xx;
-        S1[1] += a1 * xy;
-        S1[2] += a1 * x;
-        S1[3] += a1 * yy;
-        S1[4] += a1 * y;
-        S1[5] += a1;
-        S2[0] += a2 * xx;
-        S2[1] += a2 * xy;
-        S2[2] += a2 * x;
-        S2[3] += a2 * yy;
-        S2[4] += a2 * y;
-        S2[5] += a2;
-        S3[0] += a3 * xx;
-        S3[1] += a3 * xy;
-        S3[2] += a3 * x;
-        S3[3] += a3 * yy;
-        S3[4] += a3 * y;
-        S3[5] += a3;
-        G1[0] += b1 * x;
-        G1[1] += b1 * y;
-        G1[2] += b1;
-        G3[0] += b3 * x;
-        G3[1] += b3 * y;
-        G3[2] += b3;
+    spvs_real s[NT_GN];
+    if (sum_terms(T_GN, NT_GN, H, in, use, n, s) < 0) {
+        return SPVS_REAL_MAX;
     }
     /* Unpack the symmetric 3x3 blocks: index of (r, c) in q. */
     static const uint8_t qi[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
     for (int r = 0; r < 3; r++) {
         for (int c = 0; c < 3; c++) {
-            N[r][c] = S1[qi[r][c]];
-            N[r][3 + c] = S2[qi[r][c]];
-            N[3 + r][c] = S2[qi[r][c]];
-            N[3 + r][3 + c] = S3[qi[r][c]];
+            N[r][c] = s[qi[r][c]];
+            N[r][3 + c] = s[6 + qi[r][c]];
+            N[3 + r][c] = s[6 + qi[r][c]];
+            N[3 + r][3 + c] = s[12 + qi[r][c]];
         }
-        g[r] = G1[r];
-        g[3 + r] = G3[r];
+        g[r] = s[18 + r];
+        g[3 + r] = s[21 + r];
     }
-    return cost;
+    return s[24];
 }
 
 /* The summed squared transfer error of the used points at H, alone (the
  * check of a last Gauss-Newton step needs no normal equations);
  * SPVS_REAL_MAX when a point is behind the camera. */
-static spvs_real refit_cost(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+static spvs_real refit_cost(const pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9])
 {
-    spvs_real cost = SPVS_R(0.0);
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        spvs_real e2 = spvs_h_transfer_err2(H, pts[i]);
-        if (e2 < SPVS_R(0.0)) {
-            return SPVS_REAL_MAX;
-        }
-        cost += e2;
+    spvs_real c;
+    if (sum_terms(T_COST, NT_COST, H, in, use, n, &c) < 0) {
+        return SPVS_REAL_MAX;
     }
-    return cost;
+    return c;
 }
 
-int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                 uint16_t max_iters, spvs_real H[9])
+static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t max_iters,
+                 spvs_real H[9])
 {
     if (max_iters < 1u) {
         max_iters = 1u;
@@ -365,8 +532,8 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
      * evaluates the cost.  Bound: max_iters + 1 <= SPVS_REFIT_MAX_ITERS + 1
      * passes. */
     for (uint16_t it = 0; it <= max_iters; it++) {
-        spvs_real cost = it < max_iters ? refit_pass(pts, use, n, Hc, N, g)
-                                        : refit_cost(pts, use, n, Hc);
+        spvs_real cost = it < max_iters ? refit_pass(in, use, n, Hc, N, g)
+                                        : refit_cost(in, use, n, Hc);
         if (!(cost <= prev)) {
             for (int k = 0; k < 9; k++) {
                 Hc[k] = Hprev[k];
@@ -408,6 +575,20 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
         H[k] = Hc[k];
     }
     return SPVS_OK;
+}
+
+int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                 uint16_t max_iters, spvs_real H[9])
+{
+    const pts_in_t in = {pts, 0};
+    return refit(&in, use, n, max_iters, H);
+}
+
+int spvs_h_refit_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
+                      uint16_t max_iters, spvs_real H[9])
+{
+    const pts_in_t in = {0, cols};
+    return refit(&in, use, n, max_iters, H);
 }
 
 void spvs_h_rescale(spvs_real H[9], spvs_real scale)

@@ -74,7 +74,6 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
     stats->iters = 0;
     stats->degenerate = 0;
     stats->n_inliers = 0;
-    stats->cost = SPVS_R(0.0);
     const uint16_t s = est->sample_size;
     const uint16_t n = est->n;
     if (s < 1u || s > SPVS_SAMPLE_MAX || opts->max_iters < 1u ||
@@ -94,7 +93,9 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
     spvs_real model[SPVS_MODEL_MAX];
     uint16_t sample[SPVS_SAMPLE_MAX];
     uint16_t best_n = 0;
-    spvs_real best_cost = SPVS_REAL_MAX;
+    /* The best model's tie-break cost, computed at the first tie. */
+    spvs_real best_cost = SPVS_R(0.0);
+    int best_cost_known = 0;
     int have = 0;
     uint32_t needed = opts->max_iters;
 
@@ -113,32 +114,54 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
             stats->degenerate++;
             continue;
         }
-        spvs_real cost = SPVS_R(0.0);
         /* The hypothesis' inliers land in mask_out; only a new best (whose
          * mask is complete) uses them. */
-        uint16_t cnt = est->score(est->ctx, model, opts->threshold2, best_n, mask_out, &cost);
+        uint16_t cnt = est->score(est->ctx, model, opts->threshold2, best_n, mask_out);
+        spvs_real cost = SPVS_R(0.0);
+        int cost_known = 0;
         if (est->refine != 0 && (cnt > best_n || !have)) {
-            /* Local optimisation: polish the new best on its inliers. */
+            /* Local optimisation: polish the new best on its inliers; keep
+             * it if it has more inliers, or as many at a lower cost. */
             spvs_real polished[SPVS_MODEL_MAX];
             for (int k = 0; k < SPVS_MODEL_MAX; k++) {
                 polished[k] = model[k];
             }
             if (est->refine(est->ctx, polished, mask_out) == SPVS_OK) {
-                spvs_real pcost = SPVS_R(0.0);
-                uint16_t pcnt = est->score(est->ctx, polished, opts->threshold2, cnt, 0, &pcost);
-                if (pcnt > cnt || (pcnt == cnt && pcost < cost)) {
+                uint16_t pcnt = est->score(est->ctx, polished, opts->threshold2, cnt, 0);
+                int take = pcnt > cnt;
+                if (pcnt == cnt && est->cost != 0) {
+                    cost = est->cost(est->ctx, model, opts->threshold2);
+                    spvs_real pcost = est->cost(est->ctx, polished, opts->threshold2);
+                    cost_known = 1;
+                    if (pcost < cost) {
+                        take = 1;
+                        cost = pcost;
+                    }
+                }
+                if (take) {
                     cnt = pcnt;
-                    cost = pcost;
                     for (int k = 0; k < SPVS_MODEL_MAX; k++) {
                         model[k] = polished[k];
                     }
                 }
             }
         }
-        if (cnt > best_n || (have && cnt == best_n && cost < best_cost) ||
-            (!have && cnt >= best_n)) {
+        int better = cnt > best_n || !have;
+        if (!better && cnt == best_n && est->cost != 0) {
+            if (!cost_known) {
+                cost = est->cost(est->ctx, model, opts->threshold2);
+                cost_known = 1;
+            }
+            if (!best_cost_known) {
+                best_cost = est->cost(est->ctx, model_out, opts->threshold2);
+                best_cost_known = 1;
+            }
+            better = cost < best_cost;
+        }
+        if (better) {
             best_n = cnt;
             best_cost = cost;
+            best_cost_known = cost_known;
             have = 1;
             for (int k = 0; k < SPVS_MODEL_MAX; k++) {
                 model_out[k] = model[k];
@@ -154,9 +177,7 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
     if (!have) {
         return SPVS_E_DEGENERATE;
     }
-    spvs_real cost = SPVS_R(0.0);
-    stats->n_inliers = est->score(est->ctx, model_out, opts->threshold2, 0, mask_out, &cost);
-    stats->cost = cost;
+    stats->n_inliers = est->score(est->ctx, model_out, opts->threshold2, 0, mask_out);
     if (stats->n_inliers < opts->min_inliers || stats->n_inliers < s) {
         return SPVS_E_NO_CONSENSUS;
     }

@@ -100,102 +100,135 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
     return spvs_h_solve3(pts, model);
 }
 
-/* Points scored per block.  The inner loops over a block have a fixed trip
+/* Points counted per block.  The inner loops over a block have a fixed trip
  * count and no branch, so a compiler runs them on SIMD lanes; the early exit
  * is checked once per block.  Without SIMD (SPVS_SIMD_COLUMNS 0, e.g. the
  * Cortex-M4F) a block is one point read from pts, so the exit comes at the
- * first point that makes `need` unreachable.  Counts, masks and the cost
- * (summed in point order) are the same for every block size. */
+ * first point that makes `need` unreachable.  Counts and masks are the same
+ * for every block size. */
 #if SPVS_SIMD_COLUMNS
-#define SCORE_BLOCK 8
+#define SCORE_BLOCK 16
 #define PT(s, i, k) ((s)->col[k][i])
 #else
 #define SCORE_BLOCK 1
 #define PT(s, i, k) ((s)->pts[i][k])
 #endif
 
-/* Squared algebraic transfer residual of the match (x, y) -> (u, v) under
- * H, written to *e2; returns 1 for an inlier: |w (u, v) - (h1.p, y)|^2 <=
- * t^2 w^2 with w = h3.p > 0 (the transfer error in the current image,
- * without the division). */
-static inline int32_t score_point(const spvs_real *H, spvs_real x, spvs_real y,
-                                  spvs_real u, spvs_real v, spvs_real t2, spvs_real *e2)
+/* The match (x, y) -> (u, v) under H, in terms of w = h3.p: ex and ey are
+ * the transfer residuals in the current image times w.  A match is an
+ * inlier when w > 0 and ex^2 + ey^2 <= t^2 w^2, which is the transfer error
+ * test without the division. */
+#define SCORE_TERMS(h, x, y, u, v)                                     \
+    const spvs_real w = (h)[6] * (x) + (h)[7] * (y) + (h)[8];          \
+    const spvs_real ex = (u) * w - ((h)[0] * (x) + (h)[1] * (y) + (h)[2]); \
+    const spvs_real ey = (v) * w - (y);                                \
+    const spvs_real e = ex * ex + ey * ey
+
+static inline int32_t score_ok(const spvs_real *h, spvs_real x, spvs_real y, spvs_real u,
+                               spvs_real v, spvs_real t2)
 {
-    spvs_real w = H[6] * x + H[7] * y + H[8];
-    spvs_real ex = u * w - (H[0] * x + H[1] * y + H[2]);
-    spvs_real ey = v * w - y;
-    spvs_real e = ex * ex + ey * ey;
-    *e2 = e;
+    SCORE_TERMS(h, x, y, u, v);
     return (w > SPVS_R(0.0)) & (e <= t2 * w * w);
 }
 
-/* Counts inliers by the transfer error in the current image (score_point).
- * The cost summed for ties is the inliers' algebraic residual.  Stops once
- * the model cannot reach `need` (checked per block of SCORE_BLOCK points). */
-static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2,
-                          uint16_t need, uint8_t *mask, spvs_real *cost)
+/* Counts the inliers (score_ok) of H and, when mask is not NULL, marks
+ * them.  Stops once the model cannot reach `need` (checked per block of
+ * SCORE_BLOCK points). */
+static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t need,
+                          uint8_t *mask)
 {
     const spvs_t *s = (const spvs_t *)ctx;
     const uint16_t n = s->n_plane;
-    const uint16_t max_out = (uint16_t)(need <= n ? (uint16_t)(n - need) : 0u);
+    const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
     const uint16_t n_blocks = (uint16_t)(n / SCORE_BLOCK);
+    /* A local copy: the mask stores cannot then alias the model. */
+    spvs_real h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = H[k];
+    }
     int32_t inl = 0;
-    spvs_real c = SPVS_R(0.0);
     /* Bound: n / SCORE_BLOCK blocks, then fewer than SCORE_BLOCK points. */
     for (uint16_t b = 0; b < n_blocks; b++) {
         const uint16_t i0 = (uint16_t)(b * SCORE_BLOCK);
-        int32_t ok[SCORE_BLOCK];
-        spvs_real e[SCORE_BLOCK];
+        int32_t k = 0;
+        uint8_t ok[SCORE_BLOCK];
         for (int j = 0; j < SCORE_BLOCK; j++) {
-            ok[j] = score_point(H, PT(s, i0 + j, 0), PT(s, i0 + j, 1), PT(s, i0 + j, 2),
-                                PT(s, i0 + j, 3), t2, &e[j]);
-        }
-        for (int j = 0; j < SCORE_BLOCK; j++) {
-            inl += ok[j];
-            c += ok[j] ? e[j] : SPVS_R(0.0);
+            int32_t in = score_ok(h, PT(s, i0 + j, 0), PT(s, i0 + j, 1), PT(s, i0 + j, 2),
+                                  PT(s, i0 + j, 3), t2);
+            k += in;
+            ok[j] = (uint8_t)in;
         }
         if (mask) {
             for (int j = 0; j < SCORE_BLOCK; j++) {
-                mask[i0 + j] = (uint8_t)ok[j];
+                mask[i0 + j] = ok[j];
             }
         }
+        inl += k;
         /* More outliers so far than `need` allows: it cannot be reached. */
-        if (i0 + SCORE_BLOCK - inl > (int32_t)max_out) {
-            *cost = c;
+        if ((int32_t)i0 + SCORE_BLOCK - inl > max_out) {
             return (uint16_t)inl;
         }
     }
     for (uint16_t i = (uint16_t)(n_blocks * SCORE_BLOCK); i < n; i++) {
-        spvs_real e;
-        int32_t ok = score_point(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3),
-                                 t2, &e);
+        int32_t ok = score_ok(h, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2);
         inl += ok;
-        c += ok ? e : SPVS_R(0.0);
         if (mask) {
             mask[i] = (uint8_t)ok;
         }
     }
-    *cost = c;
     return (uint16_t)inl;
+}
+
+/* Tie-break cost of H: the inliers' squared algebraic residual (ex^2 + ey^2
+ * of SCORE_TERMS), summed in point order. */
+static spvs_real est_cost(void *ctx, const spvs_real *H, spvs_real t2)
+{
+    const spvs_t *s = (const spvs_t *)ctx;
+    spvs_real c = SPVS_R(0.0);
+    for (uint16_t i = 0; i < s->n_plane; i++) {
+        SCORE_TERMS(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3));
+        if (w > SPVS_R(0.0) && e <= t2 * w * w) {
+            c += e;
+        }
+    }
+    return c;
+}
+
+/* The linear fit and the Gauss-Newton refit on the first n_plane points,
+ * on the column copy where there is one (same results, SIMD lanes). */
+static int fit_linear(const spvs_t *s, const uint8_t *use, spvs_real H[9])
+{
+#if SPVS_SIMD_COLUMNS
+    const spvs_real *const cols[4] = {s->col[0], s->col[1], s->col[2], s->col[3]};
+    return spvs_h_fit_linear_cols(cols, use, s->n_plane, H);
+#else
+    return spvs_h_fit_linear((const spvs_real(*)[4])s->pts, use, s->n_plane, H);
+#endif
+}
+
+static int refit(const spvs_t *s, const uint8_t *use, uint16_t steps, spvs_real H[9])
+{
+#if SPVS_SIMD_COLUMNS
+    const spvs_real *const cols[4] = {s->col[0], s->col[1], s->col[2], s->col[3]};
+    return spvs_h_refit_cols(cols, use, s->n_plane, steps, H);
+#else
+    return spvs_h_refit((const spvs_real(*)[4])s->pts, use, s->n_plane, steps, H);
+#endif
 }
 
 /* LO step: polish a hypothesis with the weighted linear fit on its inliers. */
 static int est_refine(void *ctx, spvs_real *H, const uint8_t *mask)
 {
-    spvs_t *s = (spvs_t *)ctx;
-    return spvs_h_fit_linear((const spvs_real(*)[4])s->pts, mask, s->n_plane, H);
+    return fit_linear((const spvs_t *)ctx, mask, H);
 }
 
 /* ---- input validation and the estimation stage --------------------------- */
 
-/* Checks the frame and copies it into the work buffers in scaled units, the
- * matches of features not known to be off the plane first (n_plane of them). */
-static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
+/* The first bad value of a frame, as a status: a non-finite coordinate,
+ * one out of range, or a feature index out of range. */
+static int frame_error(const spvs_match_t *m, uint16_t n)
 {
     const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
-    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
-    uint16_t front = 0;
-    uint16_t back = n;
     for (uint16_t i = 0; i < n; i++) {
         const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
         for (int j = 0; j < 4; j++) {
@@ -209,12 +242,37 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
         if (m[i].feature >= SPVS_MAX_FEATURES) {
             return SPVS_E_RANGE;
         }
-        /* Checked: file it, off-plane features at the back. */
+    }
+    return SPVS_OK;
+}
+
+/* Checks the frame and copies it into the work buffers in scaled units, the
+ * matches of features not known to be off the plane first (n_plane of them). */
+static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
+{
+    const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    /* The check without branches: |c| <= lim fails for NaN and infinities
+     * too.  Only a bad frame is looked at again, for its status. */
+    int32_t bad = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        bad |= !(SPVS_FABS(m[i].x_tgt) <= lim) | !(SPVS_FABS(m[i].y_tgt) <= lim) |
+               !(SPVS_FABS(m[i].x_cur) <= lim) | !(SPVS_FABS(m[i].y_cur) <= lim) |
+               (m[i].feature >= SPVS_MAX_FEATURES);
+    }
+    if (bad) {
+        int rc = frame_error(m, n);
+        return rc != SPVS_OK ? rc : SPVS_E_RANGE;
+    }
+    uint16_t front = 0;
+    uint16_t back = n;
+    for (uint16_t i = 0; i < n; i++) {
+        /* Off-plane features at the back. */
         uint16_t k = s->offplane[m[i].feature] >= OFFPLANE_ON ? --back : front++;
-        s->pts[k][0] = c[0] * inv;
-        s->pts[k][1] = c[1] * inv;
-        s->pts[k][2] = c[2] * inv;
-        s->pts[k][3] = c[3] * inv;
+        s->pts[k][0] = m[i].x_tgt * inv;
+        s->pts[k][1] = m[i].y_tgt * inv;
+        s->pts[k][2] = m[i].x_cur * inv;
+        s->pts[k][3] = m[i].y_cur * inv;
 #if SPVS_SIMD_COLUMNS
         for (int j = 0; j < 4; j++) {
             s->col[j][k] = s->pts[k][j];
@@ -269,7 +327,7 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
     }
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
     spvs_real t = s->p.inlier_px * inv;
-    spvs_estimator_t est = {3u, s->n_plane, s, est_fit, est_score, est_refine};
+    spvs_estimator_t est = {3u, s->n_plane, s, est_fit, est_score, est_cost, est_refine};
     spvs_ransac_opts_t opts = {t * t, s->p.confidence, s->p.max_iters, MIN_INLIERS};
     spvs_ransac_stats_t st;
     spvs_real model[SPVS_MODEL_MAX];
@@ -287,11 +345,10 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
         for (int k = 0; k < 9; k++) {
             Hr[k] = model[k];
         }
-        if (spvs_h_fit_linear((const spvs_real(*)[4])s->pts, s->mask, s->n_plane, Hr) != SPVS_OK) {
+        if (fit_linear(s, s->mask, Hr) != SPVS_OK) {
             break;
         }
-        spvs_real cost;
-        uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, s->idx_mask, &cost);
+        uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, s->idx_mask);
         if (n_new < n_inl) {
             break;
         }
@@ -315,8 +372,7 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
         for (int k = 0; k < 9; k++) {
             Hr[k] = model[k];
         }
-        if (spvs_h_refit((const spvs_real(*)[4])s->pts, s->mask, s->n_plane, FINAL_GN_STEPS,
-                         Hr) == SPVS_OK) {
+        if (refit(s, s->mask, FINAL_GN_STEPS, Hr) == SPVS_OK) {
             for (int k = 0; k < 9; k++) {
                 model[k] = Hr[k];
             }

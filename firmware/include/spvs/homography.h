@@ -61,6 +61,17 @@ SPVS_NODISCARD int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use,
 SPVS_NODISCARD int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use,
                                      uint16_t n, spvs_real H[9]);
 
+/* spvs_h_fit_linear and spvs_h_refit on points held in four columns
+ * (x_tgt, y_tgt, x_cur, y_cur): point i is (cols[0][i], ..., cols[3][i]).
+ * Where SPVS_SIMD_COLUMNS is 1 the sums run on SIMD lanes.  Both layouts
+ * give bit-identical results: every sum runs in the same four interleaved
+ * lanes (point i in lane i mod 4, each in point order, added pairwise at the
+ * end) whatever the layout or target. */
+SPVS_NODISCARD int spvs_h_fit_linear_cols(const spvs_real *const cols[4], const uint8_t *use,
+                                          uint16_t n, spvs_real H[9]);
+SPVS_NODISCARD int spvs_h_refit_cols(const spvs_real *const cols[4], const uint8_t *use,
+                                     uint16_t n, uint16_t max_iters, spvs_real H[9]);
+
 /* Convert H between scaled units and pixels: H_px = S H_scaled S^-1 with
  * S = diag(s, s, 1), so h13 *= s and h31, h32 /= s.  scale = SPVS_COORD_SCALE
  * goes from scaled to pixels, 1/SPVS_COORD_SCALE back. */

@@ -45,13 +45,18 @@ typedef struct {
     /* Fit a model to the sample (indices into the data).  Returns SPVS_OK or
      * SPVS_E_DEGENERATE. */
     int (*fit)(void *ctx, const uint16_t *sample, spvs_real *model);
-    /* Score a model: count points with squared residual <= threshold2 and sum
-     * their squared residuals into *cost.  When mask is not NULL write 1 for an
-     * inlier and 0 otherwise.  May stop early and return a count below
-     * `need` once it cannot reach it (then *cost and the rest of the mask are
-     * meaningless); a count above `need` always comes with a full mask. */
+    /* Score a model: count points with squared residual <= threshold2.  When
+     * mask is not NULL write 1 for an inlier and 0 otherwise.  May stop
+     * early and return a count below `need` once it cannot reach it (then
+     * the rest of the mask is meaningless); a count of at least `need`
+     * always comes with a full mask. */
     uint16_t (*score)(void *ctx, const spvs_real *model, spvs_real threshold2,
-                      uint16_t need, uint8_t *mask, spvs_real *cost);
+                      uint16_t need, uint8_t *mask);
+    /* Optional (may be NULL): the summed squared residual of the model's
+     * inliers, which breaks ties in the count (lower wins).  Called only
+     * when two models tie, so scoring never pays for it.  Without it a tie
+     * keeps the earlier model. */
+    spvs_real (*cost)(void *ctx, const spvs_real *model, spvs_real threshold2);
     /* Optional (may be NULL): local optimisation of a new best model on its
      * inliers (`mask`, as score() wrote it for this model), in place.
      * Returns SPVS_OK when `model` was replaced.  RANSAC keeps the polished
@@ -70,7 +75,6 @@ typedef struct {
     uint32_t iters;      /* hypotheses tried, degenerate ones included        */
     uint32_t degenerate; /* of which degenerate samples                       */
     uint16_t n_inliers;  /* of the best model                                 */
-    spvs_real cost;      /* summed squared residual of its inliers            */
 } spvs_ransac_stats_t;
 
 /* Run RANSAC.  Ties in inlier count are broken by the lower summed residual.
