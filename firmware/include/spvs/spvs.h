@@ -80,7 +80,7 @@ typedef struct {
     spvs_real pts[SPVS_MAX_MATCHES][4];
 #if SPVS_SIMD_COLUMNS
     /* The same points in columns (x_tgt, y_tgt, x_cur, y_cur), for the
-     * blocked inlier count on SIMD lanes (spvs_config.h). */
+     * blocked inlier count and sums on SIMD lanes (spvs_config.h). */
     spvs_real col[4][SPVS_MAX_MATCHES];
 #endif
     uint16_t feat[SPVS_MAX_MATCHES];

@@ -83,12 +83,14 @@
 #define SPVS_MAX_COORD_PX 8192
 #endif
 
-/* 1: keep a second copy of the frame's points in columns and count inliers in
- * blocks of 8 on it, which a compiler runs on SIMD lanes (SPVS_MAX_MATCHES x
- * 4 more scalars in spvs_t).  0: count point by point on the one copy.  The
- * result is the same either way; the default is 1 where the compiler says
- * the target has SSE2 or NEON, 0 elsewhere (Cortex-M4F).  Compile the core
- * and the code that allocates spvs_t with the same setting. */
+/* 1: keep a second copy of the frame's points in columns, count inliers in
+ * blocks of 16 on it and run the sums of the linear fit and of the
+ * Gauss-Newton refit on it a block at a time, loops a compiler runs on SIMD
+ * lanes (SPVS_MAX_MATCHES x 4 more scalars in spvs_t).  0: everything point
+ * by point on the one copy.  The result is the same bits either way; the
+ * default is 1 where the compiler says the target has SSE2 or NEON, 0
+ * elsewhere (Cortex-M4F).  Compile the core and the code that allocates
+ * spvs_t with the same setting. */
 #ifndef SPVS_SIMD_COLUMNS
 #if defined(__SSE2__) || defined(__ARM_NEON)
 #define SPVS_SIMD_COLUMNS 1
