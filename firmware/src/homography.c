@@ -122,7 +122,7 @@ enum {
     T_FIT_Y,
     /* Linear fit, row 1 given row 3: q = (x, y, 1) / w, r = x_cur. */
     T_FIT_X,
-    /* Gauss-Newton normal equations and cost (see gn_unpack). */
+    /* Gauss-Newton normal equations and cost (see refit_pass). */
     T_GN,
     /* Squared transfer error alone. */
     T_COST
