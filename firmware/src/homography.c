@@ -241,6 +241,22 @@ static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, const spvs_real
 }
 
 #if SPVS_SIMD_COLUMNS
+/* One point's terms into lane j (on: 1 used, 0 not). */
+static SPVS_ALWAYS_INLINE void lane_add(int kind, int nt, const spvs_real *h, spvs_real x,
+                                        spvs_real y, spvs_real u, spvs_real v, int32_t on,
+                                        int j, spvs_real acc[][SUM_LANES], int32_t *bad,
+                                        int32_t *cnt)
+{
+    spvs_real t[TERMS_MAX];
+    const int32_t ok = point_terms(kind, h, x, y, u, v, (spvs_real)on, t);
+    bad[j] |= on & !ok;
+    cnt[j] += on;
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        acc[k][j] += t[k];
+    }
+}
+
 /* The same sums on points in columns c[0..3], a block of SUM_LANES points
  * at a time: the loops over a block have a fixed trip count and no branch,
  * so a compiler runs them on SIMD lanes.  An unused point adds +0, which
@@ -267,49 +283,30 @@ static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, const spvs_rea
         h[k] = H[k];
     }
     /* Blocks of SUM_BLOCK points, SUM_BLOCK / SUM_LANES rows of lanes each
-     * (the use flags, bytes, are widened for a whole block at once). */
+     * (the use flags, bytes, are widened for a whole block at once: a loop
+     * over only SUM_LANES bytes is too short for the vectoriser). */
     const uint32_t n_blocks = (uint32_t)n / SUM_BLOCK;
     /* Bound: n / SUM_BLOCK blocks. */
     for (uint32_t b = 0; b < n_blocks; b++) {
         const uint32_t i0 = b * SUM_BLOCK;
         int32_t on[SUM_BLOCK];
-        spvs_real onf[SUM_BLOCK];
         for (int j = 0; j < SUM_BLOCK; j++) {
             on[j] = use[i0 + (uint32_t)j] != 0;
-        }
-        for (int j = 0; j < SUM_BLOCK; j++) {
-            onf[j] = (spvs_real)on[j];
         }
         for (uint32_t r = 0; r < SUM_BLOCK; r += SUM_LANES) {
             const spvs_real *const px = c[0] + i0 + r, *const py = c[1] + i0 + r;
             const spvs_real *const pu = c[2] + i0 + r, *const pv = c[3] + i0 + r;
             for (int j = 0; j < SUM_LANES; j++) {
-                spvs_real t[TERMS_MAX];
-                const spvs_real f = onf[r + (uint32_t)j];
-                const int32_t ok = point_terms(kind, h, px[j], py[j], pu[j], pv[j], f, t);
-                bad[j] |= on[r + (uint32_t)j] & !ok;
-                cnt[j] += on[r + (uint32_t)j];
-                SPVS_UNROLL
-                for (int k = 0; k < nt; k++) {
-                    acc[k][j] += t[k];
-                }
+                lane_add(kind, nt, h, px[j], py[j], pu[j], pv[j], on[r + (uint32_t)j], j, acc,
+                         bad, cnt);
             }
         }
     }
     /* The rest, fewer than SUM_BLOCK points, point by point (lane i mod
      * SUM_LANES, as everywhere). */
     for (uint32_t i = n_blocks * SUM_BLOCK; i < n; i++) {
-        const uint32_t j = i % SUM_LANES;
-        spvs_real t[TERMS_MAX];
-        const int32_t on = use[i] != 0;
-        const spvs_real f = (spvs_real)on;
-        const int32_t ok = point_terms(kind, h, c[0][i], c[1][i], c[2][i], c[3][i], f, t);
-        bad[j] |= on & !ok;
-        cnt[j] += on;
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            acc[k][j] += t[k];
-        }
+        lane_add(kind, nt, h, c[0][i], c[1][i], c[2][i], c[3][i], use[i] != 0,
+                 (int)(i % SUM_LANES), acc, bad, cnt);
     }
     int32_t any_bad = 0;
     int32_t used = 0;
