@@ -115,24 +115,22 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
 #define PT(s, i, k) ((s)->pts[i][k])
 #endif
 
-/* The match (x, y) -> (u, v) under H, in terms of w = h3.p: ex and ey are
- * the transfer residuals in the current image times w.  A match is an
- * inlier when w > 0 and ex^2 + ey^2 <= t^2 w^2, which is the transfer error
- * test without the division. */
-#define SCORE_TERMS(h, x, y, u, v)                                     \
-    const spvs_real w = (h)[6] * (x) + (h)[7] * (y) + (h)[8];          \
-    const spvs_real ex = (u) * w - ((h)[0] * (x) + (h)[1] * (y) + (h)[2]); \
-    const spvs_real ey = (v) * w - (y);                                \
-    const spvs_real e = ex * ex + ey * ey
-
-static inline int32_t score_ok(const spvs_real *h, spvs_real x, spvs_real y, spvs_real u,
-                               spvs_real v, spvs_real t2)
+/* The match (x, y) -> (u, v) under H, with w = h3.p: ex and ey are the
+ * transfer residuals in the current image times w, and *e2 = ex^2 + ey^2.
+ * Returns 1 for an inlier: w > 0 and ex^2 + ey^2 <= t^2 w^2, the transfer
+ * error test without the division. */
+static inline int32_t score_point(const spvs_real *h, spvs_real x, spvs_real y, spvs_real u,
+                                  spvs_real v, spvs_real t2, spvs_real *e2)
 {
-    SCORE_TERMS(h, x, y, u, v);
+    const spvs_real w = h[6] * x + h[7] * y + h[8];
+    const spvs_real ex = u * w - (h[0] * x + h[1] * y + h[2]);
+    const spvs_real ey = v * w - y;
+    const spvs_real e = ex * ex + ey * ey;
+    *e2 = e;
     return (w > SPVS_R(0.0)) & (e <= t2 * w * w);
 }
 
-/* Counts the inliers (score_ok) of H and, when mask is not NULL, marks
+/* Counts the inliers (score_point) of H and, when mask is not NULL, marks
  * them.  Stops once the model cannot reach `need` (checked per block of
  * SCORE_BLOCK points). */
 static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t need,
@@ -154,8 +152,9 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t 
         int32_t k = 0;
         uint8_t ok[SCORE_BLOCK];
         for (int j = 0; j < SCORE_BLOCK; j++) {
-            int32_t in = score_ok(h, PT(s, i0 + j, 0), PT(s, i0 + j, 1), PT(s, i0 + j, 2),
-                                  PT(s, i0 + j, 3), t2);
+            spvs_real e;
+            int32_t in = score_point(h, PT(s, i0 + j, 0), PT(s, i0 + j, 1), PT(s, i0 + j, 2),
+                                     PT(s, i0 + j, 3), t2, &e);
             k += in;
             ok[j] = (uint8_t)in;
         }
@@ -171,7 +170,8 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t 
         }
     }
     for (uint16_t i = (uint16_t)(n_blocks * SCORE_BLOCK); i < n; i++) {
-        int32_t ok = score_ok(h, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2);
+        spvs_real e;
+        int32_t ok = score_point(h, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e);
         inl += ok;
         if (mask) {
             mask[i] = (uint8_t)ok;
@@ -180,15 +180,15 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t 
     return (uint16_t)inl;
 }
 
-/* Tie-break cost of H: the inliers' squared algebraic residual (ex^2 + ey^2
- * of SCORE_TERMS), summed in point order. */
+/* Tie-break cost of H: the inliers' squared algebraic residual (*e2 of
+ * score_point), summed in point order. */
 static spvs_real est_cost(void *ctx, const spvs_real *H, spvs_real t2)
 {
     const spvs_t *s = (const spvs_t *)ctx;
     spvs_real c = SPVS_R(0.0);
     for (uint16_t i = 0; i < s->n_plane; i++) {
-        SCORE_TERMS(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3));
-        if (w > SPVS_R(0.0) && e <= t2 * w * w) {
+        spvs_real e;
+        if (score_point(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e)) {
             c += e;
         }
     }
