@@ -23,6 +23,49 @@
 #define SPVS_UNROLL
 #endif
 
+#if SPVS_SIMD_COLUMNS
+/* SPVS_VLANES scalars in one SIMD register (GNU C vector extensions, which
+ * GCC and Clang lower to SSE2 or NEON), the integers of the same width that
+ * a comparison of two such vectors gives (-1 true, 0 false), and the load of
+ * SPVS_VLANES consecutive scalars from any scalar-aligned address. */
+#define SPVS_VLANES 4
+#if SPVS_USE_DOUBLE
+typedef int64_t spvs_lane_int;
+#else
+typedef int32_t spvs_lane_int;
+#endif
+typedef spvs_real spvs_v4 __attribute__((vector_size(SPVS_VLANES * sizeof(spvs_real))));
+typedef spvs_lane_int spvs_v4i __attribute__((vector_size(SPVS_VLANES * sizeof(spvs_real))));
+typedef spvs_real spvs_v4u
+    __attribute__((vector_size(SPVS_VLANES * sizeof(spvs_real)), aligned(sizeof(spvs_real)),
+                   may_alias));
+
+static inline spvs_v4 spvs_v4_load(const spvs_real *p)
+{
+    return *(const spvs_v4u *)p;
+}
+
+/* The flags use[0..SPVS_VLANES) as lanes: -1 where a flag is nonzero (one
+ * load of the four bytes, each lane keeping its own byte). */
+#if SPVS_USE_DOUBLE
+typedef uint64_t spvs_lane_uint;
+#else
+typedef uint32_t spvs_lane_uint;
+#endif
+typedef spvs_lane_uint spvs_v4n __attribute__((vector_size(SPVS_VLANES * sizeof(spvs_real))));
+static inline spvs_v4i spvs_v4_flags(const uint8_t *use)
+{
+    uint32_t b;
+    __builtin_memcpy(&b, use, sizeof b);
+#if defined(__BYTE_ORDER__) && (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__)
+    const spvs_v4n byte = {0xff000000u, 0xff0000u, 0xff00u, 0xffu};
+#else
+    const spvs_v4n byte = {0xffu, 0xff00u, 0xff0000u, 0xff000000u};
+#endif
+    return (((spvs_v4n){0} + b) & byte) != 0;
+}
+#endif
+
 /* 1 when x is neither NaN nor infinite.  Written without isfinite() so no
  * libm call is needed on any target: NaN fails the first test, +-Inf the
  * second. */

@@ -110,85 +110,28 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
  * the same operations in the same order, so both layouts give bit-identical
  * results on every target. */
 #define SUM_LANES 4
-#define SUM_BLOCK 16
 /* lanes_fold and sum_lanewise add four lanes as (0 + 1) + (2 + 3). */
 _Static_assert(SUM_LANES == 4, "the lane folds are written for four lanes");
 #define TERMS_MAX 25
 
-/* Which terms a point contributes. */
-enum {
-    /* Linear fit, row 3 (y-equations at the weights of the passed H): q q^T
-     * (6 entries) and q r with q = (y_cur / w) (x, y, 1), r = y_tgt / w. */
-    T_FIT_Y,
-    /* Linear fit, row 1 given row 3: q = (x, y, 1) / w, r = x_cur. */
-    T_FIT_X,
-    /* Gauss-Newton normal equations and cost (see refit_pass). */
-    T_GN,
-    /* Squared transfer error alone. */
-    T_COST
-};
+/* Which terms a point contributes (h_point.inc). */
+enum { HP_FIT_Y, HP_FIT_X, HP_GN, HP_COST };
 #define NT_FIT 9
 #define NT_GN 25
 #define NT_COST 1
 
-/* The terms of one point (x, y) -> (u, v) under H (only row 1 and row 3 of
- * H are read) for on = 1; for on = 0 (a point not used) w is taken as 1, so
- * that everything stays finite, and every term is zero.  Returns 1 when
- * w = h3 . p > W_EPS; otherwise the terms of a used point are meaningless. */
-static SPVS_ALWAYS_INLINE int32_t point_terms(int kind, const spvs_real *H, spvs_real x,
-                                              spvs_real y, spvs_real u, spvs_real v,
-                                              spvs_real on, spvs_real *t)
-{
-    const spvs_real w0 = H[6] * x + H[7] * y + H[8];
-    /* w0 * 1 + 0 is w0 exactly (and w0 <= W_EPS is rejected anyway). */
-    const spvs_real w = w0 * on + (SPVS_R(1.0) - on);
-    const spvs_real iw = SPVS_R(1.0) / w;
-    if (kind == T_FIT_Y || kind == T_FIT_X) {
-        /* on = 1 leaves every product as it was; on = 0 zeroes them all. */
-        const spvs_real sc = (kind == T_FIT_Y ? v * iw : iw) * on;
-        const spvs_real r = kind == T_FIT_Y ? y * iw : u;
-        const spvs_real q0 = sc * x, q1 = sc * y, q2 = sc;
-        t[0] = q0 * q0;
-        t[1] = q0 * q1;
-        t[2] = q0 * q2;
-        t[3] = q1 * q1;
-        t[4] = q1 * q2;
-        t[5] = q2 * q2;
-        t[6] = q0 * r;
-        t[7] = q1 * r;
-        t[8] = q2 * r;
-    } else {
-        /* Residuals r_x = (h1 . p) / w - x_cur, r_y = y_tgt / w - y_cur. */
-        const spvs_real pu = (H[0] * x + H[1] * y + H[2]) * iw;
-        const spvs_real pv = y * iw;
-        const spvs_real rx = pu - u;
-        const spvs_real ry = pv - v;
-        if (kind == T_COST) {
-            t[0] = (rx * rx + ry * ry) * on;
-        } else {
-            const spvs_real iw2 = iw * iw;
-            const spvs_real a[3] = {iw2 * on, (-pu * iw2) * on, ((pu * pu + pv * pv) * iw2) * on};
-            const spvs_real b1 = (-rx * iw) * on;
-            const spvs_real b3 = ((pu * rx + pv * ry) * iw) * on;
-            const spvs_real q[6] = {x * x, x * y, x, y * y, y, SPVS_R(1.0)};
-            SPVS_UNROLL
-            for (int m = 0; m < 3; m++) {
-                SPVS_UNROLL
-                for (int k = 0; k < 6; k++) {
-                    t[6 * m + k] = a[m] * q[k];
-                }
-            }
-            t[18] = b1 * x;
-            t[19] = b1 * y;
-            t[20] = b1;
-            t[21] = b3 * x;
-            t[22] = b3 * y;
-            t[23] = b3;
-            t[24] = (rx * rx + ry * ry) * on;
-        }
-    }
-    return w0 > W_EPS;
-}
+#define HP_TERMS
+#define HP_R spvs_real
+#define HP_M int32_t
+#define HP_SUFFIX
+#include "h_point.inc"
+#if SPVS_SIMD_COLUMNS
+_Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
+#define HP_R spvs_v4
+#define HP_M spvs_v4i
+#define HP_SUFFIX _v
+#include "h_point.inc"
+#endif
 
 /* Adds the lanes pairwise into out[0..nt). */
 static SPVS_ALWAYS_INLINE void lanes_fold(int nt, spvs_real acc[][SUM_LANES], spvs_real *out)
@@ -201,9 +144,9 @@ static SPVS_ALWAYS_INLINE void lanes_fold(int nt, spvs_real acc[][SUM_LANES], sp
 
 /* Sums the `kind` terms of the points flagged in `use` into out[0..nt), the
  * points given as point i's coordinate k at c[k][i * is].  Each lane is one
- * loop, its sums in registers.  Returns the number of used points, or -1
- * when one of them has w <= W_EPS. */
-static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, const spvs_real *H,
+ * loop, its sums in registers.  Returns the number of used points if
+ * `count` (0 otherwise), or -1 when a used point has w <= W_EPS. */
+static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, int count, const spvs_real *H,
                                                const spvs_real *const c[4], uint32_t is,
                                                const uint8_t *use, uint16_t n, spvs_real *out)
 {
@@ -221,15 +164,10 @@ static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, const spvs_real
                 continue;
             }
             const uint32_t o = (uint32_t)i * is;
-            spvs_real t[TERMS_MAX];
-            if (!point_terms(kind, H, c[0][o], c[1][o], c[2][o], c[3][o], SPVS_R(1.0), t)) {
+            if (!hp_terms(kind, H, c[0][o], c[1][o], c[2][o], c[3][o], SPVS_R(1.0), a)) {
                 return -1;
             }
-            SPVS_UNROLL
-            for (int k = 0; k < nt; k++) {
-                a[k] += t[k];
-            }
-            used++;
+            used += count;
         }
         SPVS_UNROLL
         for (int k = 0; k < nt; k++) {
@@ -241,83 +179,76 @@ static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, const spvs_real
 }
 
 #if SPVS_SIMD_COLUMNS
-/* One point's terms into lane j (on: 1 used, 0 not). */
-static SPVS_ALWAYS_INLINE void lane_add(int kind, int nt, const spvs_real *h, spvs_real x,
-                                        spvs_real y, spvs_real u, spvs_real v, int32_t on,
-                                        int j, spvs_real acc[][SUM_LANES], int32_t *bad,
-                                        int32_t *cnt)
-{
-    spvs_real t[TERMS_MAX];
-    const int32_t ok = point_terms(kind, h, x, y, u, v, (spvs_real)on, t);
-    bad[j] |= on & !ok;
-    cnt[j] += on;
-    SPVS_UNROLL
-    for (int k = 0; k < nt; k++) {
-        acc[k][j] += t[k];
-    }
-}
-
-/* The same sums on points in columns c[0..3], a block of SUM_LANES points
- * at a time: the loops over a block have a fixed trip count and no branch,
- * so a compiler runs them on SIMD lanes.  An unused point adds +0, which
- * leaves a lane's sum as it was (sums start at +0 and never become -0). */
-static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, const spvs_real *H,
+/* The same sums on points in columns c[0..3], SUM_LANES points at a time in
+ * one vector (lane j holds points j, j + SUM_LANES, ..., as above), branch
+ * free: an unused point adds +-0, which leaves a lane's sum as it was (sums
+ * start at +0 and so never become -0). */
+static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, int count, const spvs_real *H,
                                                 const spvs_real *const c[4],
                                                 const uint8_t *use, uint16_t n,
                                                 spvs_real *out)
 {
-    spvs_real acc[TERMS_MAX][SUM_LANES];
-    int32_t bad[SUM_LANES];
-    int32_t cnt[SUM_LANES];
-    for (int j = 0; j < SUM_LANES; j++) {
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            acc[k][j] = SPVS_R(0.0);
-        }
-        bad[j] = 0;
-        cnt[j] = 0;
+    spvs_v4 acc[TERMS_MAX];
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        acc[k] = (spvs_v4){0};
     }
-    /* Local copies: nothing the loop stores can then alias them. */
+    /* -1 in a lane while all its points have had w > W_EPS. */
+    spvs_v4i all_ok = (spvs_v4i){0} - 1;
+    spvs_v4i cnt = {0};
+    /* A local copy: nothing the loop stores can then alias it. */
     spvs_real h[9];
     for (int k = 0; k < 9; k++) {
         h[k] = H[k];
     }
-    /* Blocks of SUM_BLOCK points, SUM_BLOCK / SUM_LANES rows of lanes each
-     * (the use flags, bytes, are widened for a whole block at once: a loop
-     * over only SUM_LANES bytes is too short for the vectoriser). */
-    const uint32_t n_blocks = (uint32_t)n / SUM_BLOCK;
-    /* Bound: n / SUM_BLOCK blocks. */
-    for (uint32_t b = 0; b < n_blocks; b++) {
-        const uint32_t i0 = b * SUM_BLOCK;
-        int32_t on[SUM_BLOCK];
-        for (int j = 0; j < SUM_BLOCK; j++) {
-            on[j] = use[i0 + (uint32_t)j] != 0;
-        }
-        for (uint32_t r = 0; r < SUM_BLOCK; r += SUM_LANES) {
-            const spvs_real *const px = c[0] + i0 + r, *const py = c[1] + i0 + r;
-            const spvs_real *const pu = c[2] + i0 + r, *const pv = c[3] + i0 + r;
-            for (int j = 0; j < SUM_LANES; j++) {
-                lane_add(kind, nt, h, px[j], py[j], pu[j], pv[j], on[r + (uint32_t)j], j, acc,
-                         bad, cnt);
-            }
+    const spvs_v4 one = (spvs_v4){0} + SPVS_R(1.0);
+    const uint32_t n_rows = (uint32_t)n / SUM_LANES;
+    /* Bound: n / SUM_LANES rows of lanes. */
+    for (uint32_t r = 0; r < n_rows; r++) {
+        const uint32_t i = r * SUM_LANES;
+        const spvs_v4i on = spvs_v4_flags(use + i);
+        all_ok &= hp_terms_v(kind, h, spvs_v4_load(c[0] + i), spvs_v4_load(c[1] + i),
+                             spvs_v4_load(c[2] + i), spvs_v4_load(c[3] + i),
+                             (spvs_v4)((spvs_v4i)one & on), acc);
+        if (count) {
+            cnt -= on;
         }
     }
-    /* The rest, fewer than SUM_BLOCK points, point by point (lane i mod
-     * SUM_LANES, as everywhere). */
-    for (uint32_t i = n_blocks * SUM_BLOCK; i < n; i++) {
-        lane_add(kind, nt, h, c[0][i], c[1][i], c[2][i], c[3][i], use[i] != 0,
-                 (int)(i % SUM_LANES), acc, bad, cnt);
+    spvs_real lanes[TERMS_MAX][SUM_LANES];
+    for (int j = 0; j < SUM_LANES; j++) {
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            lanes[k][j] = acc[k][j];
+        }
     }
     int32_t any_bad = 0;
     int32_t used = 0;
     for (int j = 0; j < SUM_LANES; j++) {
-        any_bad |= bad[j];
-        used += cnt[j];
+        any_bad |= all_ok[j] == 0;
+        used += (int32_t)cnt[j];
+    }
+    /* The rest, fewer than SUM_LANES points, point by point into lane
+     * i mod SUM_LANES. */
+    for (uint32_t i = n_rows * SUM_LANES; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        spvs_real a[TERMS_MAX];
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            a[k] = lanes[k][i % SUM_LANES];
+        }
+        any_bad |= !hp_terms(kind, h, c[0][i], c[1][i], c[2][i], c[3][i], SPVS_R(1.0), a);
+        used += count;
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            lanes[k][i % SUM_LANES] = a[k];
+        }
     }
     if (any_bad) {
         return -1;
     }
-    lanes_fold(nt, acc, out);
+    lanes_fold(nt, lanes, out);
     return used;
 }
 #endif
@@ -328,20 +259,30 @@ typedef struct {
     const spvs_real *const *cols;
 } pts_in_t;
 
-static SPVS_ALWAYS_INLINE int32_t sum_terms(int kind, int nt, const spvs_real *H,
+static SPVS_ALWAYS_INLINE int32_t sum_terms(int kind, int nt, int count, const spvs_real *H,
                                             const pts_in_t *in, const uint8_t *use,
                                             uint16_t n, spvs_real *out)
 {
     if (in->rows != 0) {
         const spvs_real *const c[4] = {&in->rows[0][0], &in->rows[0][1], &in->rows[0][2],
                                        &in->rows[0][3]};
-        return sum_lanewise(kind, nt, H, c, 4u, use, n, out);
+        return sum_lanewise(kind, nt, count, H, c, 4u, use, n, out);
     }
 #if SPVS_SIMD_COLUMNS
-    return sum_blockwise(kind, nt, H, in->cols, use, n, out);
+    return sum_blockwise(kind, nt, count, H, in->cols, use, n, out);
 #else
-    return sum_lanewise(kind, nt, H, in->cols, 1u, use, n, out);
+    return sum_lanewise(kind, nt, count, H, in->cols, 1u, use, n, out);
 #endif
+}
+
+/* The number of points flagged in use[0..n). */
+static uint16_t count_used(const uint8_t *use, uint16_t n)
+{
+    uint16_t used = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        used = (uint16_t)(used + (use[i] != 0));
+    }
+    return used;
 }
 
 /* Solves the 3x3 normal equations of a linear-fit pass: s[0..5] the upper
@@ -358,7 +299,7 @@ static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_r
     /* Row 3: sum over the used points of (y_cur (h3 . p) - y_tgt)^2 / w0^2,
      * w0 the current H's third coordinate, is the y transfer error at w0. */
     spvs_real sy[NT_FIT];
-    int32_t used = sum_terms(T_FIT_Y, NT_FIT, H, in, use, n, sy);
+    const int32_t used = sum_terms(HP_FIT_Y, NT_FIT, 1, H, in, use, n, sy);
     if (used < 0) {
         return SPVS_E_DEGENERATE;
     }
@@ -373,7 +314,7 @@ static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_r
      * transfer error. */
     const spvs_real Hw[9] = {0, 0, 0, 0, 0, 0, h3[0], h3[1], h3[2]};
     spvs_real sx[NT_FIT];
-    if (sum_terms(T_FIT_X, NT_FIT, Hw, in, use, n, sx) < 0) {
+    if (sum_terms(HP_FIT_X, NT_FIT, 0, Hw, in, use, n, sx) < 0) {
         return SPVS_E_DEGENERATE;
     }
     spvs_real h1[3];
@@ -457,14 +398,14 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
  *   N11 = sum p p^T / w^2, N13 = -sum u p p^T / w^2,
  *   N33 = sum (u^2 + v^2) p p^T / w^2,
  * and only the six distinct entries of p p^T, q = (x^2, x y, x, y^2, y, 1),
- * are summed per weight (terms 0-17 of T_GN), then the gradient halves
+ * are summed per weight (terms 0-17 of HP_GN), then the gradient halves
  * g1 = -sum r_x p / w and g3 = sum (u r_x + v r_y) p / w (terms 18-23) and
  * the cost (term 24). */
 static spvs_real refit_pass(const pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9], spvs_real N[6][6], spvs_real g[6])
 {
     spvs_real s[NT_GN];
-    if (sum_terms(T_GN, NT_GN, H, in, use, n, s) < 0) {
+    if (sum_terms(HP_GN, NT_GN, 0, H, in, use, n, s) < 0) {
         return SPVS_REAL_MAX;
     }
     /* Unpack the symmetric 3x3 blocks: index of (r, c) in q. */
@@ -489,7 +430,7 @@ static spvs_real refit_cost(const pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9])
 {
     spvs_real c;
-    if (sum_terms(T_COST, NT_COST, H, in, use, n, &c) < 0) {
+    if (sum_terms(HP_COST, NT_COST, 0, H, in, use, n, &c) < 0) {
         return SPVS_REAL_MAX;
     }
     return c;
@@ -504,11 +445,7 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
     if (max_iters > SPVS_REFIT_MAX_ITERS) {
         max_iters = SPVS_REFIT_MAX_ITERS;
     }
-    uint16_t used = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        used = (uint16_t)(used + (use[i] ? 1u : 0u));
-    }
-    if (used < 3) {
+    if (count_used(use, n) < 3) {
         return SPVS_E_TOO_FEW;
     }
 
