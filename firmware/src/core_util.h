@@ -64,6 +64,27 @@ static inline spvs_v4i spvs_v4_flags(const uint8_t *use)
 #endif
     return (((spvs_v4n){0} + b) & byte) != 0;
 }
+
+/* The lanes' flags (-1 or 0) as bytes 1 or 0 in mask[0..SPVS_VLANES): one
+ * 4-byte store of the lanes' bytes gathered by two swaps. */
+#if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
+#define SPVS_V4_SHUFFLE(v, a, b, c, d) __builtin_shufflevector(v, v, a, b, c, d)
+#else
+#define SPVS_V4_SHUFFLE(v, a, b, c, d) __builtin_shuffle(v, (spvs_v4i){a, b, c, d})
+#endif
+static inline void spvs_v4_store_flags(spvs_v4i f, uint8_t *mask)
+{
+#if defined(__BYTE_ORDER__) && (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__)
+    const spvs_v4i byte = {0x1000000, 0x10000, 0x100, 0x1};
+#else
+    const spvs_v4i byte = {0x1, 0x100, 0x10000, 0x1000000};
+#endif
+    spvs_v4i b = f & byte;
+    b |= SPVS_V4_SHUFFLE(b, 2, 3, 0, 1);
+    b |= SPVS_V4_SHUFFLE(b, 1, 0, 3, 2);
+    const uint32_t word = (uint32_t)b[0];
+    __builtin_memcpy(mask, &word, sizeof word);
+}
 #endif
 
 /* 1 when x is neither NaN nor infinite.  Written without isfinite() so no

@@ -3,6 +3,7 @@
  * the parallax, remember off-plane features, run the controller.
  */
 #include <math.h>
+#include <stddef.h>
 
 #include "spvs/spvs.h"
 #include "core_util.h"
@@ -101,94 +102,98 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
     return spvs_h_solve3(pts, model);
 }
 
-/* Points counted per block.  The inner loops over a block have a fixed trip
- * count and no branch, so a compiler runs them on SIMD lanes; the early exit
- * is checked once per block.  Without SIMD (SPVS_SIMD_COLUMNS 0, e.g. the
- * Cortex-M4F) a block is one point read from pts, so the exit comes at the
- * first point that makes `need` unreachable.  Counts and masks are the same
- * for every block size. */
+#define HP_R spvs_real
+#define HP_M int32_t
+#define HP_SUFFIX
+#include "h_point.inc"
 #if SPVS_SIMD_COLUMNS
+#define HP_R spvs_v4
+#define HP_M spvs_v4i
+#define HP_SUFFIX _v
+#include "h_point.inc"
+/* Points counted between two checks of the early exit. */
 #define SCORE_BLOCK 16
 #define PT(s, i, k) ((s)->col[k][i])
 #else
-#define SCORE_BLOCK 1
 #define PT(s, i, k) ((s)->pts[i][k])
 #endif
 
-/* The match (x, y) -> (u, v) under H, with w = h3.p: ex and ey are the
- * transfer residuals in the current image times w, and *e2 = ex^2 + ey^2.
- * Returns 1 for an inlier: w > 0 and ex^2 + ey^2 <= t^2 w^2, the transfer
- * error test without the division. */
-static inline int32_t score_point(const spvs_real *h, spvs_real x, spvs_real y, spvs_real u,
-                                  spvs_real v, spvs_real t2, spvs_real *e2)
+#if SPVS_SIMD_COLUMNS
+/* The inliers of H among points i..i + SCORE_BLOCK of the columns c, marked
+ * in mask[i..] when with_mask; returns their count. */
+static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h,
+                                              const spvs_real (*c)[SPVS_MAX_MATCHES], size_t i,
+                                              spvs_real t2, uint8_t *mask, int with_mask)
 {
-    const spvs_real w = h[6] * x + h[7] * y + h[8];
-    const spvs_real ex = u * w - (h[0] * x + h[1] * y + h[2]);
-    const spvs_real ey = v * w - y;
-    const spvs_real e = ex * ex + ey * ey;
-    *e2 = e;
-    return (w > SPVS_R(0.0)) & (e <= t2 * w * w);
+    spvs_v4i cnt = {0};
+    SPVS_UNROLL
+    for (size_t r = i; r < i + SCORE_BLOCK; r += SPVS_VLANES) {
+        spvs_v4 e;
+        const spvs_v4i in = hp_inlier_v(h, spvs_v4_load(&c[0][r]), spvs_v4_load(&c[1][r]),
+                                         spvs_v4_load(&c[2][r]), spvs_v4_load(&c[3][r]), t2, &e);
+        cnt -= in;
+        if (with_mask) {
+            spvs_v4_store_flags(in, mask + r);
+        }
+    }
+    return (int32_t)((cnt[0] + cnt[1]) + (cnt[2] + cnt[3]));
 }
+#endif
 
-/* Counts the inliers (score_point) of H and, when mask is not NULL, marks
- * them.  Stops once the model cannot reach `need` (checked per block of
- * SCORE_BLOCK points). */
+/* Counts the inliers (hp_inlier) of H and, when mask is not NULL, marks
+ * them.  Stops once the model cannot reach `need`: on SIMD lanes checked
+ * every SCORE_BLOCK points, else at the first point that makes it
+ * unreachable.  Counts and masks are the same either way. */
 static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t need,
                           uint8_t *mask)
 {
     const spvs_t *s = (const spvs_t *)ctx;
-    const uint16_t n = s->n_plane;
+    const size_t n = s->n_plane;
     const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
-    const uint16_t n_blocks = (uint16_t)(n / SCORE_BLOCK);
     /* A local copy: the mask stores cannot then alias the model. */
     spvs_real h[9];
     for (int k = 0; k < 9; k++) {
         h[k] = H[k];
     }
     int32_t inl = 0;
-    /* Bound: n / SCORE_BLOCK blocks, then fewer than SCORE_BLOCK points. */
-    for (uint16_t b = 0; b < n_blocks; b++) {
-        const uint16_t i0 = (uint16_t)(b * SCORE_BLOCK);
-        int32_t k = 0;
-        uint8_t ok[SCORE_BLOCK];
-        for (int j = 0; j < SCORE_BLOCK; j++) {
-            spvs_real e;
-            int32_t in = score_point(h, PT(s, i0 + j, 0), PT(s, i0 + j, 1), PT(s, i0 + j, 2),
-                                     PT(s, i0 + j, 3), t2, &e);
-            k += in;
-            ok[j] = (uint8_t)in;
-        }
-        if (mask) {
-            for (int j = 0; j < SCORE_BLOCK; j++) {
-                mask[i0 + j] = ok[j];
-            }
-        }
-        inl += k;
+    size_t i = 0;
+#if SPVS_SIMD_COLUMNS
+    /* Bound: n / SCORE_BLOCK blocks. */
+    for (; i + SCORE_BLOCK <= n; i += SCORE_BLOCK) {
+        inl += mask ? score_block(h, s->col, i, t2, mask, 1)
+                    : score_block(h, s->col, i, t2, mask, 0);
         /* More outliers so far than `need` allows: it cannot be reached. */
-        if ((int32_t)i0 + SCORE_BLOCK - inl > max_out) {
+        if ((int32_t)(i + SCORE_BLOCK) - inl > max_out) {
             return (uint16_t)inl;
         }
     }
-    for (uint16_t i = (uint16_t)(n_blocks * SCORE_BLOCK); i < n; i++) {
+#endif
+    /* Bound: n points (on SIMD lanes, fewer than SCORE_BLOCK). */
+    for (; i < n; i++) {
         spvs_real e;
-        int32_t ok = score_point(h, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e);
+        const int32_t ok = hp_inlier(h, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e);
         inl += ok;
         if (mask) {
             mask[i] = (uint8_t)ok;
         }
+#if !SPVS_SIMD_COLUMNS
+        if ((int32_t)(i + 1) - inl > max_out) {
+            return (uint16_t)inl;
+        }
+#endif
     }
     return (uint16_t)inl;
 }
 
 /* Tie-break cost of H: the inliers' squared algebraic residual (*e2 of
- * score_point), summed in point order. */
+ * hp_inlier), summed in point order. */
 static spvs_real est_cost(void *ctx, const spvs_real *H, spvs_real t2)
 {
     const spvs_t *s = (const spvs_t *)ctx;
     spvs_real c = SPVS_R(0.0);
     for (uint16_t i = 0; i < s->n_plane; i++) {
         spvs_real e;
-        if (score_point(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e)) {
+        if (hp_inlier(H, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e)) {
             c += e;
         }
     }
