@@ -8,6 +8,13 @@
 #include "spvs/spvs.h"
 #include "core_util.h"
 
+#if SPVS_SIMD_COLUMNS
+/* load_frame reads a match's four coordinates as one vector. */
+_Static_assert(offsetof(spvs_match_t, x_tgt) == 0 &&
+                   offsetof(spvs_match_t, y_cur) == 3 * sizeof(spvs_real),
+               "the coordinates of a match are contiguous");
+#endif
+
 /* Off-plane memory: a feature counts as off the plane at this score. */
 #define OFFPLANE_ON 2
 #define OFFPLANE_MAX 3
@@ -253,42 +260,74 @@ static int frame_error(const spvs_match_t *m, uint16_t n)
 }
 
 /* Checks the frame and copies it into the work buffers in scaled units, the
- * matches of features not known to be off the plane first (n_plane of them). */
+ * matches of features not known to be off the plane first (n_plane of them).
+ * The check is made without branches while copying: |c| <= lim fails for NaN
+ * and infinities too, and an index out of range reads feature 0's memory
+ * (the frame is refused anyway).  Only a bad frame is looked at again, for
+ * its status. */
 static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
 {
     const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
-    /* The check without branches: |c| <= lim fails for NaN and infinities
-     * too.  Only a bad frame is looked at again, for its status. */
     int32_t bad = 0;
+    uint16_t front = 0;
+    uint16_t back = n;
+#if SPVS_SIMD_COLUMNS
+    /* -1 in a lane while every coordinate it has seen is in range. */
+    spvs_v4i in_range = (spvs_v4i){0} - 1;
+#endif
     for (uint16_t i = 0; i < n; i++) {
-        bad |= !(SPVS_FABS(m[i].x_tgt) <= lim) | !(SPVS_FABS(m[i].y_tgt) <= lim) |
-               !(SPVS_FABS(m[i].x_cur) <= lim) | !(SPVS_FABS(m[i].y_cur) <= lim) |
-               (m[i].feature >= SPVS_MAX_FEATURES);
+        const uint16_t f = m[i].feature;
+        const int32_t f_bad = f >= SPVS_MAX_FEATURES;
+        bad |= f_bad;
+        /* Off-plane features at the back. */
+        const uint16_t k = s->offplane[f_bad ? 0u : f] >= OFFPLANE_ON ? --back : front++;
+        s->feat[k] = f;
+#if SPVS_SIMD_COLUMNS
+        /* The four coordinates of a match are one vector. */
+        const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
+        in_range &= (c <= lim) & (c >= -lim);
+        const spvs_v4 sc = c * inv;
+        *(spvs_v4u *)s->pts[k] = sc;
+        for (int j = 0; j < 4; j++) {
+            s->col[j][k] = sc[j];
+        }
+#else
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int j = 0; j < 4; j++) {
+            bad |= !(SPVS_FABS(c[j]) <= lim);
+            s->pts[k][j] = c[j] * inv;
+        }
+#endif
     }
+#if SPVS_SIMD_COLUMNS
+    bad |= (in_range[0] & in_range[1] & in_range[2] & in_range[3]) == 0;
+#endif
     if (bad) {
         int rc = frame_error(m, n);
         return rc != SPVS_OK ? rc : SPVS_E_RANGE;
     }
-    uint16_t front = 0;
-    uint16_t back = n;
-    for (uint16_t i = 0; i < n; i++) {
-        /* Off-plane features at the back. */
-        uint16_t k = s->offplane[m[i].feature] >= OFFPLANE_ON ? --back : front++;
-        s->pts[k][0] = m[i].x_tgt * inv;
-        s->pts[k][1] = m[i].y_tgt * inv;
-        s->pts[k][2] = m[i].x_cur * inv;
-        s->pts[k][3] = m[i].y_cur * inv;
-#if SPVS_SIMD_COLUMNS
-        for (int j = 0; j < 4; j++) {
-            s->col[j][k] = s->pts[k][j];
-        }
-#endif
-        s->feat[k] = m[i].feature;
-    }
     s->n_plane = front;
     s->n_pts = n;
     return SPVS_OK;
+}
+
+/* 1 when the first n bytes of a and b are equal (compared a word at a
+ * time). */
+static int same_bytes(const uint8_t *a, const uint8_t *b, uint16_t n)
+{
+    uint64_t diff = 0;
+    uint16_t i = 0;
+    for (; i + 8u <= n; i = (uint16_t)(i + 8u)) {
+        uint64_t wa, wb;
+        __builtin_memcpy(&wa, a + i, sizeof wa);
+        __builtin_memcpy(&wb, b + i, sizeof wb);
+        diff |= wa ^ wb;
+    }
+    for (; i < n; i++) {
+        diff |= (uint64_t)(a[i] ^ b[i]);
+    }
+    return diff == 0;
 }
 
 static void clear_output(spvs_output_t *out, uint16_t n)
@@ -346,31 +385,36 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
      * changing (bound: SPVS_REFIT_ROUNDS rounds), then minimise the transfer
      * error on the final set by Gauss-Newton (spvs_h_refit). */
     uint16_t n_inl = st.n_inliers;
+    /* The set in use and the next one, swapped each round. */
+    uint8_t *cur = s->mask;
+    uint8_t *next = s->idx_mask;
     for (int round = 0; round < SPVS_REFIT_ROUNDS; round++) {
         spvs_real Hr[9];
         for (int k = 0; k < 9; k++) {
             Hr[k] = model[k];
         }
-        if (fit_linear(s, s->mask, Hr) != SPVS_OK) {
+        if (fit_linear(s, cur, Hr) != SPVS_OK) {
             break;
         }
-        uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, s->idx_mask);
+        uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, next);
         if (n_new < n_inl) {
             break;
         }
         for (int k = 0; k < 9; k++) {
             model[k] = Hr[k];
         }
-        int same = (n_new == n_inl);
-        for (uint16_t i = 0; i < s->n_plane && same; i++) {
-            same = (s->mask[i] == s->idx_mask[i]);
-        }
-        for (uint16_t i = 0; i < s->n_plane; i++) {
-            s->mask[i] = s->idx_mask[i];
-        }
+        const int same = n_new == n_inl && same_bytes(cur, next, s->n_plane);
+        uint8_t *const was = cur;
+        cur = next;
+        next = was;
         n_inl = n_new;
         if (same) {
             break;
+        }
+    }
+    if (cur != s->mask) {
+        for (uint16_t i = 0; i < s->n_plane; i++) {
+            s->mask[i] = cur[i];
         }
     }
     {
