@@ -39,36 +39,45 @@ static int solve3x3(const spvs_real A[3][3], const spvs_real b[3], spvs_real x[3
 
 int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
 {
-    spvs_real A[3][3];
-    spvs_real b[3];
-    spvs_real h3[3];
-    spvs_real h1[3];
-    spvs_real w[3];
-
-    /* Row 3 from the y-equations: y_cur (h3 . p_tgt) = y_tgt. */
-    for (int i = 0; i < 3; i++) {
-        A[i][0] = pts[i][3] * pts[i][0];
-        A[i][1] = pts[i][3] * pts[i][1];
-        A[i][2] = pts[i][3];
-        b[i] = pts[i][1];
-    }
-    if (!solve3x3(A, b, h3)) {
+    /* Both 3x3 systems rest on P, the rows (x_tgt, y_tgt, 1) of the three
+     * points: the y-equations are D P h3 = y_tgt with D = diag(y_cur), the
+     * x-equations P h1 = x_cur w.  So one adjugate of P serves both, with
+     * adj(D P) = adj(P) adj(D) and det(D P) = det(D) det(P).  c[i][j] is the
+     * cofactor of P at (i, j); the third column of P is ones. */
+    const spvs_real x0 = pts[0][0], y0 = pts[0][1];
+    const spvs_real x1 = pts[1][0], y1 = pts[1][1];
+    const spvs_real x2 = pts[2][0], y2 = pts[2][1];
+    const spvs_real c[3][3] = {{y1 - y2, x2 - x1, x1 * y2 - x2 * y1},
+                               {y2 - y0, x0 - x2, x2 * y0 - x0 * y2},
+                               {y0 - y1, x1 - x0, x0 * y1 - x1 * y0}};
+    const spvs_real det_p = (c[0][2] + c[1][2]) + c[2][2];
+    const spvs_real v0 = pts[0][3], v1 = pts[1][3], v2 = pts[2][3];
+    const spvs_real det_y = (v0 * v1) * v2 * det_p;
+    /* Collinear target points, or a y-row with no content (y_cur = 0). */
+    if (!(SPVS_FABS(det_p) > DET_EPS) || !(SPVS_FABS(det_y) > DET_EPS)) {
         return SPVS_E_DEGENERATE;
     }
-    /* Row 1 from the x-equations: [x_tgt y_tgt 1] h1 = x_cur (h3 . p_tgt). */
+    /* Row 3: h3 = adj(P) adj(D) y_tgt / det(D P). */
+    const spvs_real by[3] = {(v1 * v2) * y0, (v0 * v2) * y1, (v0 * v1) * y2};
+    const spvs_real iy = SPVS_R(1.0) / det_y;
+    spvs_real h3[3];
+    for (int j = 0; j < 3; j++) {
+        h3[j] = (c[0][j] * by[0] + c[1][j] * by[1] + c[2][j] * by[2]) * iy;
+    }
+    /* Row 1: h1 = adj(P) (x_cur w) / det(P), w = h3 . p_tgt. */
+    spvs_real bx[3];
     for (int i = 0; i < 3; i++) {
-        w[i] = h3[0] * pts[i][0] + h3[1] * pts[i][1] + h3[2];
+        const spvs_real w = h3[0] * pts[i][0] + h3[1] * pts[i][1] + h3[2];
         /* A plane point seen by both cameras has a positive depth ratio. */
-        if (!(w[i] > W_EPS)) {
+        if (!(w > W_EPS)) {
             return SPVS_E_DEGENERATE;
         }
-        A[i][0] = pts[i][0];
-        A[i][1] = pts[i][1];
-        A[i][2] = SPVS_R(1.0);
-        b[i] = pts[i][2] * w[i];
+        bx[i] = pts[i][2] * w;
     }
-    if (!solve3x3(A, b, h1)) {
-        return SPVS_E_DEGENERATE;
+    const spvs_real ip = SPVS_R(1.0) / det_p;
+    spvs_real h1[3];
+    for (int j = 0; j < 3; j++) {
+        h1[j] = (c[0][j] * bx[0] + c[1][j] * bx[1] + c[2][j] * bx[2]) * ip;
     }
     for (int i = 0; i < 3; i++) {
         if (!spvs_is_finite(h1[i]) || !spvs_is_finite(h3[i])) {
