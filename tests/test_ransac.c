@@ -214,7 +214,7 @@ static void test_planar_half_outliers(void **state)
         assert_int_equal(spvs_estimate_h(&s, m, n, &o1), SPVS_OK);
         assert_int_equal(o1.n_inliers, 100);
         for (int i = 0; i < n; i++) {
-            assert_int_equal(s.mask[i], i < 100 ? 1 : 0);
+            assert_int_equal(s.mask[i], s.feat[i] < 100 ? 1 : 0);
         }
         double Ht[9], He[9];
         synth_H(&p, &pl, 800, Ht);
