@@ -42,8 +42,10 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4]);
 
 /* Least-squares refit of H on the points flagged in `use` (nonzero entries),
  * minimising the sum of squared transfer errors in the current image
- * (Gauss-Newton from the given H; stops when a step gains under 1e-4 of the
- * cost or raises it, which is undone).
+ * (Gauss-Newton from the given H, reusing the normal matrix of the first
+ * step while the steps stay small, rebuilt after a step that halves the
+ * cost; stops when a step gains under 1e-4 of the cost or raises it, which
+ * is undone).
  * pts: n points, scaled units; use: n flags; H: start value in, result out.
  * max_iters: Gauss-Newton steps at most, clamped to 1..SPVS_REFIT_MAX_ITERS.
  * Returns SPVS_OK, SPVS_E_TOO_FEW (fewer than 3 flagged points) or
