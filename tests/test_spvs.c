@@ -78,12 +78,15 @@ static void test_ok_and_remember(void **state)
     for (int i = 0; i < 125; i++) {
         assert_int_equal(s.offplane[i] >= 2, i >= 100);
     }
+    /* ... and counted: the frame copy skips its counting pass only at 0. */
+    assert_int_equal(s.n_offplane_known, 25);
     /* The epipole: alpha_x tan(phi - phi_t), phi_t = -atan(3/10). */
     double expect = 800 * tan(-30 * DEG + atan(0.3));
     assert_true(fabs((double)g.out.e_x_px - expect) < 0.05);
     /* A reset forgets everything. */
     spvs_reset(&s);
     assert_int_equal(s.offplane[110], 0);
+    assert_int_equal(s.n_offplane_known, 0);
     assert_int_equal(s.ctl.step, SPVS_STEP_ROTATE);
 }
 

@@ -93,6 +93,7 @@ void spvs_reset(spvs_t *s)
     for (uint32_t i = 0; i < SPVS_MAX_FEATURES; i++) {
         s->offplane[i] = 0;
     }
+    s->n_offplane_known = 0;
 }
 
 /* ---- the planar-motion estimator for RANSAC ----------------------------- */
@@ -335,10 +336,16 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
 {
     const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
-    uint16_t n_plane = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        const uint16_t f = m[i].feature;
-        n_plane = (uint16_t)(n_plane + (s->offplane[f < SPVS_MAX_FEATURES ? f : 0u] < OFFPLANE_ON));
+    /* The plane set's size, for the stride: all of them while the memory
+     * holds no off-plane feature. */
+    uint16_t n_plane = n;
+    if (s->n_offplane_known > 0u) {
+        n_plane = 0;
+        for (uint16_t i = 0; i < n; i++) {
+            const uint16_t f = m[i].feature;
+            n_plane = (uint16_t)(n_plane +
+                                 (s->offplane[f < SPVS_MAX_FEATURES ? f : 0u] < OFFPLANE_ON));
+        }
     }
     const uint16_t stride = spread_stride(n_plane);
     int32_t bad = 0;
@@ -626,6 +633,7 @@ static void remember(spvs_t *s, uint16_t n_cand, int e_ok, spvs_real parallax_px
             if (s->support[k] && *score < OFFPLANE_MAX &&
                 spvs_h_transfer_err2(s->H_sc, s->pts[i]) > off2) {
                 (*score)++;
+                s->n_offplane_known = (uint16_t)(s->n_offplane_known + (*score == OFFPLANE_ON));
             }
         }
     }
@@ -634,6 +642,7 @@ static void remember(spvs_t *s, uint16_t n_cand, int e_ok, spvs_real parallax_px
         for (uint16_t i = 0; i < s->n_plane; i++) {
             int8_t *score = &s->offplane[s->feat[i]];
             if (s->mask[i] && *score > OFFPLANE_MIN) {
+                s->n_offplane_known = (uint16_t)(s->n_offplane_known - (*score == OFFPLANE_ON));
                 (*score)--;
             }
         }

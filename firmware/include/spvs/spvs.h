@@ -95,8 +95,10 @@ typedef struct {
     int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
     uint8_t n_ehist;
     uint8_t i_ehist;
-    /* Off-plane memory, per target feature: >= 2 means off the plane. */
+    /* Off-plane memory, per target feature: >= 2 means off the plane, and
+     * how many features are off the plane now. */
     int8_t offplane[SPVS_MAX_FEATURES];
+    uint16_t n_offplane_known;
 } spvs_t;
 
 /* Parameters for a method: the defaults of docs/CONTROL.md. */
