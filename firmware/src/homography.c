@@ -411,7 +411,7 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
  * are summed per weight (terms 0-17 of HP_GN), then the gradient halves
  * g1 = -sum r_x p / w and g3 = sum (u r_x + v r_y) p / w (terms 18-23) and
  * the cost (term 24). */
-static spvs_real refit_pass(const pts_in_t *in, const uint8_t *use, uint16_t n,
+static SPVS_ALWAYS_INLINE spvs_real refit_pass(const pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9], spvs_real N[6][6], spvs_real g[6])
 {
     spvs_real s[NT_GN];
