@@ -10,6 +10,9 @@
 /* A 3x3 determinant this small (scaled units, so entries are O(1)) means the
  * sample is degenerate: collinear target points or a y-row with no content. */
 #define DET_EPS SPVS_R(1.0e-7)
+/* A refit step counts as coming from far only while the mean transfer error
+ * before it is above 0.01 px (in scaled units). */
+#define FAR_RMS_SC (SPVS_R(0.01) / (spvs_real)SPVS_COORD_SCALE)
 /* H p_tgt must have a third coordinate above this to be in front. */
 #define W_EPS SPVS_R(1.0e-6)
 
@@ -470,9 +473,13 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
     if (max_iters > SPVS_REFIT_MAX_ITERS) {
         max_iters = SPVS_REFIT_MAX_ITERS;
     }
-    if (count_used(use, n) < 3) {
+    const uint16_t used = count_used(use, n);
+    if (used < 3) {
         return SPVS_E_TOO_FEW;
     }
+    /* Below this cost the points are fitted to a small fraction of a pixel
+     * and no step is "far" (with exact data the cost is rounding noise). */
+    const spvs_real far_floor = (spvs_real)used * FAR_RMS_SC * FAR_RMS_SC;
 
     spvs_real Hc[9];
     spvs_real Hprev[9];
@@ -514,7 +521,8 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
         /* A step that more than halved the cost came from far away: the
          * normal matrix of its start no longer fits, so it is rebuilt here
          * (the same gradient and cost, and N). */
-        const int far = it > 0 && it < max_iters && !small && cost < SPVS_R(0.5) * prev;
+        const int far = it > 0 && it < max_iters && !small && cost < SPVS_R(0.5) * prev &&
+                        prev > far_floor;
         prev = cost;
         if (small || it == max_iters) {
             break;
