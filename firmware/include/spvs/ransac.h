@@ -47,9 +47,11 @@ typedef struct {
     int (*fit)(void *ctx, const uint16_t *sample, spvs_real *model);
     /* Score a model: count points with squared residual <= threshold2.  When
      * mask is not NULL write 1 for an inlier and 0 otherwise.  May stop
-     * early and return a count below `need` once it cannot reach it (then
-     * the rest of the mask is meaningless); a count of at least `need`
-     * always comes with a full mask. */
+     * early and return a count below `need` once it cannot reach it, or once
+     * a statistical test says it will not (a bail-out test; then a model
+     * that would have reached `need` is lost now and then, which the
+     * estimator keeps rare); the rest of the mask is then meaningless.  A
+     * count of at least `need` always comes with a full mask. */
     uint16_t (*score)(void *ctx, const spvs_real *model, spvs_real threshold2,
                       uint16_t need, uint8_t *mask);
     /* Optional (may be NULL): the summed squared residual of the model's
