@@ -241,14 +241,16 @@ static void test_table1_plane_normals(void **state)
 /* 1 px image noise from the six Figure 5 poses, seeds 0..NOISE_SEEDS-1 (120
  * runs per method): the share of runs that end converged within 0.25 m and
  * 0.5 deg is at least NOISE_MIN_PCT[method], and no run reports "converged"
- * farther than 1 m from the target.  The bounds sit about three standard
+ * farther than 1 m from the target.  The bounds sit about 3.5 standard
  * deviations of a 120-run share below the rates measured over 420 runs
- * (seeds 0..69: Methods I, II, III about 89, 71 and 87 %; docs/RESULTS.md),
- * so a change of the random streams alone does not fail the test, and a
- * real loss of 10 points or more does.  (Seeds 0..4 alone gave 27 to 29 of
- * 30 for every method: a lucky handful.) */
+ * (seeds 0..69: Methods I, II, III 92, 73 and 89 %; docs/RESULTS.md), so a
+ * change of the random streams alone does not fail the test, and a real
+ * loss of 10 points or more does.  (Seeds 0..4 alone gave 27 to 29 of 30
+ * for every method: a lucky handful.  Over the 70 seeds, seed 25 from
+ * (5, 2, -50) ends "converged" 1.1-1.3 m away for every method; see
+ * docs/CONTROL.md.) */
 #define NOISE_SEEDS 20
-static const int NOISE_MIN_PCT[4] = {0, 78, 58, 76};
+static const int NOISE_MIN_PCT[4] = {0, 83, 59, 79};
 
 static void test_one_pixel_noise_six_poses(void **state)
 {
