@@ -24,6 +24,12 @@
 #endif
 
 #if SPVS_SIMD_COLUMNS
+#if SPVS_USE_DOUBLE && defined(__GNUC__) && !defined(__clang__)
+/* Four doubles make a 32-byte vector, which GCC passes differently with and
+ * without AVX and says so (-Wpsabi).  Every function here that takes or
+ * returns one is static, so no such value crosses a translation unit. */
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
 /* SPVS_VLANES scalars in one SIMD register (GNU C vector extensions, which
  * GCC and Clang lower to SSE2 or NEON), the integers of the same width that
  * a comparison of two such vectors gives (-1 true, 0 false), and the load of
