@@ -4,6 +4,7 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "spvs/spvs.h"
 #include "core_util.h"
@@ -406,8 +407,8 @@ static int same_bytes(const uint8_t *a, const uint8_t *b, uint16_t n)
     uint16_t i = 0;
     for (; i + 8u <= n; i = (uint16_t)(i + 8u)) {
         uint64_t wa, wb;
-        __builtin_memcpy(&wa, a + i, sizeof wa);
-        __builtin_memcpy(&wb, b + i, sizeof wb);
+        memcpy(&wa, a + i, sizeof wa);
+        memcpy(&wb, b + i, sizeof wb);
         diff |= wa ^ wb;
     }
     for (; i < n; i++) {
