@@ -155,6 +155,29 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h,
 }
 #endif
 
+/* Counts the inliers among points [i, end) one at a time into *inl, marking
+ * them in mask when it is not NULL; returns 0 at the first point that leaves
+ * more than max_out outliers so far (the count can no longer reach `need`),
+ * 1 otherwise. */
+static SPVS_ALWAYS_INLINE int score_points(const spvs_t *s, const spvs_real *h, size_t i,
+                                           size_t end, spvs_real t2, int32_t max_out,
+                                           uint8_t *mask, int32_t *inl)
+{
+    for (size_t r = i; r < end; r++) {
+        spvs_real e;
+        const int32_t ok =
+            hp_inlier(h, PT(s, r, 0), PT(s, r, 1), PT(s, r, 2), PT(s, r, 3), t2, &e);
+        *inl += ok;
+        if (mask) {
+            mask[r] = (uint8_t)ok;
+        }
+        if ((int32_t)(r + 1) - *inl > max_out) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
 /* Counts the inliers (hp_inlier) of H and, when mask is not NULL, marks
  * them.  Stops early, returning a count below `need`, once `need` cannot be
  * reached (on SIMD lanes tested every SCORE_BLOCK points, else at every
@@ -193,17 +216,8 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t 
             return (uint16_t)inl;
         }
 #else
-        for (size_t r = i; r < i + SCORE_BLOCK; r++) {
-            spvs_real e;
-            const int32_t ok = hp_inlier(h, s->pts[r][0], s->pts[r][1], s->pts[r][2],
-                                         s->pts[r][3], t2, &e);
-            inl += ok;
-            if (mask) {
-                mask[r] = (uint8_t)ok;
-            }
-            if ((int32_t)(r + 1) - inl > max_out) {
-                return (uint16_t)inl;
-            }
+        if (!score_points(s, h, i, i + SCORE_BLOCK, t2, max_out, mask, &inl)) {
+            return (uint16_t)inl;
         }
 #endif
         const spvs_real m_pts = (spvs_real)(i + SCORE_BLOCK);
@@ -212,14 +226,7 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t 
             return (uint16_t)inl;
         }
     }
-    for (; i < n; i++) {
-        spvs_real e;
-        const int32_t ok = hp_inlier(h, PT(s, i, 0), PT(s, i, 1), PT(s, i, 2), PT(s, i, 3), t2, &e);
-        inl += ok;
-        if (mask) {
-            mask[i] = (uint8_t)ok;
-        }
-    }
+    (void)score_points(s, h, i, n, t2, max_out, mask, &inl);
     return (uint16_t)inl;
 }
 
