@@ -305,6 +305,13 @@ static int frame_error(const spvs_match_t *m, uint16_t n)
     return SPVS_OK;
 }
 
+/* 1 when the off-plane memory holds feature f as off the plane.  An index
+ * out of range reads feature 0's entry (load_frame refuses such a frame). */
+static inline int known_offplane(const spvs_t *s, uint16_t f)
+{
+    return s->offplane[f < SPVS_MAX_FEATURES ? f : 0u] >= OFFPLANE_ON;
+}
+
 /* A stride for storing n matches in a spread order: near 0.618 n and
  * coprime with n, so that r -> (r * stride) mod n is a permutation that puts
  * neighbouring matches far apart.  Bound: SPREAD_TRIES candidates, each
@@ -337,9 +344,8 @@ static uint16_t spread_stride(uint16_t n)
  * inlier count's bail-out test (est_score) needs every stretch of the
  * stored order to look like the whole.
  * The check is made without branches while copying: |c| <= lim fails for NaN
- * and infinities too, and an index out of range reads feature 0's memory
- * (the frame is refused anyway).  Only a bad frame is looked at again, for
- * its status. */
+ * and infinities too (an index out of range: known_offplane).  Only a bad
+ * frame is looked at again, for its status. */
 static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
 {
     const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
@@ -350,9 +356,7 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
     if (s->n_offplane_known > 0u) {
         n_plane = 0;
         for (uint16_t i = 0; i < n; i++) {
-            const uint16_t f = m[i].feature;
-            n_plane = (uint16_t)(n_plane +
-                                 (s->offplane[f < SPVS_MAX_FEATURES ? f : 0u] < OFFPLANE_ON));
+            n_plane = (uint16_t)(n_plane + !known_offplane(s, m[i].feature));
         }
     }
     const uint16_t stride = spread_stride(n_plane);
@@ -369,7 +373,7 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
         bad |= f_bad;
         /* Off-plane features at the back. */
         uint16_t k;
-        if (s->offplane[f_bad ? 0u : f] >= OFFPLANE_ON) {
+        if (known_offplane(s, f)) {
             k = --back;
         } else {
             k = slot;
