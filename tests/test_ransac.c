@@ -17,7 +17,9 @@
 
 /* A mock estimator: every fit succeeds (or none does), every model scores
  * `count` inliers with cost = model[0], which is the running number of the
- * fit call, so the tie-break is observable. */
+ * fit call, so the tie-break is observable.  Model k's inliers are the
+ * `count` points from k on (mod 100), so the mask tells which model it is
+ * from (mock_mask_of). */
 typedef struct {
     uint32_t fits;
     uint32_t scores;
@@ -45,14 +47,29 @@ static uint16_t mock_score(void *ctx, const spvs_real *model, spvs_real t2, uint
     mock_t *m = (mock_t *)ctx;
     (void)t2;
     (void)need;
-    (void)model;
     m->scores++;
     if (mask) {
+        const uint16_t k = (uint16_t)model[0];
         for (uint16_t i = 0; i < 100; i++) {
-            mask[i] = (uint8_t)(i < m->count);
+            mask[i] = (uint8_t)((uint16_t)(i + 100u - k % 100u) % 100u < m->count);
         }
     }
     return m->count;
+}
+
+/* The model whose mask (mock_score) `mask` is, or -1 for none. */
+static int mock_mask_of(const mock_t *m, const uint8_t *mask)
+{
+    for (uint16_t k = 0; k < 100; k++) {
+        int same = 1;
+        for (uint16_t i = 0; i < 100; i++) {
+            same &= mask[i] == (uint8_t)((uint16_t)(i + 100u - k) % 100u < m->count);
+        }
+        if (same) {
+            return k;
+        }
+    }
+    return -1;
 }
 
 static spvs_real mock_cost(void *ctx, const spvs_real *model, spvs_real t2)
@@ -85,6 +102,7 @@ static void test_exact_iterations(void **state)
     spvs_rng_t rng;
     spvs_rng_seed(&rng, 1);
     uint16_t idx[100];
+    uint8_t scratch[100];
     struct {
         spvs_real model[SPVS_MODEL_MAX];
         uint32_t guard;
@@ -96,20 +114,23 @@ static void test_exact_iterations(void **state)
     out.guard = SENTINEL;
     mk_out.guard = SENTINEL;
     spvs_ransac_stats_t st;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_int_equal(st.iters, 35);
     assert_int_equal(mk.fits, 35);
-    assert_int_equal(mk.scores, 36); /* 35 hypotheses + the final mask */
+    /* One pass per hypothesis: the best's mask is kept, not scored again. */
+    assert_int_equal(mk.scores, 35);
     assert_int_equal(st.n_inliers, 50);
     assert_int_equal(out.guard, SENTINEL);
     assert_int_equal(mk_out.guard, SENTINEL);
-    /* Ties (always 50 inliers): the first, cheapest model is kept. */
+    /* Ties (always 50 inliers): the first, cheapest model is kept, and
+     * the mask is its own, not the last hypothesis'. */
     assert_true(out.model[0] == SPVS_R(1.0));
+    assert_int_equal(mock_mask_of(&mk, mk_out.mask), 1);
 
     /* The cap bounds the loop. */
     mk = (mock_t){0, 0, 10, 0, 0, 0};
     o.max_iters = 20;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_int_equal(st.iters, 20);
     assert_int_equal(mk.fits, 20);
 
@@ -117,18 +138,19 @@ static void test_exact_iterations(void **state)
      * cost is asked for only at ties: the first tie costs both models, each
      * later one only the newcomer (the best's cost is kept). */
     mk = (mock_t){0, 0, 10, 0, 1, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(20.0));
+    assert_int_equal(mock_mask_of(&mk, mk_out.mask), 20);
     assert_int_equal(mk.costs, 20);
     /* Later models costlier: the first stays. */
     mk = (mock_t){0, 0, 10, 0, 0, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(1.0));
     assert_int_equal(mk.costs, 20);
     /* Without a cost callback a tie keeps the earlier model. */
     mk = (mock_t){0, 0, 10, 0, 1, 0};
     est.cost = NULL;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, &st), SPVS_OK);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(1.0));
     assert_int_equal(mk.costs, 0);
     est.cost = mock_cost;
@@ -143,27 +165,31 @@ static void test_statuses(void **state)
     spvs_rng_t rng;
     spvs_rng_seed(&rng, 1);
     uint16_t idx[100];
+    uint8_t scratch[100];
     spvs_real model[SPVS_MODEL_MAX];
     uint8_t mask[100];
     spvs_ransac_stats_t st;
     /* Every sample degenerate: the cap, then a status. */
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_DEGENERATE);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_DEGENERATE);
     assert_int_equal(st.iters, 30);
     assert_int_equal(st.degenerate, 30);
     /* Too few inliers for a consensus. */
     mk = (mock_t){0, 0, 5, 0, 0, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_NO_CONSENSUS);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_NO_CONSENSUS);
     /* Too few data. */
     est.n = 2;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_TOO_FEW);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_TOO_FEW);
     est.n = 100;
     /* Bad options. */
     o.confidence = SPVS_R(1.0);
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_ARG);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_ARG);
     o.confidence = SPVS_R(0.99);
     o.max_iters = SPVS_RANSAC_MAX_ITERS + 1;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, &st), SPVS_E_ARG);
-    assert_int_equal(spvs_ransac(NULL, &o, &rng, idx, model, mask, &st), SPVS_E_ARG);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_ARG);
+    assert_int_equal(spvs_ransac(NULL, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_ARG);
+    /* The scratch mask missing, or the output mask itself. */
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, NULL, &st), SPVS_E_ARG);
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, mask, &st), SPVS_E_ARG);
 }
 
 static void test_rng(void **state)

@@ -75,8 +75,10 @@ static inline spvs_v4i spvs_v4_flags(const uint8_t *use)
  * 4-byte store of the lanes' bytes gathered by two swaps. */
 #if defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12)
 #define SPVS_V4_SHUFFLE(v, a, b, c, d) __builtin_shufflevector(v, v, a, b, c, d)
+#define SPVS_V4_SHUFFLE2(v, w, a, b, c, d) __builtin_shufflevector(v, w, a, b, c, d)
 #else
 #define SPVS_V4_SHUFFLE(v, a, b, c, d) __builtin_shuffle(v, (spvs_v4i){a, b, c, d})
+#define SPVS_V4_SHUFFLE2(v, w, a, b, c, d) __builtin_shuffle(v, w, (spvs_v4i){a, b, c, d})
 #endif
 static inline void spvs_v4_store_flags(spvs_v4i f, uint8_t *mask)
 {

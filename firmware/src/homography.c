@@ -367,9 +367,12 @@ int spvs_h_fit_linear_cols(const spvs_real *const cols[4], const uint8_t *use, u
 static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
 {
     spvs_real L[6][6] = {{0}};
+    SPVS_UNROLL
     for (int i = 0; i < 6; i++) {
+        SPVS_UNROLL
         for (int j = 0; j <= i; j++) {
             spvs_real s = N[i][j];
+            SPVS_UNROLL
             for (int k = 0; k < j; k++) {
                 s -= L[i][k] * L[j][k];
             }
@@ -384,15 +387,19 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
         }
     }
     spvs_real y[6];
+    SPVS_UNROLL
     for (int i = 0; i < 6; i++) {
         spvs_real s = g[i];
+        SPVS_UNROLL
         for (int k = 0; k < i; k++) {
             s -= L[i][k] * y[k];
         }
         y[i] = s / L[i][i];
     }
+    SPVS_UNROLL
     for (int i = 5; i >= 0; i--) {
         spvs_real s = y[i];
+        SPVS_UNROLL
         for (int k = i + 1; k < 6; k++) {
             s -= L[k][i] * x[k];
         }
@@ -487,8 +494,8 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
         Hc[k] = H[k];
         Hprev[k] = H[k];
     }
-    spvs_real N[6][6];
-    spvs_real g[6];
+    spvs_real N[6][6] = {{0}};
+    spvs_real g[6] = {0};
     spvs_real prev = SPVS_REAL_MAX;
     int have = 0;
     /* Each pass evaluates the cost of the last step and its gradient there;

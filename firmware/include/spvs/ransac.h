@@ -10,9 +10,10 @@
  *                  sample_size draws, no retry loop.
  * The adaptive count is ceil(log(1 - confidence) / log(1 - w^s)) with w the
  * best inlier fraction so far and s the sample size.  With a refine callback
- * each new best model is polished on its inliers first (LO-RANSAC), so w
- * reflects the model's true support and the count falls sooner; refine runs
- * at most once per hypothesis.
+ * each new best model with at least a fifth of the points as inliers is
+ * polished on its inliers first (LO-RANSAC), so w reflects the model's true
+ * support and the count falls sooner; refine runs at most once per
+ * hypothesis.
  */
 #ifndef SPVS_RANSAC_H
 #define SPVS_RANSAC_H
@@ -81,15 +82,18 @@ typedef struct {
 
 /* Run RANSAC.  Ties in inlier count are broken by the lower summed residual.
  * idx_scratch: n uint16 of caller storage.  model_out: SPVS_MODEL_MAX scalars.
- * mask_out: n bytes, 1 for the best model's inliers (also the scratch mask
- *           of every hypothesis while the loop runs).
+ * mask_out: n bytes, 1 for the best model's inliers.
+ * mask_scratch: n bytes of caller storage, not mask_out (the two hold the
+ *           best model's and the current hypothesis' inliers in turn, so
+ *           the best's mask needs no final scoring pass).
  * Returns SPVS_OK, SPVS_E_ARG (bad options), SPVS_E_TOO_FEW (n < sample_size
  * or n < min_inliers), SPVS_E_DEGENERATE (every sample was degenerate) or
  * SPVS_E_NO_CONSENSUS (best model has fewer than min_inliers inliers). */
 SPVS_NODISCARD int spvs_ransac(const spvs_estimator_t *est,
                                const spvs_ransac_opts_t *opts, spvs_rng_t *rng,
                                uint16_t *idx_scratch, spvs_real *model_out,
-                               uint8_t *mask_out, spvs_ransac_stats_t *stats);
+                               uint8_t *mask_out, uint8_t *mask_scratch,
+                               spvs_ransac_stats_t *stats);
 
 /* The adaptive hypothesis count for inlier fraction w (0..1), sample size s
  * and confidence; clamped to [1, cap]. */
