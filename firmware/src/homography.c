@@ -227,11 +227,24 @@ static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, int count, con
             cnt -= on;
         }
     }
-    spvs_real lanes[TERMS_MAX][SUM_LANES];
-    for (int j = 0; j < SUM_LANES; j++) {
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            lanes[k][j] = acc[k][j];
+    /* The rest, fewer than SUM_LANES points, as one more row padded with
+     * unused points at the origin (an unused point adds +-0 and passes). */
+    const uint32_t i0 = n_rows * SUM_LANES;
+    if (i0 < n) {
+        spvs_real t[4][SUM_LANES] = {{SPVS_R(0.0)}};
+        uint8_t t_use[SUM_LANES] = {0};
+        for (uint32_t i = i0; i < n; i++) {
+            for (int k = 0; k < 4; k++) {
+                t[k][i - i0] = c[k][i];
+            }
+            t_use[i - i0] = use[i];
+        }
+        const spvs_v4i on = spvs_v4_flags(t_use);
+        all_ok &= hp_terms_v(kind, h, spvs_v4_load(t[0]), spvs_v4_load(t[1]),
+                             spvs_v4_load(t[2]), spvs_v4_load(t[3]),
+                             (spvs_v4)((spvs_v4i)one & on), acc);
+        if (count) {
+            cnt -= on;
         }
     }
     int32_t any_bad = 0;
@@ -240,28 +253,16 @@ static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, int count, con
         any_bad |= all_ok[j] == 0;
         used += (int32_t)cnt[j];
     }
-    /* The rest, fewer than SUM_LANES points, point by point into lane
-     * i mod SUM_LANES. */
-    for (uint32_t i = n_rows * SUM_LANES; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        spvs_real a[TERMS_MAX];
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            a[k] = lanes[k][i % SUM_LANES];
-        }
-        any_bad |= !hp_terms(kind, h, c[0][i], c[1][i], c[2][i], c[3][i], SPVS_R(1.0), a);
-        used += count;
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            lanes[k][i % SUM_LANES] = a[k];
-        }
-    }
     if (any_bad) {
         return -1;
     }
-    lanes_fold(nt, lanes, out);
+    /* The lanes added as (0 + 1) + (2 + 3) (lanes_fold's order) by two
+     * swaps, the sum landing in lane 0. */
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        const spvs_v4 p = acc[k] + SPVS_V4_SHUFFLE(acc[k], 1, 0, 3, 2);
+        out[k] = (p + SPVS_V4_SHUFFLE(p, 2, 3, 0, 1))[0];
+    }
     return used;
 }
 #endif

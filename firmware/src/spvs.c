@@ -151,7 +151,10 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h,
             spvs_v4_store_flags(in, mask + r);
         }
     }
-    return (int32_t)((cnt[0] + cnt[1]) + (cnt[2] + cnt[3]));
+    /* The four lane counts added by two swaps (no lane extractions). */
+    cnt += SPVS_V4_SHUFFLE(cnt, 2, 3, 0, 1);
+    cnt += SPVS_V4_SHUFFLE(cnt, 1, 0, 3, 2);
+    return (int32_t)cnt[0];
 }
 #endif
 
