@@ -176,6 +176,9 @@ static void test_statuses(void **state)
     /* Too few inliers for a consensus. */
     mk = (mock_t){0, 0, 5, 0, 0, 0};
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_NO_CONSENSUS);
+    /* Every model ties at 5 < min_inliers: no cost pass is spent on ties
+     * that cannot make a consensus. */
+    assert_int_equal(mk.costs, 0);
     /* Too few data. */
     est.n = 2;
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_TOO_FEW);

@@ -51,6 +51,13 @@ static inline spvs_v4 spvs_v4_load(const spvs_real *p)
     return *(const spvs_v4u *)p;
 }
 
+/* |v| lane by lane (the sign bits cleared). */
+static inline spvs_v4 spvs_v4_abs(spvs_v4 v)
+{
+    const spvs_v4 neg0 = -(spvs_v4){0};
+    return (spvs_v4)((spvs_v4i)v & ~(spvs_v4i)neg0);
+}
+
 /* The flags use[0..SPVS_VLANES) as lanes: -1 where a flag is nonzero (one
  * load of the four bytes, each lane keeping its own byte). */
 #if SPVS_USE_DOUBLE

@@ -166,7 +166,11 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
             }
         }
         int better = cnt > best_n || !have;
-        if (!better && cnt == best_n && est->cost != 0) {
+        /* A tie is broken only between models that make a consensus: below
+         * min_inliers the result is a failure whichever model wins, and the
+         * cost would be a full pass for nothing (every hypothesis ties when
+         * none explains more than its own sample). */
+        if (!better && cnt == best_n && best_n >= opts->min_inliers && est->cost != 0) {
             if (!cost_known) {
                 cost = est->cost(est->ctx, model, opts->threshold2);
                 cost_known = 1;

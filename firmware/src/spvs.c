@@ -381,37 +381,14 @@ static SPVS_ALWAYS_INLINE uint16_t slot_source(const spvs_t *s, uint16_t k, uint
     return all_plane ? p : s->idx[p];
 }
 
-/* Checks the frame and copies it into the work buffers in scaled units, the
- * matches of features not known to be off the plane first (n_plane of them).
- * These are stored in a spread order: slot k holds the (k stride mod
- * n_plane)-th of them (spread_stride).  Matches often come sorted by image
- * position or by object, so outliers come in runs, and the inlier count's
- * bail-out test (est_score) needs every stretch of the stored order to look
- * like the whole.
- * The check is made without branches while copying: |c| <= lim fails for NaN
- * and infinities too (an index out of range: known_offplane).  Only a bad
- * frame is looked at again, for its status. */
-static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
+/* load_frame's copy of the n matches into their slots; returns nonzero when
+ * a value is out of range (all_plane is a constant where it is called, so
+ * each case gets its own loop). */
+static SPVS_ALWAYS_INLINE int32_t copy_slots(spvs_t *s, const spvs_match_t *m, uint16_t n,
+                                             uint16_t n_plane, uint16_t stride, int all_plane)
 {
     const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
-    /* While the memory holds no off-plane feature every match is a plane
-     * match; else s->idx lists the plane matches in input order, then the
-     * others from the back. */
-    const int all_plane = s->n_offplane_known == 0u;
-    uint16_t n_plane = n;
-    if (!all_plane) {
-        uint16_t back = n;
-        n_plane = 0;
-        for (uint16_t i = 0; i < n; i++) {
-            if (known_offplane(s, m[i].feature)) {
-                s->idx[--back] = i;
-            } else {
-                s->idx[n_plane++] = i;
-            }
-        }
-    }
-    const uint16_t stride = spread_stride(n_plane);
     uint16_t pos = 0;
     int32_t bad = 0;
     uint16_t k = 0;
@@ -429,7 +406,7 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
             bad |= f >= SPVS_MAX_FEATURES;
             s->feat[k + j] = f;
             const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
-            in_range &= (c <= lim) & (c >= -lim);
+            in_range &= spvs_v4_abs(c) <= lim;
             r[j] = c * inv;
             *(spvs_v4u *)s->pts[k + j] = r[j];
         }
@@ -460,6 +437,40 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
 #endif
         }
     }
+    return bad;
+}
+
+/* Checks the frame and copies it into the work buffers in scaled units, the
+ * matches of features not known to be off the plane first (n_plane of them).
+ * These are stored in a spread order: slot k holds the (k stride mod
+ * n_plane)-th of them (spread_stride).  Matches often come sorted by image
+ * position or by object, so outliers come in runs, and the inlier count's
+ * bail-out test (est_score) needs every stretch of the stored order to look
+ * like the whole.
+ * The check is made without branches while copying: |c| <= lim fails for NaN
+ * and infinities too (an index out of range: known_offplane).  Only a bad
+ * frame is looked at again, for its status. */
+static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
+{
+    /* While the memory holds no off-plane feature every match is a plane
+     * match; else s->idx lists the plane matches in input order, then the
+     * others from the back. */
+    const int all_plane = s->n_offplane_known == 0u;
+    uint16_t n_plane = n;
+    if (!all_plane) {
+        uint16_t back = n;
+        n_plane = 0;
+        for (uint16_t i = 0; i < n; i++) {
+            if (known_offplane(s, m[i].feature)) {
+                s->idx[--back] = i;
+            } else {
+                s->idx[n_plane++] = i;
+            }
+        }
+    }
+    const uint16_t stride = spread_stride(n_plane);
+    const int32_t bad = all_plane ? copy_slots(s, m, n, n_plane, stride, 1)
+                                  : copy_slots(s, m, n, n_plane, stride, 0);
     if (bad) {
         int rc = frame_error(m, n);
         return rc != SPVS_OK ? rc : SPVS_E_RANGE;
