@@ -3,6 +3,7 @@
  * SplitMix-style PRNG.
  */
 #include <math.h>
+#include <string.h>
 
 #include "spvs/ransac.h"
 
@@ -38,8 +39,9 @@ uint32_t spvs_rng_below(spvs_rng_t *rng, uint32_t bound)
     return (uint32_t)(m >> 32);
 }
 
-uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
-                            uint32_t cap)
+/* spvs_ransac_needed with num = log(1 - confidence) given (spvs_ransac
+ * computes it once per run). */
+static uint32_t needed_for(spvs_real w, uint16_t s, spvs_real num, uint32_t cap)
 {
     if (cap < 1u) {
         cap = 1u;
@@ -54,7 +56,6 @@ uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
     if (ws >= SPVS_R(1.0) - SPVS_REAL_EPS) {
         return 1u;
     }
-    spvs_real num = SPVS_LOG(SPVS_R(1.0) - confidence);
     spvs_real den = SPVS_LOG(SPVS_R(1.0) - ws);
     if (!(den < SPVS_R(0.0))) {
         return cap;
@@ -68,6 +69,12 @@ uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
         ki++;
     }
     return ki < 1u ? 1u : ki;
+}
+
+uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
+                            uint32_t cap)
+{
+    return needed_for(w, s, SPVS_LOG(SPVS_R(1.0) - confidence), cap);
 }
 
 int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
@@ -112,6 +119,8 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
      * needed. */
     uint8_t *best_mask = mask_out;
     uint8_t *hyp_mask = mask_scratch;
+    /* log(1 - confidence), for the adaptive count. */
+    const spvs_real log_fail = SPVS_LOG(SPVS_R(1.0) - opts->confidence);
 
     /* Bound: needed <= opts->max_iters <= SPVS_RANSAC_MAX_ITERS. */
     for (uint32_t it = 0; it < needed; it++) {
@@ -194,8 +203,8 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
                 best_mask = hyp_mask;
                 hyp_mask = t;
             }
-            uint32_t k_needed = spvs_ransac_needed((spvs_real)best_n / (spvs_real)n, s,
-                                                   opts->confidence, opts->max_iters);
+            uint32_t k_needed =
+                needed_for((spvs_real)best_n / (spvs_real)n, s, log_fail, opts->max_iters);
             if (k_needed < needed) {
                 needed = k_needed;
             }
@@ -206,9 +215,7 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
         return SPVS_E_DEGENERATE;
     }
     if (best_mask != mask_out) {
-        for (uint16_t i = 0; i < n; i++) {
-            mask_out[i] = best_mask[i];
-        }
+        memcpy(mask_out, best_mask, n);
     }
     stats->n_inliers = best_n;
     if (stats->n_inliers < opts->min_inliers || stats->n_inliers < s) {

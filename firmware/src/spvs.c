@@ -581,9 +581,7 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
         }
     }
     if (cur != s->mask) {
-        for (uint16_t i = 0; i < s->n_plane; i++) {
-            s->mask[i] = cur[i];
-        }
+        memcpy(s->mask, cur, s->n_plane);
     }
     {
         spvs_real Hr[9];
