@@ -110,6 +110,15 @@ static inline int spvs_is_finite(spvs_real x)
     return (x == x) && (x - x == SPVS_R(0.0));
 }
 
+/* 1 when a[0..3) and b[0..3) are all finite: x * 0 is +-0 for a finite x
+ * and NaN otherwise, so one comparison tests the six (no branch each). */
+static inline int spvs_finite3x2(const spvs_real a[3], const spvs_real b[3])
+{
+    const spvs_real z = ((a[0] * SPVS_R(0.0) + a[1] * SPVS_R(0.0)) + a[2] * SPVS_R(0.0)) +
+                        ((b[0] * SPVS_R(0.0) + b[1] * SPVS_R(0.0)) + b[2] * SPVS_R(0.0));
+    return z == SPVS_R(0.0);
+}
+
 /* Ascending insertion sort of n values; callers bound n by a config constant
  * (SPVS_MAX_OFFPLANE or SPVS_EPIPOLE_MEDIAN). */
 static inline void spvs_sort_small(spvs_real *v, uint16_t n)

@@ -82,10 +82,8 @@ int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
     for (int j = 0; j < 3; j++) {
         h1[j] = (c[0][j] * bx[0] + c[1][j] * bx[1] + c[2][j] * bx[2]) * ip;
     }
-    for (int i = 0; i < 3; i++) {
-        if (!spvs_is_finite(h1[i]) || !spvs_is_finite(h3[i])) {
-            return SPVS_E_DEGENERATE;
-        }
+    if (!spvs_finite3x2(h1, h3)) {
+        return SPVS_E_DEGENERATE;
     }
     H_out[0] = h1[0];
     H_out[1] = h1[1];
@@ -335,10 +333,8 @@ static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_r
     if (!solve_fit(sx, h1)) {
         return SPVS_E_DEGENERATE;
     }
-    for (int k = 0; k < 3; k++) {
-        if (!spvs_is_finite(h1[k]) || !spvs_is_finite(h3[k])) {
-            return SPVS_E_DEGENERATE;
-        }
+    if (!spvs_finite3x2(h1, h3)) {
+        return SPVS_E_DEGENERATE;
     }
     H[0] = h1[0];
     H[1] = h1[1];
@@ -558,10 +554,8 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
     if (!have) {
         return SPVS_E_DEGENERATE;
     }
-    for (int k = 0; k < 9; k++) {
-        if (!spvs_is_finite(Hc[k])) {
-            return SPVS_E_DEGENERATE;
-        }
+    if (!spvs_finite3x2(Hc, Hc + 6)) {
+        return SPVS_E_DEGENERATE;
     }
     for (int k = 0; k < 9; k++) {
         H[k] = Hc[k];
