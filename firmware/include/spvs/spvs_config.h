@@ -59,7 +59,7 @@
 
 /* Most Gauss-Newton steps spvs_h_refit takes (callers ask for fewer; it
  * stops earlier once a step gains under 1e-4 of the cost).  spvs_update
- * starts it from a linear fit on the same inliers and asks for two steps
+ * starts it from a linear fit on the same inliers and asks for one step
  * (FINAL_GN_STEPS in spvs.c). */
 #ifndef SPVS_REFIT_MAX_ITERS
 #define SPVS_REFIT_MAX_ITERS 5
