@@ -27,6 +27,7 @@ typedef struct {
     int degenerate;
     int cost_down; /* 1: later models cost less */
     uint32_t costs;
+    uint32_t refines;
 } mock_t;
 
 static int mock_fit(void *ctx, const uint16_t *sample, spvs_real *model)
@@ -80,6 +81,41 @@ static spvs_real mock_cost(void *ctx, const spvs_real *model, spvs_real t2)
     return m->cost_down ? SPVS_R(1000.0) - model[0] : model[0];
 }
 
+static int mock_refine(void *ctx, spvs_real *model, const uint8_t *mask)
+{
+    mock_t *m = (mock_t *)ctx;
+    (void)model;
+    (void)mask;
+    m->refines++;
+    return SPVS_OK;
+}
+
+/* The LO step polishes a new best only when at least a fifth of the points
+ * are its inliers: a model with fewer is almost surely a contaminated
+ * sample's, and polishing it is wasted. */
+static void test_lo_only_plausible(void **state)
+{
+    (void)state;
+    mock_t mk = {0, 0, 19, 0, 0, 0, 0};
+    spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, mock_refine};
+    spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 50, 8};
+    spvs_rng_t rng;
+    spvs_rng_seed(&rng, 1);
+    uint16_t idx[100];
+    uint8_t scratch[100];
+    spvs_real model[SPVS_MODEL_MAX];
+    uint8_t mask[100];
+    spvs_ransac_stats_t st;
+    /* 19 of 100: never polished, still a consensus. */
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_OK);
+    assert_int_equal(mk.refines, 0);
+    assert_int_equal(st.n_inliers, 19);
+    /* 20 of 100: the first model (the only new best; the others tie) is. */
+    mk = (mock_t){0, 0, 20, 0, 0, 0, 0};
+    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_OK);
+    assert_int_equal(mk.refines, 1);
+}
+
 static void test_needed(void **state)
 {
     (void)state;
@@ -96,7 +132,7 @@ static void test_needed(void **state)
 static void test_exact_iterations(void **state)
 {
     (void)state;
-    mock_t mk = {0, 0, 50, 0, 0, 0};
+    mock_t mk = {0, 0, 50, 0, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 200, 8};
     spvs_rng_t rng;
@@ -128,7 +164,7 @@ static void test_exact_iterations(void **state)
     assert_int_equal(mock_mask_of(&mk, mk_out.mask), 1);
 
     /* The cap bounds the loop. */
-    mk = (mock_t){0, 0, 10, 0, 0, 0};
+    mk = (mock_t){0, 0, 10, 0, 0, 0, 0};
     o.max_iters = 20;
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_int_equal(st.iters, 20);
@@ -137,18 +173,18 @@ static void test_exact_iterations(void **state)
     /* Ties broken by the lower cost: here later models are cheaper.  The
      * cost is asked for only at ties: the first tie costs both models, each
      * later one only the newcomer (the best's cost is kept). */
-    mk = (mock_t){0, 0, 10, 0, 1, 0};
+    mk = (mock_t){0, 0, 10, 0, 1, 0, 0};
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(20.0));
     assert_int_equal(mock_mask_of(&mk, mk_out.mask), 20);
     assert_int_equal(mk.costs, 20);
     /* Later models costlier: the first stays. */
-    mk = (mock_t){0, 0, 10, 0, 0, 0};
+    mk = (mock_t){0, 0, 10, 0, 0, 0, 0};
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(1.0));
     assert_int_equal(mk.costs, 20);
     /* Without a cost callback a tie keeps the earlier model. */
-    mk = (mock_t){0, 0, 10, 0, 1, 0};
+    mk = (mock_t){0, 0, 10, 0, 1, 0, 0};
     est.cost = NULL;
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
     assert_true(out.model[0] == SPVS_R(1.0));
@@ -159,7 +195,7 @@ static void test_exact_iterations(void **state)
 static void test_statuses(void **state)
 {
     (void)state;
-    mock_t mk = {0, 0, 50, 1, 0, 0};
+    mock_t mk = {0, 0, 50, 1, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 30, 8};
     spvs_rng_t rng;
@@ -174,7 +210,7 @@ static void test_statuses(void **state)
     assert_int_equal(st.iters, 30);
     assert_int_equal(st.degenerate, 30);
     /* Too few inliers for a consensus. */
-    mk = (mock_t){0, 0, 5, 0, 0, 0};
+    mk = (mock_t){0, 0, 5, 0, 0, 0, 0};
     assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_NO_CONSENSUS);
     /* Every model ties at 5 < min_inliers: no cost pass is spent on ties
      * that cannot make a consensus. */
@@ -264,6 +300,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_needed),
+        cmocka_unit_test(test_lo_only_plausible),
         cmocka_unit_test(test_exact_iterations),
         cmocka_unit_test(test_statuses),
         cmocka_unit_test(test_rng),

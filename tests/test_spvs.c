@@ -225,6 +225,37 @@ static void test_estimate_h(void **state)
         He[k] = (double)g.out.H[k];
     }
     assert_true(synth_corner_err(He, Ht) < 0.05);
+
+    /* The matches are stored in a spread order: every match once, and the
+     * run of 40 mismatches at the front of the input is spread so that
+     * every 16 consecutive slots (the inlier count's block) hold between 1
+     * and 6 of them (3.2 on average), which the count's bail-out test
+     * relies on. */
+    static uint8_t bad[SPVS_MAX_FEATURES];
+    static uint8_t stored[SPVS_MAX_FEATURES];
+    memset(bad, 0, sizeof bad);
+    memset(stored, 0, sizeof stored);
+    for (int i = 0; i < n; i++) {
+        bad[m[i].feature] = (uint8_t)(i < n / 5);
+    }
+    for (int k = 0; k < n; k++) {
+        assert_true(s.feat[k] < SPVS_MAX_FEATURES);
+        stored[s.feat[k]]++;
+    }
+    for (int i = 0; i < n; i++) {
+        assert_int_equal(stored[m[i].feature], 1);
+    }
+    int lo = 16, hi = 0;
+    for (int k = 0; k + 16 <= n; k++) {
+        int c = 0;
+        for (int j = k; j < k + 16; j++) {
+            c += bad[s.feat[j]];
+        }
+        lo = c < lo ? c : lo;
+        hi = c > hi ? c : hi;
+    }
+    print_message("spread order: %d-%d mismatches per 16 slots\n", lo, hi);
+    assert_true(lo >= 1 && hi <= 6);
 }
 
 int main(void)
