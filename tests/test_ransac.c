@@ -90,6 +90,21 @@ static int mock_refine(void *ctx, spvs_real *model, const uint8_t *mask)
     return SPVS_OK;
 }
 
+/* The buffers of one spvs_ransac call on 100 points. */
+typedef struct {
+    spvs_rng_t rng;
+    uint16_t idx[100];
+    uint8_t scratch[100];
+    spvs_real model[SPVS_MODEL_MAX];
+    uint8_t mask[100];
+    spvs_ransac_stats_t st;
+} run_t;
+
+static int run(const spvs_estimator_t *est, const spvs_ransac_opts_t *o, run_t *r)
+{
+    return spvs_ransac(est, o, &r->rng, r->idx, r->model, r->mask, r->scratch, &r->st);
+}
+
 /* The LO step polishes a new best only when at least a fifth of the points
  * are its inliers: a model with fewer is almost surely a contaminated
  * sample's, and polishing it is wasted. */
@@ -99,20 +114,15 @@ static void test_lo_only_plausible(void **state)
     mock_t mk = {0, 0, 19, 0, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, mock_refine};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 50, 8};
-    spvs_rng_t rng;
-    spvs_rng_seed(&rng, 1);
-    uint16_t idx[100];
-    uint8_t scratch[100];
-    spvs_real model[SPVS_MODEL_MAX];
-    uint8_t mask[100];
-    spvs_ransac_stats_t st;
+    run_t r;
+    spvs_rng_seed(&r.rng, 1);
     /* 19 of 100: never polished, still a consensus. */
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_OK);
+    assert_int_equal(run(&est, &o, &r), SPVS_OK);
     assert_int_equal(mk.refines, 0);
-    assert_int_equal(st.n_inliers, 19);
+    assert_int_equal(r.st.n_inliers, 19);
     /* 20 of 100: the first model (the only new best; the others tie) is. */
     mk = (mock_t){0, 0, 20, 0, 0, 0, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_OK);
+    assert_int_equal(run(&est, &o, &r), SPVS_OK);
     assert_int_equal(mk.refines, 1);
 }
 
@@ -198,37 +208,36 @@ static void test_statuses(void **state)
     mock_t mk = {0, 0, 50, 1, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 30, 8};
-    spvs_rng_t rng;
-    spvs_rng_seed(&rng, 1);
-    uint16_t idx[100];
-    uint8_t scratch[100];
-    spvs_real model[SPVS_MODEL_MAX];
-    uint8_t mask[100];
-    spvs_ransac_stats_t st;
+    run_t r;
+    spvs_rng_seed(&r.rng, 1);
     /* Every sample degenerate: the cap, then a status. */
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_DEGENERATE);
-    assert_int_equal(st.iters, 30);
-    assert_int_equal(st.degenerate, 30);
+    assert_int_equal(run(&est, &o, &r), SPVS_E_DEGENERATE);
+    assert_int_equal(r.st.iters, 30);
+    assert_int_equal(r.st.degenerate, 30);
     /* Too few inliers for a consensus. */
     mk = (mock_t){0, 0, 5, 0, 0, 0, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_NO_CONSENSUS);
+    assert_int_equal(run(&est, &o, &r), SPVS_E_NO_CONSENSUS);
     /* Every model ties at 5 < min_inliers: no cost pass is spent on ties
      * that cannot make a consensus. */
     assert_int_equal(mk.costs, 0);
     /* Too few data. */
     est.n = 2;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_TOO_FEW);
+    assert_int_equal(run(&est, &o, &r), SPVS_E_TOO_FEW);
     est.n = 100;
     /* Bad options. */
     o.confidence = SPVS_R(1.0);
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_ARG);
+    assert_int_equal(run(&est, &o, &r), SPVS_E_ARG);
     o.confidence = SPVS_R(0.99);
     o.max_iters = SPVS_RANSAC_MAX_ITERS + 1;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_ARG);
-    assert_int_equal(spvs_ransac(NULL, &o, &rng, idx, model, mask, scratch, &st), SPVS_E_ARG);
-    /* The scratch mask missing, or the output mask itself. */
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, NULL, &st), SPVS_E_ARG);
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, model, mask, mask, &st), SPVS_E_ARG);
+    assert_int_equal(run(&est, &o, &r), SPVS_E_ARG);
+    assert_int_equal(run(NULL, &o, &r), SPVS_E_ARG);
+    /* With valid options again: the scratch mask missing, or the output
+     * mask itself. */
+    o.max_iters = 30;
+    mk = (mock_t){0, 0, 50, 0, 0, 0, 0};
+    assert_int_equal(run(&est, &o, &r), SPVS_OK);
+    assert_int_equal(spvs_ransac(&est, &o, &r.rng, r.idx, r.model, r.mask, NULL, &r.st), SPVS_E_ARG);
+    assert_int_equal(spvs_ransac(&est, &o, &r.rng, r.idx, r.model, r.mask, r.mask, &r.st), SPVS_E_ARG);
 }
 
 static void test_rng(void **state)
