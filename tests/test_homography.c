@@ -238,13 +238,15 @@ static void test_refit(void **state)
 /* The column forms of the linear fit and the refit (the SIMD path where the
  * target has SIMD) give the same bits as the row forms (the path the
  * Cortex-M4F runs), for every count of points, including those that leave
- * a short last block, and any mask. */
+ * a short last block, and any mask; so does the minimal solver read in place
+ * from either layout. */
 static void test_columns_match_rows(void **state)
 {
     (void)state;
     static const uint16_t counts[] = {3, 4, 5, 15, 16, 17, 33, 100, 203, 256};
     uint64_t rng = 11;
     int n_cases = 0;
+    int n_solved = 0;
     for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
         for (int t = 0; t < 4; t++) {
             synth_pose_t p;
@@ -294,10 +296,38 @@ static void test_columns_match_rows(void **state)
             assert_int_equal(ra, rb);
             assert_memory_equal(Ha, Hb, sizeof Ha);
             n_cases += ra == SPVS_OK;
+            /* The minimal solver on a sample of the set, read in place from
+             * rows and from columns, against the solver on a copy. */
+            for (int d = 0; d < 8; d++) {
+                uint16_t idx[3];
+                idx[0] = (uint16_t)(synth_uniform(&rng) * n) % n;
+                do {
+                    idx[1] = (uint16_t)(synth_uniform(&rng) * n) % n;
+                } while (idx[1] == idx[0]);
+                do {
+                    idx[2] = (uint16_t)(synth_uniform(&rng) * n) % n;
+                } while (idx[2] == idx[0] || idx[2] == idx[1]);
+                spvs_real copy[3][4];
+                for (int i = 0; i < 3; i++) {
+                    for (int k = 0; k < 4; k++) {
+                        copy[i][k] = pts[idx[i]][k];
+                    }
+                }
+                spvs_real Hc[9] = {0}, Hr[9] = {0}, Hk[9] = {0};
+                const int rc = spvs_h_solve3((const spvs_real(*)[4])copy, Hc);
+                assert_int_equal(spvs_h_solve3_rows((const spvs_real(*)[4])pts, idx, Hr), rc);
+                assert_int_equal(spvs_h_solve3_cols(cols, idx, Hk), rc);
+                if (rc == SPVS_OK) {
+                    assert_memory_equal(Hr, Hc, sizeof Hc);
+                    assert_memory_equal(Hk, Hc, sizeof Hc);
+                    n_solved++;
+                }
+            }
         }
     }
     /* Most cases are well posed: the comparison is of real fits. */
     assert_true(n_cases >= 30);
+    assert_true(n_solved >= 200);
 }
 
 static void test_refit_too_few(void **state)

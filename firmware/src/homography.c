@@ -40,21 +40,25 @@ static int solve3x3(const spvs_real A[3][3], const spvs_real b[3], spvs_real x[3
     return 1;
 }
 
-int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
+/* The 3-point solver on points given as coordinate k of sample point i at
+ * pc[k][idx[i] * is] (rows or columns, spvs_h_solve3*). */
+static SPVS_ALWAYS_INLINE int solve3(const spvs_real *const pc[4], const uint16_t idx[3],
+                                     uint32_t is, spvs_real H_out[9])
 {
+#define P3(i, k) (pc[k][(uint32_t)idx[i] * is])
     /* Both 3x3 systems rest on P, the rows (x_tgt, y_tgt, 1) of the three
      * points: the y-equations are D P h3 = y_tgt with D = diag(y_cur), the
      * x-equations P h1 = x_cur w.  So one adjugate of P serves both, with
      * adj(D P) = adj(P) adj(D) and det(D P) = det(D) det(P).  c[i][j] is the
      * cofactor of P at (i, j); the third column of P is ones. */
-    const spvs_real x0 = pts[0][0], y0 = pts[0][1];
-    const spvs_real x1 = pts[1][0], y1 = pts[1][1];
-    const spvs_real x2 = pts[2][0], y2 = pts[2][1];
+    const spvs_real x0 = P3(0, 0), y0 = P3(0, 1);
+    const spvs_real x1 = P3(1, 0), y1 = P3(1, 1);
+    const spvs_real x2 = P3(2, 0), y2 = P3(2, 1);
     const spvs_real c[3][3] = {{y1 - y2, x2 - x1, x1 * y2 - x2 * y1},
                                {y2 - y0, x0 - x2, x2 * y0 - x0 * y2},
                                {y0 - y1, x1 - x0, x0 * y1 - x1 * y0}};
     const spvs_real det_p = (c[0][2] + c[1][2]) + c[2][2];
-    const spvs_real v0 = pts[0][3], v1 = pts[1][3], v2 = pts[2][3];
+    const spvs_real v0 = P3(0, 3), v1 = P3(1, 3), v2 = P3(2, 3);
     const spvs_real det_y = (v0 * v1) * v2 * det_p;
     /* Collinear target points, or a y-row with no content (y_cur = 0). */
     if (!(SPVS_FABS(det_p) > DET_EPS) || !(SPVS_FABS(det_y) > DET_EPS)) {
@@ -70,12 +74,12 @@ int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
     /* Row 1: h1 = adj(P) (x_cur w) / det(P), w = h3 . p_tgt. */
     spvs_real bx[3];
     for (int i = 0; i < 3; i++) {
-        const spvs_real w = h3[0] * pts[i][0] + h3[1] * pts[i][1] + h3[2];
+        const spvs_real w = h3[0] * P3(i, 0) + h3[1] * P3(i, 1) + h3[2];
         /* A plane point seen by both cameras has a positive depth ratio. */
         if (!(w > W_EPS)) {
             return SPVS_E_DEGENERATE;
         }
-        bx[i] = pts[i][2] * w;
+        bx[i] = P3(i, 2) * w;
     }
     const spvs_real ip = SPVS_R(1.0) / det_p;
     spvs_real h1[3];
@@ -95,6 +99,25 @@ int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
     H_out[7] = h3[1];
     H_out[8] = h3[2];
     return SPVS_OK;
+#undef P3
+}
+
+int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
+{
+    static const uint16_t idx[3] = {0, 1, 2};
+    return spvs_h_solve3_rows(pts, idx, H_out);
+}
+
+int spvs_h_solve3_rows(const spvs_real (*pts)[4], const uint16_t idx[3], spvs_real H_out[9])
+{
+    const spvs_real *const c[4] = {&pts[0][0], &pts[0][1], &pts[0][2], &pts[0][3]};
+    return solve3(c, idx, 4u, H_out);
+}
+
+int spvs_h_solve3_cols(const spvs_real *const cols[4], const uint16_t idx[3],
+                       spvs_real H_out[9])
+{
+    return solve3(cols, idx, 1u, H_out);
 }
 
 spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
@@ -254,10 +277,21 @@ static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, int count, con
     if (any_bad) {
         return -1;
     }
-    /* The lanes added as (0 + 1) + (2 + 3) (lanes_fold's order) by two
-     * swaps, the sum landing in lane 0. */
+    /* The lanes added as (0 + 1) + (2 + 3) (lanes_fold's order), four sums
+     * at once: the pairs (0 + 1) and (2 + 3) of two sums side by side, then
+     * those of four sums added across.  The rest one at a time. */
+    int k = 0;
     SPVS_UNROLL
-    for (int k = 0; k < nt; k++) {
+    for (; k + 4 <= nt; k += 4) {
+        const spvs_v4 ab = SPVS_V4_SHUFFLE2(acc[k], acc[k + 1], 0, 2, 4, 6) +
+                           SPVS_V4_SHUFFLE2(acc[k], acc[k + 1], 1, 3, 5, 7);
+        const spvs_v4 cd = SPVS_V4_SHUFFLE2(acc[k + 2], acc[k + 3], 0, 2, 4, 6) +
+                           SPVS_V4_SHUFFLE2(acc[k + 2], acc[k + 3], 1, 3, 5, 7);
+        *(spvs_v4u *)(out + k) = SPVS_V4_SHUFFLE2(ab, cd, 0, 2, 4, 6) +
+                                 SPVS_V4_SHUFFLE2(ab, cd, 1, 3, 5, 7);
+    }
+    SPVS_UNROLL
+    for (; k < nt; k++) {
         const spvs_v4 p = acc[k] + SPVS_V4_SHUFFLE(acc[k], 1, 0, 3, 2);
         out[k] = (p + SPVS_V4_SHUFFLE(p, 2, 3, 0, 1))[0];
     }

@@ -99,16 +99,30 @@ void spvs_reset(spvs_t *s)
 
 /* ---- the planar-motion estimator for RANSAC ----------------------------- */
 
+/* Coordinate k of point i, in whichever layout the build keeps. */
+#if SPVS_SIMD_COLUMNS
+#define PT(s, i, k) ((s)->col[k][i])
+#else
+#define PT(s, i, k) ((s)->pts[i][k])
+#endif
+
+/* Point i as a row (x_tgt, y_tgt, x_cur, y_cur). */
+static SPVS_ALWAYS_INLINE void point_row(const spvs_t *s, uint16_t i, spvs_real q[4])
+{
+    for (int k = 0; k < 4; k++) {
+        q[k] = PT(s, i, k);
+    }
+}
+
 static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
 {
     const spvs_t *s = (const spvs_t *)ctx;
-    spvs_real pts[3][4];
-    for (int k = 0; k < 3; k++) {
-        for (int j = 0; j < 4; j++) {
-            pts[k][j] = s->pts[sample[k]][j];
-        }
-    }
-    return spvs_h_solve3(pts, model);
+#if SPVS_SIMD_COLUMNS
+    const spvs_real *const cols[4] = {s->col[0], s->col[1], s->col[2], s->col[3]};
+    return spvs_h_solve3_cols(cols, sample, model);
+#else
+    return spvs_h_solve3_rows((const spvs_real(*)[4])s->pts, sample, model);
+#endif
 }
 
 #define HP_R spvs_real
@@ -120,9 +134,6 @@ static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
 #define HP_M spvs_v4i
 #define HP_SUFFIX _v
 #include "h_point.inc"
-#define PT(s, i, k) ((s)->col[k][i])
-#else
-#define PT(s, i, k) ((s)->pts[i][k])
 #endif
 
 /* Points counted between two bail-out tests (and, on SIMD lanes, between
@@ -396,8 +407,8 @@ static SPVS_ALWAYS_INLINE int32_t copy_slots(spvs_t *s, const spvs_match_t *m, u
     /* -1 in a lane while every coordinate it has seen is in range. */
     spvs_v4i in_range = (spvs_v4i){0} - 1;
     /* Four slots at a time: the four coordinates of a match are one vector,
-     * stored as a row and, transposed with the three others, as columns.
-     * Bound: n / SPVS_VLANES groups. */
+     * transposed with the three others into columns.  Bound: n /
+     * SPVS_VLANES groups. */
     for (; k + SPVS_VLANES <= n; k = (uint16_t)(k + SPVS_VLANES)) {
         spvs_v4 r[SPVS_VLANES];
         for (uint16_t j = 0; j < SPVS_VLANES; j++) {
@@ -408,7 +419,6 @@ static SPVS_ALWAYS_INLINE int32_t copy_slots(spvs_t *s, const spvs_match_t *m, u
             const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
             in_range &= spvs_v4_abs(c) <= lim;
             r[j] = c * inv;
-            *(spvs_v4u *)s->pts[k + j] = r[j];
         }
         /* (x y u v) rows to (x0 x1 x2 x3) ... columns. */
         const spvs_v4 t0 = SPVS_V4_SHUFFLE2(r[0], r[1], 0, 4, 1, 5);
@@ -431,10 +441,7 @@ static SPVS_ALWAYS_INLINE int32_t copy_slots(spvs_t *s, const spvs_match_t *m, u
         const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
         for (int j = 0; j < 4; j++) {
             bad |= !(SPVS_FABS(c[j]) <= lim);
-            s->pts[k][j] = c[j] * inv;
-#if SPVS_SIMD_COLUMNS
-            s->col[j][k] = s->pts[k][j];
-#endif
+            PT(s, k, j) = c[j] * inv;
         }
     }
     return bad;
@@ -663,12 +670,13 @@ static uint16_t collect_candidates(spvs_t *s, uint16_t *n_cand)
         if (s->mask[i]) {
             continue;
         }
-        spvs_real e2 = spvs_h_transfer_err2(s->H_sc, s->pts[i]);
+        spvs_real q[4];
+        point_row(s, i, q);
+        spvs_real e2 = spvs_h_transfer_err2(s->H_sc, q);
         if (!(e2 > off2)) {
             continue;
         }
         if (have_inv) {
-            const spvs_real *q = s->pts[i];
             const spvs_real back[4] = {q[2], q[3], q[0], q[1]};
             spvs_real b2 = spvs_h_transfer_err2(Hi, back);
             if (b2 >= SPVS_R(0.0) && !(b2 > off2)) {
@@ -677,8 +685,24 @@ static uint16_t collect_candidates(spvs_t *s, uint16_t *n_cand)
         }
         s->cand[nc++] = i;
     }
+#if SPVS_SIMD_COLUMNS
+    for (uint16_t k = 0; k < nc; k++) {
+        point_row(s, s->cand[k], s->cand_pts[k]);
+        s->cand_ord[k] = k;
+    }
+#endif
     *n_cand = nc;
     return n_known;
+}
+
+/* Candidate k's point as a row (collect_candidates). */
+static inline const spvs_real *cand_row(const spvs_t *s, uint16_t k)
+{
+#if SPVS_SIMD_COLUMNS
+    return s->cand_pts[k];
+#else
+    return s->pts[s->cand[k]];
+#endif
 }
 
 /* Median transfer error (pixels) of the remembered off-plane features in this
@@ -688,7 +712,7 @@ static spvs_real known_parallax_px(spvs_t *s, uint16_t n_known)
     spvs_real *v = s->ework.n2;
     uint16_t nv = 0;
     for (uint16_t k = 0; k < n_known; k++) {
-        spvs_real e2 = spvs_h_transfer_err2(s->H_sc, s->pts[s->cand[k]]);
+        spvs_real e2 = spvs_h_transfer_err2(s->H_sc, cand_row(s, k));
         if (e2 < SPVS_R(0.0)) {
             continue;
         }
@@ -711,7 +735,7 @@ static void remember(spvs_t *s, uint16_t n_cand, int e_ok, spvs_real parallax_px
             uint16_t i = s->cand[k];
             int8_t *score = &s->offplane[s->feat[i]];
             if (s->support[k] && *score < OFFPLANE_MAX &&
-                spvs_h_transfer_err2(s->H_sc, s->pts[i]) > off2) {
+                spvs_h_transfer_err2(s->H_sc, cand_row(s, k)) > off2) {
                 (*score)++;
                 s->n_offplane_known = (uint16_t)(s->n_offplane_known + (*score == OFFPLANE_ON));
             }
@@ -795,9 +819,14 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
     spvs_real parallax = known_parallax_px(s, n_known);
     spvs_epipole_t ep;
     const spvs_real sin_tol2 = s->p.epipole_sin_tol * s->p.epipole_sin_tol;
-    int erc = spvs_epipole_estimate(s->H_sc, (const spvs_real(*)[4])s->pts, s->cand,
-                                    n_cand, sin_tol2, s->p.min_support, &ep,
-                                    s->support, &s->ework);
+#if SPVS_SIMD_COLUMNS
+    int erc = spvs_epipole_estimate(s->H_sc, (const spvs_real(*)[4])s->cand_pts, s->cand_ord,
+                                    n_cand, sin_tol2, s->p.min_support, &ep, s->support,
+                                    &s->ework);
+#else
+    int erc = spvs_epipole_estimate(s->H_sc, (const spvs_real(*)[4])s->pts, s->cand, n_cand,
+                                    sin_tol2, s->p.min_support, &ep, s->support, &s->ework);
+#endif
     int e_ok = (erc == SPVS_OK);
     if (parallax < SPVS_R(0.0) && e_ok) {
         parallax = ep.parallax_px;

@@ -35,6 +35,15 @@ enum { SPVS_H11 = 0, SPVS_H12 = 1, SPVS_H13 = 2, SPVS_H22 = 4,
  * solution is non-finite or maps a sample point behind the camera. */
 SPVS_NODISCARD int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9]);
 
+/* The same on the sample idx[0..2] of a larger set of points, read in
+ * place: from rows pts[i] = (x_tgt, y_tgt, x_cur, y_cur), or from columns,
+ * point i being (cols[0][i], cols[1][i], cols[2][i], cols[3][i]).  The
+ * results are the same bits as spvs_h_solve3 on a copy of the three points. */
+SPVS_NODISCARD int spvs_h_solve3_rows(const spvs_real (*pts)[4], const uint16_t idx[3],
+                                      spvs_real H_out[9]);
+SPVS_NODISCARD int spvs_h_solve3_cols(const spvs_real *const cols[4], const uint16_t idx[3],
+                                      spvs_real H_out[9]);
+
 /* Squared transfer error in the current image, scaled units squared:
  * |p_cur - dehom(H p_tgt)|^2.  Returns a negative value when H p_tgt has a
  * non-positive third coordinate (the point would be behind the camera). */

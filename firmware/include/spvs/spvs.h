@@ -71,21 +71,25 @@ typedef struct {
     spvs_real last_good_t_s;  /* time of the last frame with a valid H        */
     uint8_t has_last;
     uint8_t has_good;
-    /* Work buffers for one frame (scaled units).  pts[0..n_plane) are the
-     * matches of features not known to be off the plane, pts[n_plane..n_pts)
+    /* Work buffers for one frame (scaled units).  Points 0..n_plane are the
+     * matches of features not known to be off the plane, n_plane..n_pts
      * the others. */
     uint16_t n_pts;
     uint16_t n_plane;
     spvs_real H_sc[9];                  /* this frame's H, scaled units     */
-    spvs_real pts[SPVS_MAX_MATCHES][4];
 #if SPVS_SIMD_COLUMNS
-    /* The same points in columns (x_tgt, y_tgt, x_cur, y_cur), for the
-     * blocked inlier count and sums on SIMD lanes (spvs_config.h). */
+    /* The points in columns (x_tgt, y_tgt, x_cur, y_cur), for the blocked
+     * inlier count and sums on SIMD lanes (spvs_config.h); the off-plane
+     * candidates' points as rows, for the epipole, and their order. */
     spvs_real col[4][SPVS_MAX_MATCHES];
+    spvs_real cand_pts[SPVS_MAX_OFFPLANE][4];
+    uint16_t cand_ord[SPVS_MAX_OFFPLANE];
+#else
+    spvs_real pts[SPVS_MAX_MATCHES][4]; /* the points as rows              */
 #endif
     uint16_t feat[SPVS_MAX_MATCHES];
     uint16_t idx[SPVS_MAX_MATCHES];     /* RANSAC index scratch             */
-    uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among pts          */
+    uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among the points   */
     uint8_t idx_mask[SPVS_MAX_MATCHES]; /* inliers under a refitted H       */
     uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates (pts index) */
     uint8_t support[SPVS_MAX_OFFPLANE];

@@ -7,10 +7,11 @@
  * Range checks at the bottom turn a bad choice into a compile error.
  *
  * Memory of one spvs_t instance (see spvs.h) grows with:
- *   SPVS_MAX_MATCHES  x (4 scalars + 2 index bytes + 1 flag byte)
- *                       (+ 4 scalars with SPVS_SIMD_COLUMNS)
+ *   SPVS_MAX_MATCHES  x (4 scalars + 4 index bytes + 2 flag bytes)
+ *                       (the 4 scalars in columns with SPVS_SIMD_COLUMNS)
  *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
- *   SPVS_MAX_OFFPLANE x 3 scalars
+ *   SPVS_MAX_OFFPLANE x 3 scalars (+ 4 scalars and 2 index bytes with
+ *                       SPVS_SIMD_COLUMNS)
  */
 #ifndef SPVS_CONFIG_H
 #define SPVS_CONFIG_H
@@ -83,11 +84,12 @@
 #define SPVS_MAX_COORD_PX 8192
 #endif
 
-/* 1: keep a second copy of the frame's points in columns, count inliers in
- * blocks of 16 on it and run the sums of the linear fit and of the
- * Gauss-Newton refit on it a block at a time, loops a compiler runs on SIMD
- * lanes (SPVS_MAX_MATCHES x 4 more scalars in spvs_t).  0: everything point
- * by point on the one copy.  The result is the same bits either way; the
+/* 1: keep the frame's points in columns instead of rows, count inliers in
+ * blocks of 16 and run the sums of the linear fit and of the Gauss-Newton
+ * refit a block at a time, loops a compiler runs on SIMD lanes (the
+ * off-plane candidates are copied out as rows for the epipole:
+ * SPVS_MAX_OFFPLANE x 4 more scalars in spvs_t).  0: rows, everything point
+ * by point.  The result is the same bits either way; the
  * default is 1 where the compiler says the target has SSE2 or NEON, 0
  * elsewhere (Cortex-M4F).  Compile the core and the code that allocates
  * spvs_t with the same setting. */
