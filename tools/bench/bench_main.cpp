@@ -12,8 +12,9 @@
  *   --short                    CI mode: one case, few repeats, JSON lines
  *   --callgrind EST            run EST for --count K estimates (instruction
  *                              counts: run with K and with 0, subtract)
- * Options: --repeats K, --estimators a,b|all, --instances I, --poses P,
- *   --seed S, --n N, --mismatch F, --sigma PX, --count K, --warmup K.
+ * Options: --repeats K, --estimators a,b|all, --order turns|blocks,
+ *   --instances I, --poses P, --seed S, --n N, --mismatch F, --sigma PX,
+ *   --count K, --warmup K.
  * Bad options print one line on stderr and exit with status 2.
  */
 #include <algorithm>
@@ -57,6 +58,7 @@ struct Options {
     std::string jsonl_path;
     bool json = false;
     bool per_record = false;
+    bool blocks = false;
     int repeats = -1;
     int warmup = -1;
     std::vector<std::string> estimators;
@@ -118,6 +120,8 @@ void print_help()
         "  --repeats K            timed estimates per record and estimator\n"
         "  --warmup K             untimed estimates per estimator before timing\n"
         "  --estimators a,b|all   estimators (default: spvs for --cases, all otherwise)\n"
+        "  --order turns|blocks   on each record, estimators take turns repeat by repeat\n"
+        "                         (default), or each runs its repeats back to back\n"
         "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
         "  --per-record           also print one JSON line per (record, estimator) on stderr\n"
         "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
@@ -169,6 +173,14 @@ Options parse(int argc, char **argv)
             o.repeats = (int)parse_long(a, need(i), 1, 100000);
         } else if (!std::strcmp(a, "--warmup")) {
             o.warmup = (int)parse_long(a, need(i), 0, 100000);
+        } else if (!std::strcmp(a, "--order")) {
+            const char *v = need(i);
+            if (!std::strcmp(v, "turns"))
+                o.blocks = false;
+            else if (!std::strcmp(v, "blocks"))
+                o.blocks = true;
+            else
+                usage_error(std::string("--order takes turns or blocks, not '") + v + "'");
         } else if (!std::strcmp(a, "--estimators")) {
             o.estimators = split_list(need(i));
             if (o.estimators.empty())
@@ -339,11 +351,15 @@ std::string json_line(const std::string &est, const Cell &c)
 
 using Results = std::vector<std::pair<uint32_t, std::map<std::string, Cell>>>;
 
-/* Time every estimator on every record.  Records run in file order; on each
- * record the estimators take turns, repeat by repeat, so that slow drifts of
- * the machine (frequency, other load) hit all of them alike. */
+/* Time every estimator on every record.  Records run in file order.  On
+ * each record the estimators take turns, repeat by repeat, so that slow
+ * drifts of the machine (frequency, other load) hit all of them alike; each
+ * estimate then starts where the other estimators have just run (caches and
+ * branch predictors hold their code and data).  With `blocks` each
+ * estimator instead runs its repeats back to back, as in a loop that runs
+ * only it, and the estimators' order turns by one from record to record. */
 Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int repeats,
-                int warmup, bool per_record)
+                int warmup, bool per_record, bool blocks)
 {
     using clock = std::chrono::steady_clock;
     std::vector<std::unique_ptr<Estimator>> est;
@@ -386,31 +402,36 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
             }
             c.records++;
         }
-        for (int k = 0; k < repeats; k++)
-            for (size_t e = 0; e < est.size(); e++) {
-                Cell &c = cells[names[e]];
-                c.estimates++;
-                if (!ready[e])
-                    continue;
-                double H[9];
-                auto t0 = clock::now();
-                bool ok = est[e]->estimate(H);
-                auto t1 = clock::now();
-                c.us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-                if (!ok)
-                    continue;
-                c.returned++;
-                double err = hb_corner_err(&set.scene, rec.H, H);
-                c.err_px.push_back(err);
-                if (err < 2.0)
-                    c.successes++;
-                if (per_record)
-                    std::fprintf(stderr,
-                                 "{\"record\": %u, \"case_id\": %u, \"instance\": %u, \"pose\": %u, "
-                                 "\"estimator\": \"%s\", \"us\": %.2f, \"corner_err_px\": %s}\n",
-                                 r, rec.case_id, rec.instance, rec.pose, names[e].c_str(),
-                                 c.us.back(), jnum(err).c_str());
-            }
+        /* Estimate number q of this record: repeat q / n_est of estimator
+         * q % n_est (turns), or repeat q % repeats of estimator q / repeats
+         * counted from this record's first (blocks). */
+        const size_t n_est = est.size();
+        const size_t total = n_est * (size_t)repeats;
+        for (size_t q = 0; q < total; q++) {
+            const size_t e = blocks ? (q / (size_t)repeats + r) % n_est : q % n_est;
+            Cell &c = cells[names[e]];
+            c.estimates++;
+            if (!ready[e])
+                continue;
+            double H[9];
+            auto t0 = clock::now();
+            bool ok = est[e]->estimate(H);
+            auto t1 = clock::now();
+            c.us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+            if (!ok)
+                continue;
+            c.returned++;
+            double err = hb_corner_err(&set.scene, rec.H, H);
+            c.err_px.push_back(err);
+            if (err < 2.0)
+                c.successes++;
+            if (per_record)
+                std::fprintf(stderr,
+                             "{\"record\": %u, \"case_id\": %u, \"instance\": %u, \"pose\": %u, "
+                             "\"estimator\": \"%s\", \"us\": %.2f, \"corner_err_px\": %s}\n",
+                             r, rec.case_id, rec.instance, rec.pose, names[e].c_str(),
+                             c.us.back(), jnum(err).c_str());
+        }
     }
     return res;
 }
@@ -555,7 +576,7 @@ int main(int argc, char **argv)
             return 1;
         }
         Results res = run_set(set, o.estimators, o.repeats > 0 ? o.repeats : 5,
-                              o.warmup >= 0 ? o.warmup : 20, o.per_record);
+                              o.warmup >= 0 ? o.warmup : 20, o.per_record, o.blocks);
         print_json(res, o.estimators, stdout);
         hb_set_free(&set);
         return 0;
@@ -578,7 +599,7 @@ int main(int argc, char **argv)
         }
         int repeats = o.repeats > 0 ? o.repeats : (o.mode == "--short" ? 3 : 5);
         int warmup = o.warmup >= 0 ? o.warmup : (o.mode == "--short" ? 3 : 20);
-        Results res = run_set(set, o.estimators, repeats, warmup, o.per_record);
+        Results res = run_set(set, o.estimators, repeats, warmup, o.per_record, o.blocks);
         if (!o.jsonl_path.empty()) {
             FILE *f = std::fopen(o.jsonl_path.c_str(), "w");
             if (!f) {
