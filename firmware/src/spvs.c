@@ -463,6 +463,7 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
      * match; else s->idx lists the plane matches in input order, then the
      * others from the back. */
     const int all_plane = s->n_offplane_known == 0u;
+    spvs_prefetch(m, (size_t)n * sizeof *m);
     uint16_t n_plane = n;
     if (!all_plane) {
         uint16_t back = n;
