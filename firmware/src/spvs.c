@@ -106,12 +106,20 @@ void spvs_reset(spvs_t *s)
 #define PT(s, i, k) ((s)->pts[i][k])
 #endif
 
-/* Point i as a row (x_tgt, y_tgt, x_cur, y_cur). */
-static SPVS_ALWAYS_INLINE void point_row(const spvs_t *s, uint16_t i, spvs_real q[4])
+/* Point i as a row (x_tgt, y_tgt, x_cur, y_cur): the stored row, or where
+ * the points are in columns, a copy made in buf. */
+static SPVS_ALWAYS_INLINE const spvs_real *point_row(const spvs_t *s, uint16_t i,
+                                                     spvs_real buf[4])
 {
+#if SPVS_SIMD_COLUMNS
     for (int k = 0; k < 4; k++) {
-        q[k] = PT(s, i, k);
+        buf[k] = PT(s, i, k);
     }
+    return buf;
+#else
+    (void)buf;
+    return s->pts[i];
+#endif
 }
 
 static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
@@ -671,8 +679,8 @@ static uint16_t collect_candidates(spvs_t *s, uint16_t *n_cand)
         if (s->mask[i]) {
             continue;
         }
-        spvs_real q[4];
-        point_row(s, i, q);
+        spvs_real buf[4];
+        const spvs_real *q = point_row(s, i, buf);
         spvs_real e2 = spvs_h_transfer_err2(s->H_sc, q);
         if (!(e2 > off2)) {
             continue;
@@ -688,7 +696,7 @@ static uint16_t collect_candidates(spvs_t *s, uint16_t *n_cand)
     }
 #if SPVS_SIMD_COLUMNS
     for (uint16_t k = 0; k < nc; k++) {
-        point_row(s, s->cand[k], s->cand_pts[k]);
+        (void)point_row(s, s->cand[k], s->cand_pts[k]);
         s->cand_ord[k] = k;
     }
 #endif
