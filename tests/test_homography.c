@@ -247,6 +247,7 @@ static void test_columns_match_rows(void **state)
     uint64_t rng = 11;
     int n_cases = 0;
     int n_solved = 0;
+    int n_lin = 0;
     for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
         for (int t = 0; t < 4; t++) {
             synth_pose_t p;
@@ -296,6 +297,24 @@ static void test_columns_match_rows(void **state)
             assert_int_equal(ra, rb);
             assert_memory_equal(Ha, Hb, sizeof Ha);
             n_cases += ra == SPVS_OK;
+            /* The joint linear fit's sums, and the refit that starts from
+             * them. */
+            spvs_real sa[SPVS_H_LIN_SUMS] = {0}, sb[SPVS_H_LIN_SUMS] = {0};
+            ra = spvs_h_lin_sums((const spvs_real(*)[4])pts, use, n, H0, sa);
+            rb = spvs_h_lin_sums_cols(cols, use, n, H0, sb);
+            assert_int_equal(ra, rb);
+            assert_memory_equal(sa, sb, sizeof sa);
+            if (ra == SPVS_OK) {
+                for (int k = 0; k < 9; k++) {
+                    Ha[k] = H0[k];
+                    Hb[k] = H0[k];
+                }
+                ra = spvs_h_refit_lin((const spvs_real(*)[4])pts, use, n, 1, sa, Ha);
+                rb = spvs_h_refit_lin_cols(cols, use, n, 1, sb, Hb);
+                assert_int_equal(ra, rb);
+                assert_memory_equal(Ha, Hb, sizeof Ha);
+                n_lin += ra == SPVS_OK;
+            }
             /* The minimal solver on a sample of the set, read in place from
              * rows and from columns, against the solver on a copy. */
             for (int d = 0; d < 8; d++) {
@@ -327,7 +346,156 @@ static void test_columns_match_rows(void **state)
     }
     /* Most cases are well posed: the comparison is of real fits. */
     assert_true(n_cases >= 30);
+    assert_true(n_lin >= 30);
     assert_true(n_solved >= 200);
+}
+
+/* Corner error (px) of H in scaled units against the true H in pixels. */
+static double corner_err_sc(const spvs_real Hs[9], const double Ht[9])
+{
+    double He[9];
+    to_pixels(Hs, He);
+    return synth_corner_err(He, Ht);
+}
+
+/* The joint linear fit at fixed weights: exact on exact data whatever the
+ * weight model, within the noise on noisy data; one refit step from its
+ * normal matrix (spvs_h_refit_lin) reaches the transfer-error minimum that
+ * the full refit reaches; and sums moved point by point to another set
+ * solve to the H of sums made afresh on that set. */
+static void test_lin_fit(void **state)
+{
+    (void)state;
+    uint64_t rng = 23;
+    double worst_exact = 0, sum_lin = 0, sum_step = 0, worst_step_vs_gn = 0, worst_follow = 0;
+    int n_noisy = 0, n_moved = 0;
+    for (int t = 0; t < 40; t++) {
+        synth_pose_t p;
+        synth_plane_t pl;
+        random_case(&rng, &p, &pl);
+        for (int noisy = 0; noisy < 2; noisy++) {
+            spvs_match_t m[120];
+            uint8_t on_plane[120];
+            uint16_t n = synth_frame(&p, &pl, 800, 100, 20, noisy ? 1.0 : 0.0, &rng, m, on_plane);
+            assert_true(n >= 100);
+            static spvs_real pts[120][4];
+            uint8_t use[120], other[120];
+            double Ht[9];
+            synth_H(&p, &pl, 800, Ht);
+            for (int i = 0; i < n; i++) {
+                load_pt(pts[i], &m[i]);
+                use[i] = on_plane[i];
+            }
+            /* Weights from an H a few pixels off, as a RANSAC model is. */
+            spvs_real Hw[9];
+            for (int k = 0; k < 9; k++) {
+                Hw[k] = (spvs_real)Ht[k];
+            }
+            Hw[0] += SPVS_R(0.01);
+            Hw[2] += SPVS_R(3.0);
+            Hw[6] += SPVS_R(2.0e-5);
+            spvs_h_rescale(Hw, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+            spvs_real sums[SPVS_H_LIN_SUMS];
+            assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, use, n, Hw, sums), SPVS_OK);
+            guarded_h_t g;
+            g.guard = SENTINEL;
+            assert_int_equal(spvs_h_lin_solve(sums, Hw, g.H), SPVS_OK);
+            assert_int_equal(g.guard, SENTINEL);
+            /* The middle row is left as it was. */
+            assert_true(g.H[3] == Hw[3] && g.H[4] == Hw[4] && g.H[5] == Hw[5]);
+            const double e_lin = corner_err_sc(g.H, Ht);
+            if (!noisy) {
+                worst_exact = e_lin > worst_exact ? e_lin : worst_exact;
+                continue;
+            }
+            n_noisy++;
+            sum_lin += e_lin;
+            /* One step from the linear fit with its normal matrix, against
+             * the full refit from the same start. */
+            spvs_real Hs[9], Hg[9];
+            for (int k = 0; k < 9; k++) {
+                Hs[k] = g.H[k];
+                Hg[k] = g.H[k];
+            }
+            assert_int_equal(spvs_h_refit_lin((const spvs_real(*)[4])pts, use, n, 1, sums, Hs), SPVS_OK);
+            assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, Hg), SPVS_OK);
+            double c_step = 0, c_gn = 0, c_lin = 0;
+            for (int i = 0; i < n; i++) {
+                if (use[i]) {
+                    c_step += (double)spvs_h_transfer_err2(Hs, pts[i]);
+                    c_gn += (double)spvs_h_transfer_err2(Hg, pts[i]);
+                    c_lin += (double)spvs_h_transfer_err2(g.H, pts[i]);
+                }
+            }
+            assert_true(c_step <= c_lin);
+            const double rel = (c_step - c_gn) / c_gn;
+            worst_step_vs_gn = rel > worst_step_vs_gn ? rel : worst_step_vs_gn;
+            sum_step += corner_err_sc(Hs, Ht);
+            /* Move the sums to another set: a tenth of the plane points
+             * left out, a tenth of the others taken in (as a re-selection
+             * round moves the points near the threshold). */
+            spvs_real moved[SPVS_H_LIN_SUMS];
+            for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
+                moved[k] = sums[k];
+            }
+            for (int i = 0; i < n; i++) {
+                other[i] = use[i];
+                if (synth_uniform(&rng) < 0.1) {
+                    other[i] = (uint8_t)!use[i];
+                    assert_int_equal(spvs_h_lin_update(Hw, pts[i], other[i], moved), SPVS_OK);
+                    n_moved++;
+                }
+            }
+            spvs_real fresh[SPVS_H_LIN_SUMS];
+            assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, other, n, Hw, fresh), SPVS_OK);
+            spvs_real Hm[9], Hf[9];
+            assert_int_equal(spvs_h_lin_solve(moved, Hw, Hm), SPVS_OK);
+            assert_int_equal(spvs_h_lin_solve(fresh, Hw, Hf), SPVS_OK);
+            double Hfp[9];
+            to_pixels(Hf, Hfp);
+            const double d = corner_err_sc(Hm, Hfp);
+            worst_follow = d > worst_follow ? d : worst_follow;
+        }
+    }
+    print_message("lin fit: exact worst %.3g px; 1 px noise: linear %.3f px, after one step %.3f px "
+                  "(cost %.2g above the full refit at worst); moved sums vs fresh %.3g px\n",
+                  worst_exact, sum_lin / n_noisy, sum_step / n_noisy, worst_step_vs_gn, worst_follow);
+    assert_true(worst_exact < TOL_EXACT_PX);
+    assert_true(sum_lin / n_noisy < 1.0);
+    assert_true(sum_step / n_noisy <= sum_lin / n_noisy);
+    assert_true(worst_step_vs_gn < 1e-3);
+    assert_true(n_moved > 200);
+    assert_true(worst_follow < TOL_EXACT_PX);
+}
+
+/* Errors of the joint linear fit leave their outputs as they were. */
+static void test_lin_errors(void **state)
+{
+    (void)state;
+    spvs_real pts[4][4] = {{0.1f, 0.2f, 0.1f, 0.2f}, {-0.3f, 0.1f, -0.3f, 0.1f},
+                           {0.2f, -0.2f, 0.2f, -0.2f}, {0.0f, 0.3f, 0.0f, 0.3f}};
+    const spvs_real I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    spvs_real sums[SPVS_H_LIN_SUMS];
+    for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
+        sums[k] = SPVS_R(7.0);
+    }
+    uint8_t two[4] = {1, 1, 0, 0};
+    assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, two, 4, I, sums), SPVS_E_TOO_FEW);
+    assert_true(sums[0] == SPVS_R(7.0) && sums[SPVS_H_LIN_SUMS - 1] == SPVS_R(7.0));
+    /* Weights that put a flagged point behind the camera: h3 . p <= 0. */
+    const spvs_real Hbad[9] = {1, 0, 0, 0, 1, 0, SPVS_R(-10.0), 0, 1};
+    uint8_t all[4] = {1, 1, 1, 1};
+    assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, all, 4, Hbad, sums), SPVS_E_DEGENERATE);
+    assert_true(sums[0] == SPVS_R(7.0));
+    assert_int_equal(spvs_h_lin_update(Hbad, pts[2], 1, sums), SPVS_E_DEGENERATE);
+    assert_true(sums[0] == SPVS_R(7.0) && sums[SPVS_H_LIN_SUMS - 1] == SPVS_R(7.0));
+    /* Collinear target points: no positive definite normal matrix. */
+    spvs_real line[4][4] = {{0.1f, 0.0f, 0.1f, 0.0f}, {0.2f, 0.0f, 0.2f, 0.0f},
+                            {0.3f, 0.0f, 0.3f, 0.0f}, {0.4f, 0.0f, 0.4f, 0.0f}};
+    assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])line, all, 4, I, sums), SPVS_OK);
+    spvs_real H[9] = {2, 0, 0, 0, 1, 0, 0, 0, 2};
+    assert_int_equal(spvs_h_lin_solve(sums, I, H), SPVS_E_DEGENERATE);
+    assert_true(H[0] == SPVS_R(2.0) && H[8] == SPVS_R(2.0));
 }
 
 static void test_refit_too_few(void **state)
@@ -374,6 +542,8 @@ int main(void)
         cmocka_unit_test(test_solve3_degenerate),
         cmocka_unit_test(test_refit),
         cmocka_unit_test(test_columns_match_rows),
+        cmocka_unit_test(test_lin_fit),
+        cmocka_unit_test(test_lin_errors),
         cmocka_unit_test(test_refit_too_few),
         cmocka_unit_test(test_transfer_and_rescale),
     };

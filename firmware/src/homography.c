@@ -148,8 +148,9 @@ _Static_assert(SUM_LANES == 4, "the lane folds are written for four lanes");
 #define TERMS_MAX 25
 
 /* Which terms a point contributes (h_point.inc). */
-enum { HP_FIT_Y, HP_FIT_X, HP_GN, HP_COST, HP_GRAD };
+enum { HP_FIT_Y, HP_FIT_X, HP_LIN, HP_GN, HP_COST, HP_GRAD };
 #define NT_FIT 9
+#define NT_LIN SPVS_H_LIN_SUMS
 #define NT_GN 25
 #define NT_COST 1
 #define NT_GRAD 7
@@ -439,6 +440,23 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
     return 1;
 }
 
+/* The 6x6 normal matrix from the 18 sums laid out as HP_GN's terms 0-17
+ * (and HP_LIN's): the symmetric 3x3 blocks N11, N13 and N33, each six
+ * entries of q = (x^2, x y, x, y^2, y, 1). */
+static void unpack_normal(const spvs_real *s, spvs_real N[6][6])
+{
+    /* Index of (r, c) in q. */
+    static const uint8_t qi[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+    for (int r = 0; r < 3; r++) {
+        for (int c = 0; c < 3; c++) {
+            N[r][c] = s[qi[r][c]];
+            N[r][3 + c] = s[6 + qi[r][c]];
+            N[3 + r][c] = s[6 + qi[r][c]];
+            N[3 + r][3 + c] = s[12 + qi[r][c]];
+        }
+    }
+}
+
 /* One pass over the used points at H: the summed squared transfer error
  * (returned; SPVS_REAL_MAX when a point is behind the camera) and the
  * Gauss-Newton normal equations N d = g for theta = (h11 h12 h13 h31 h32 h33)
@@ -459,17 +477,9 @@ static SPVS_ALWAYS_INLINE spvs_real refit_pass(const pts_in_t *in, const uint8_t
     if (sum_terms(HP_GN, NT_GN, 0, H, in, use, n, s) < 0) {
         return SPVS_REAL_MAX;
     }
-    /* Unpack the symmetric 3x3 blocks: index of (r, c) in q. */
-    static const uint8_t qi[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
-    for (int r = 0; r < 3; r++) {
-        for (int c = 0; c < 3; c++) {
-            N[r][c] = s[qi[r][c]];
-            N[r][3 + c] = s[6 + qi[r][c]];
-            N[3 + r][c] = s[6 + qi[r][c]];
-            N[3 + r][3 + c] = s[12 + qi[r][c]];
-        }
-        g[r] = s[18 + r];
-        g[3 + r] = s[21 + r];
+    unpack_normal(s, N);
+    for (int k = 0; k < 6; k++) {
+        g[k] = s[18 + k];
     }
     return s[24];
 }
@@ -502,8 +512,11 @@ static spvs_real refit_cost(const pts_in_t *in, const uint8_t *use, uint16_t n,
     return c;
 }
 
+/* The refit of spvs_h_refit; with lin (SPVS_H_LIN_SUMS sums) the first
+ * step takes its normal matrix from those sums and only the gradient and
+ * the cost are summed at H (spvs_h_refit_lin). */
 static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t max_iters,
-                 spvs_real H[9])
+                 const spvs_real *lin, spvs_real H[9])
 {
     if (max_iters < 1u) {
         max_iters = 1u;
@@ -543,8 +556,11 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
         spvs_real cost;
         if (it == max_iters) {
             cost = refit_cost(in, use, n, Hc);
-        } else if (it == 0) {
+        } else if (it == 0 && lin == 0) {
             cost = refit_pass(in, use, n, Hc, N, g);
+        } else if (it == 0) {
+            unpack_normal(lin, N);
+            cost = refit_grad(in, use, n, Hc, g);
         } else {
             cost = refit_grad(in, use, n, Hc, g);
         }
@@ -601,14 +617,105 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
                  uint16_t max_iters, spvs_real H[9])
 {
     const pts_in_t in = {pts, 0};
-    return refit(&in, use, n, max_iters, H);
+    return refit(&in, use, n, max_iters, 0, H);
 }
 
 int spvs_h_refit_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
                       uint16_t max_iters, spvs_real H[9])
 {
     const pts_in_t in = {0, cols};
-    return refit(&in, use, n, max_iters, H);
+    return refit(&in, use, n, max_iters, 0, H);
+}
+
+int spvs_h_refit_lin(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                     uint16_t max_iters, const spvs_real sums[SPVS_H_LIN_SUMS], spvs_real H[9])
+{
+    const pts_in_t in = {pts, 0};
+    return refit(&in, use, n, max_iters, sums, H);
+}
+
+int spvs_h_refit_lin_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
+                          uint16_t max_iters, const spvs_real sums[SPVS_H_LIN_SUMS],
+                          spvs_real H[9])
+{
+    const pts_in_t in = {0, cols};
+    return refit(&in, use, n, max_iters, sums, H);
+}
+
+/* ---- the joint linear fit at fixed weights ------------------------------ */
+
+static int lin_sums(const pts_in_t *in, const uint8_t *use, uint16_t n, const spvs_real Hw[9],
+                    spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    spvs_real t[NT_LIN];
+    const int32_t used = sum_terms(HP_LIN, NT_LIN, 1, Hw, in, use, n, t);
+    if (used < 0) {
+        return SPVS_E_DEGENERATE;
+    }
+    if (used < 3) {
+        return SPVS_E_TOO_FEW;
+    }
+    for (int k = 0; k < NT_LIN; k++) {
+        sums[k] = t[k];
+    }
+    return SPVS_OK;
+}
+
+int spvs_h_lin_sums(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                    const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    const pts_in_t in = {pts, 0};
+    return lin_sums(&in, use, n, Hw, sums);
+}
+
+int spvs_h_lin_sums_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
+                         const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    const pts_in_t in = {0, cols};
+    return lin_sums(&in, use, n, Hw, sums);
+}
+
+int spvs_h_lin_update(const spvs_real Hw[9], const spvs_real pt[4], int add,
+                      spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    spvs_real t[NT_LIN];
+    for (int k = 0; k < NT_LIN; k++) {
+        t[k] = SPVS_R(0.0);
+    }
+    if (!hp_terms(HP_LIN, Hw, pt[0], pt[1], pt[2], pt[3], SPVS_R(1.0), t)) {
+        return SPVS_E_DEGENERATE;
+    }
+    if (add) {
+        for (int k = 0; k < NT_LIN; k++) {
+            sums[k] += t[k];
+        }
+    } else {
+        for (int k = 0; k < NT_LIN; k++) {
+            sums[k] -= t[k];
+        }
+    }
+    return SPVS_OK;
+}
+
+int spvs_h_lin_solve(const spvs_real sums[SPVS_H_LIN_SUMS], const spvs_real Hw[9],
+                     spvs_real H[9])
+{
+    spvs_real N[6][6];
+    unpack_normal(sums, N);
+    spvs_real d[6];
+    if (!cholesky6(N, sums + 18, d) || !spvs_finite3x2(d, d + 3)) {
+        return SPVS_E_DEGENERATE;
+    }
+    for (int k = 0; k < 9; k++) {
+        H[k] = Hw[k];
+    }
+    H[0] += d[0];
+    H[1] += d[1];
+    H[2] += d[2];
+    H[6] += d[3];
+    H[7] += d[4];
+    H[8] += d[5];
+    return SPVS_OK;
 }
 
 void spvs_h_rescale(spvs_real H[9], spvs_real scale)

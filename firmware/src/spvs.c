@@ -304,14 +304,69 @@ static int fit_linear(const spvs_t *s, const uint8_t *use, uint16_t n, spvs_real
 #endif
 }
 
-static int refit(const spvs_t *s, const uint8_t *use, uint16_t steps, spvs_real H[9])
+/* The final refit; with lin, its first step from the normal matrix of the
+ * joint linear fit's sums on the same set (spvs_h_refit_lin). */
+static int refit(const spvs_t *s, const uint8_t *use, uint16_t steps, const spvs_real *lin,
+                 spvs_real H[9])
 {
 #if SPVS_SIMD_COLUMNS
     const spvs_real *const cols[4] = {s->col[0], s->col[1], s->col[2], s->col[3]};
-    return spvs_h_refit_cols(cols, use, s->n_plane, steps, H);
+    return lin ? spvs_h_refit_lin_cols(cols, use, s->n_plane, steps, lin, H)
+               : spvs_h_refit_cols(cols, use, s->n_plane, steps, H);
 #else
-    return spvs_h_refit((const spvs_real(*)[4])s->pts, use, s->n_plane, steps, H);
+    const spvs_real(*pts)[4] = (const spvs_real(*)[4])s->pts;
+    return lin ? spvs_h_refit_lin(pts, use, s->n_plane, steps, lin, H)
+               : spvs_h_refit(pts, use, s->n_plane, steps, H);
 #endif
+}
+
+/* The joint linear fit's sums over the points flagged in use, at the
+ * weights of hw. */
+static int lin_sums(const spvs_t *s, const uint8_t *use, const spvs_real hw[9],
+                    spvs_real sums[SPVS_H_LIN_SUMS])
+{
+#if SPVS_SIMD_COLUMNS
+    const spvs_real *const cols[4] = {s->col[0], s->col[1], s->col[2], s->col[3]};
+    return spvs_h_lin_sums_cols(cols, use, s->n_plane, hw, sums);
+#else
+    return spvs_h_lin_sums((const spvs_real(*)[4])s->pts, use, s->n_plane, hw, sums);
+#endif
+}
+
+/* Moves the sums from the set `from` to the set `to`: the points flagged in
+ * one and not the other added or removed, in point order (a word of flags
+ * at a time; most words are equal).  Returns 0 when the sets are the same,
+ * 1 when the sums moved, -1 when a point could not be added (w0 <= 0 under
+ * hw: the sums are then no longer usable). */
+static int lin_follow(const spvs_t *s, const spvs_real hw[9], const uint8_t *from,
+                      const uint8_t *to, spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    const uint16_t n = s->n_plane;
+    int moved = 0;
+    /* Bound: n / 4 words, then each point of a word that differs. */
+    for (uint16_t i0 = 0; i0 < n; i0 = (uint16_t)(i0 + 4u)) {
+        const uint16_t end = (uint16_t)(n - i0) < 4u ? n : (uint16_t)(i0 + 4u);
+        if (end == i0 + 4u) {
+            uint32_t a;
+            uint32_t b;
+            memcpy(&a, from + i0, sizeof a);
+            memcpy(&b, to + i0, sizeof b);
+            if (a == b) {
+                continue;
+            }
+        }
+        for (uint16_t i = i0; i < end; i++) {
+            if (from[i] == to[i]) {
+                continue;
+            }
+            spvs_real buf[4];
+            if (spvs_h_lin_update(hw, point_row(s, i, buf), to[i] != 0, sums) != SPVS_OK) {
+                return -1;
+            }
+            moved = 1;
+        }
+    }
+    return moved;
 }
 
 /* LO step: polish a hypothesis with the weighted linear fit on its inliers
@@ -496,24 +551,6 @@ static int load_frame(spvs_t *s, const spvs_match_t *m, uint16_t n)
     return SPVS_OK;
 }
 
-/* 1 when the first n bytes of a and b are equal (compared a word at a
- * time). */
-static int same_bytes(const uint8_t *a, const uint8_t *b, uint16_t n)
-{
-    uint64_t diff = 0;
-    uint16_t i = 0;
-    for (; i + 8u <= n; i = (uint16_t)(i + 8u)) {
-        uint64_t wa, wb;
-        memcpy(&wa, a + i, sizeof wa);
-        memcpy(&wb, b + i, sizeof wb);
-        diff |= wa ^ wb;
-    }
-    for (; i < n; i++) {
-        diff |= (uint64_t)(a[i] ^ b[i]);
-    }
-    return diff == 0;
-}
-
 static void clear_output(spvs_output_t *out, uint16_t n)
 {
     out->v = SPVS_R(0.0);
@@ -565,34 +602,46 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
     if (rc != SPVS_OK) {
         return rc;
     }
-    /* Re-select the inliers with a linear refit until the set stops
-     * changing (bound: SPVS_REFIT_ROUNDS rounds), then minimise the transfer
-     * error on the final set by Gauss-Newton (spvs_h_refit). */
+    /* Re-select the inliers until the set stops changing (bound:
+     * SPVS_REFIT_ROUNDS rounds): each round solves the joint linear fit on
+     * the set in use and takes the inliers of its H as the next set.  The
+     * fit's weights stay those of the RANSAC model, so its sums follow the
+     * set by the points that enter or leave it (lin_follow) instead of
+     * another pass.  Then one Gauss-Newton step on the final set, its
+     * normal matrix taken from those sums (spvs_h_refit_lin). */
     uint16_t n_inl = st.n_inliers;
     /* The set in use and the next one, swapped each round. */
     uint8_t *cur = s->mask;
     uint8_t *next = s->idx_mask;
-    for (int round = 0; round < SPVS_REFIT_ROUNDS; round++) {
+    spvs_real hw[9];
+    for (int k = 0; k < 9; k++) {
+        hw[k] = model[k];
+    }
+    spvs_real sums[SPVS_H_LIN_SUMS];
+    int lin = lin_sums(s, cur, hw, sums) == SPVS_OK;
+    for (int round = 0; lin && round < SPVS_REFIT_ROUNDS; round++) {
         spvs_real Hr[9];
-        for (int k = 0; k < 9; k++) {
-            Hr[k] = model[k];
-        }
-        if (fit_linear(s, cur, s->n_plane, Hr) != SPVS_OK) {
+        if (spvs_h_lin_solve(sums, hw, Hr) != SPVS_OK) {
             break;
         }
-        uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, next);
+        const uint16_t n_new = est_score(s, Hr, opts.threshold2, 0, next);
         if (n_new < n_inl) {
             break;
         }
         for (int k = 0; k < 9; k++) {
             model[k] = Hr[k];
         }
-        const int same = n_new == n_inl && same_bytes(cur, next, s->n_plane);
+        /* The model is now the fit on cur; the sums move to next. */
+        const int moved = lin_follow(s, hw, cur, next, sums);
+        if (moved < 0) {
+            lin = 0;
+            break;
+        }
         uint8_t *const was = cur;
         cur = next;
         next = was;
         n_inl = n_new;
-        if (same) {
+        if (moved == 0) {
             break;
         }
     }
@@ -604,7 +653,7 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
         for (int k = 0; k < 9; k++) {
             Hr[k] = model[k];
         }
-        if (refit(s, s->mask, FINAL_GN_STEPS, Hr) == SPVS_OK) {
+        if (refit(s, s->mask, FINAL_GN_STEPS, lin ? sums : 0, Hr) == SPVS_OK) {
             for (int k = 0; k < 9; k++) {
                 model[k] = Hr[k];
             }

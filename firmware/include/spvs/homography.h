@@ -83,6 +83,51 @@ SPVS_NODISCARD int spvs_h_fit_linear_cols(const spvs_real *const cols[4], const 
 SPVS_NODISCARD int spvs_h_refit_cols(const spvs_real *const cols[4], const uint8_t *use,
                                      uint16_t n, uint16_t max_iters, spvs_real H[9]);
 
+/* Joint linear fit at fixed weights, kept as sums that follow the set.
+ *
+ * Rows 1 and 3 of H at once by least squares on the x- and y-equations
+ * above, each divided by w0 = h3w . p_tgt, the third coordinate under a
+ * fixed weight model Hw (near the solution w / w0 is near 1, so the
+ * residuals are close to the transfer errors).  The fit is solved as a step
+ * from Hw, whose residuals the sums hold, so that float rounding in the
+ * sums only scales the step.  Its normal equations are SPVS_H_LIN_SUMS sums
+ * over the flagged points of terms that depend only on the point and Hw:
+ * when the flagged set changes by a few points they are updated by adding
+ * and removing those points' terms instead of summed again.  Their normal
+ * matrix is the Gauss-Newton one of spvs_h_refit with the measured
+ * (x_cur, y_cur) in place of the predicted and w0 in place of w, which
+ * spvs_h_refit_lin uses near the solution.
+ *
+ * spvs_h_lin_sums: the sums over the flagged points (rows or columns, the
+ *   same bits either way, as in spvs_h_refit_cols).  Returns SPVS_OK,
+ *   SPVS_E_TOO_FEW (fewer than 3 flagged points) or SPVS_E_DEGENERATE (a
+ *   flagged point has w0 <= 1e-6); on error sums is unchanged.
+ * spvs_h_lin_update: adds (add != 0) or removes point pt's terms.  Returns
+ *   SPVS_OK, or SPVS_E_DEGENERATE when pt has w0 <= 1e-6 (sums unchanged).
+ * spvs_h_lin_solve: the fit of the sums (made with Hw) as H: Hw with rows 1
+ *   and 3 moved by the solution.  Returns SPVS_OK, or SPVS_E_DEGENERATE
+ *   (normal matrix not positive definite, or a non-finite result; H
+ *   unchanged).
+ * spvs_h_refit_lin: spvs_h_refit whose first Gauss-Newton step takes the
+ *   normal matrix of `sums` (made on the same flagged points) and sums only
+ *   the gradient and the cost at H: 7 terms per point instead of 25. */
+#define SPVS_H_LIN_SUMS 24
+SPVS_NODISCARD int spvs_h_lin_sums(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                                   const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS]);
+SPVS_NODISCARD int spvs_h_lin_sums_cols(const spvs_real *const cols[4], const uint8_t *use,
+                                        uint16_t n, const spvs_real Hw[9],
+                                        spvs_real sums[SPVS_H_LIN_SUMS]);
+SPVS_NODISCARD int spvs_h_lin_update(const spvs_real Hw[9], const spvs_real pt[4], int add,
+                                     spvs_real sums[SPVS_H_LIN_SUMS]);
+SPVS_NODISCARD int spvs_h_lin_solve(const spvs_real sums[SPVS_H_LIN_SUMS], const spvs_real Hw[9],
+                                    spvs_real H[9]);
+SPVS_NODISCARD int spvs_h_refit_lin(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                                    uint16_t max_iters, const spvs_real sums[SPVS_H_LIN_SUMS],
+                                    spvs_real H[9]);
+SPVS_NODISCARD int spvs_h_refit_lin_cols(const spvs_real *const cols[4], const uint8_t *use,
+                                         uint16_t n, uint16_t max_iters,
+                                         const spvs_real sums[SPVS_H_LIN_SUMS], spvs_real H[9]);
+
 /* Convert H between scaled units and pixels: H_px = S H_scaled S^-1 with
  * S = diag(s, s, 1), so h13 *= s and h31, h32 /= s.  scale = SPVS_COORD_SCALE
  * goes from scaled to pixels, 1/SPVS_COORD_SCALE back. */
