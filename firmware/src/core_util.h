@@ -120,6 +120,32 @@ static inline void spvs_v4_store_flags(spvs_v4i f, uint8_t *mask)
 }
 #endif
 
+/* Eight bytes p[0..8) as a word with p[k] in bits 8k..8k+7, whatever the
+ * target's byte order (one load where it is little-endian). */
+static inline uint64_t spvs_load_le64(const uint8_t *p)
+{
+    return (uint64_t)p[0] | (uint64_t)p[1] << 8 | (uint64_t)p[2] << 16 | (uint64_t)p[3] << 24 |
+           (uint64_t)p[4] << 32 | (uint64_t)p[5] << 40 | (uint64_t)p[6] << 48 |
+           (uint64_t)p[7] << 56;
+}
+
+/* The k of the lowest nonzero byte k of d (d != 0; spvs_load_le64's
+ * numbering). */
+static inline unsigned spvs_byte_of_lowest(uint64_t d)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return (unsigned)__builtin_ctzll(d) / 8u;
+#else
+    unsigned k = 0;
+    /* Bound: 7 bytes. */
+    while (k < 7u && (d & 0xffu) == 0u) {
+        d >>= 8;
+        k++;
+    }
+    return k;
+#endif
+}
+
 /* 1 when x is neither NaN nor infinite.  Written without isfinite() so no
  * libm call is needed on any target: NaN fails the first test, +-Inf the
  * second. */

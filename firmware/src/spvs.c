@@ -334,8 +334,9 @@ static int lin_sums(const spvs_t *s, const uint8_t *use, const spvs_real hw[9],
 }
 
 /* Moves the sums from the set `from` to the set `to`: the points flagged in
- * one and not the other added or removed, in point order (a word of flags
- * at a time; most words are equal).  Returns 0 when the sets are the same,
+ * one and not the other added or removed, in point order.  The flags (0 or
+ * 1) are compared eight at a time and only the differing bytes of a word
+ * visited (most words are equal).  Returns 0 when the sets are the same,
  * 1 when the sums moved, -1 when a point could not be added (w0 <= 0 under
  * hw: the sums are then no longer usable). */
 static int lin_follow(const spvs_t *s, const spvs_real hw[9], const uint8_t *from,
@@ -343,22 +344,23 @@ static int lin_follow(const spvs_t *s, const spvs_real hw[9], const uint8_t *fro
 {
     const uint16_t n = s->n_plane;
     int moved = 0;
-    /* Bound: n / 4 words, then each point of a word that differs. */
-    for (uint16_t i0 = 0; i0 < n; i0 = (uint16_t)(i0 + 4u)) {
-        const uint16_t end = (uint16_t)(n - i0) < 4u ? n : (uint16_t)(i0 + 4u);
-        if (end == i0 + 4u) {
-            uint32_t a;
-            uint32_t b;
-            memcpy(&a, from + i0, sizeof a);
-            memcpy(&b, to + i0, sizeof b);
-            if (a == b) {
-                continue;
+    /* Bound: n / 8 words, each with at most 8 differing bytes, then fewer
+     * than 8 points. */
+    uint16_t i0 = 0;
+    for (; i0 + 8u <= n; i0 = (uint16_t)(i0 + 8u)) {
+        const uint64_t a = spvs_load_le64(from + i0);
+        const uint64_t b = spvs_load_le64(to + i0);
+        for (uint64_t d = a ^ b; d != 0u; d &= d - 1u) {
+            const uint16_t i = (uint16_t)(i0 + spvs_byte_of_lowest(d));
+            spvs_real buf[4];
+            if (spvs_h_lin_update(hw, point_row(s, i, buf), to[i] != 0, sums) != SPVS_OK) {
+                return -1;
             }
+            moved = 1;
         }
-        for (uint16_t i = i0; i < end; i++) {
-            if (from[i] == to[i]) {
-                continue;
-            }
+    }
+    for (uint16_t i = i0; i < n; i++) {
+        if (from[i] != to[i]) {
             spvs_real buf[4];
             if (spvs_h_lin_update(hw, point_row(s, i, buf), to[i] != 0, sums) != SPVS_OK) {
                 return -1;
