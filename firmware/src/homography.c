@@ -558,10 +558,10 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
             cost = refit_cost(in, use, n, Hc);
         } else if (it == 0 && lin == 0) {
             cost = refit_pass(in, use, n, Hc, N, g);
-        } else if (it == 0) {
-            unpack_normal(lin, N);
-            cost = refit_grad(in, use, n, Hc, g);
         } else {
+            if (it == 0) {
+                unpack_normal(lin, N);
+            }
             cost = refit_grad(in, use, n, Hc, g);
         }
         if (!(cost <= prev)) {

@@ -615,11 +615,11 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
     /* The set in use and the next one, swapped each round. */
     uint8_t *cur = s->mask;
     uint8_t *next = s->idx_mask;
-    spvs_real hw[9];
+    spvs_real *const hw = s->lin_hw;
+    spvs_real *const sums = s->lin_sums;
     for (int k = 0; k < 9; k++) {
         hw[k] = model[k];
     }
-    spvs_real sums[SPVS_H_LIN_SUMS];
     int lin = lin_sums(s, cur, hw, sums) == SPVS_OK;
     for (int round = 0; lin && round < SPVS_REFIT_ROUNDS; round++) {
         spvs_real Hr[9];

@@ -91,6 +91,10 @@ typedef struct {
     uint16_t idx[SPVS_MAX_MATCHES];     /* RANSAC index scratch             */
     uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among the points   */
     uint8_t idx_mask[SPVS_MAX_MATCHES]; /* inliers under a refitted H       */
+    /* The inlier re-selection's joint linear fit: its weight model and its
+     * sums over the set in use (homography.h, spvs_h_lin_sums). */
+    spvs_real lin_hw[9];
+    spvs_real lin_sums[SPVS_H_LIN_SUMS];
     uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates (pts index) */
     uint8_t support[SPVS_MAX_OFFPLANE];
     spvs_epipole_work_t ework;
