@@ -91,6 +91,9 @@ typedef struct {
     uint16_t idx[SPVS_MAX_MATCHES];     /* RANSAC index scratch             */
     uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among the points   */
     uint8_t idx_mask[SPVS_MAX_MATCHES]; /* inliers under a refitted H       */
+    /* The LO step's second pass: the polished model's inliers among the
+     * first SPVS_LO_POINTS points. */
+    uint8_t lo_mask[SPVS_LO_POINTS];
     /* The inlier re-selection's joint linear fit: its weight model and its
      * sums over the set in use (homography.h, spvs_h_lin_sums). */
     spvs_real lin_hw[9];

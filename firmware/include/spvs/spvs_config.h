@@ -72,6 +72,12 @@
 #define SPVS_REFIT_ROUNDS 4
 #endif
 
+/* Points that RANSAC's LO step fits on: the first of the spread order
+ * (spvs.c, est_refine). */
+#ifndef SPVS_LO_POINTS
+#define SPVS_LO_POINTS 96
+#endif
+
 /* Pixel coordinates are multiplied by 1/SPVS_COORD_SCALE inside the core so
  * that every intermediate stays in a bounded range (a power of two keeps the
  * scaling exact in binary floating and fixed point). */
@@ -143,6 +149,9 @@
 #endif
 #if (SPVS_REFIT_ROUNDS < 1) || (SPVS_REFIT_ROUNDS > 8)
 #error "SPVS_REFIT_ROUNDS must be in 1..8"
+#endif
+#if (SPVS_LO_POINTS < 8) || (SPVS_LO_POINTS > 4096)
+#error "SPVS_LO_POINTS must be in 8..4096"
 #endif
 #if (SPVS_COORD_SCALE < 1) || (SPVS_COORD_SCALE > 65536)
 #error "SPVS_COORD_SCALE must be in 1..65536"
