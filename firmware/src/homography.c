@@ -512,6 +512,17 @@ static spvs_real refit_cost(const pts_in_t *in, const uint8_t *use, uint16_t n,
     return c;
 }
 
+/* Moves rows 1 and 3 of H by the step d = (h11 h12 h13 h31 h32 h33). */
+static void add_step(spvs_real H[9], const spvs_real d[6])
+{
+    H[0] += d[0];
+    H[1] += d[1];
+    H[2] += d[2];
+    H[6] += d[3];
+    H[7] += d[4];
+    H[8] += d[5];
+}
+
 /* The refit of spvs_h_refit; with lin (SPVS_H_LIN_SUMS sums) the first
  * step takes its normal matrix from those sums and only the gradient and
  * the cost are summed at H (spvs_h_refit_lin). */
@@ -594,12 +605,7 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
         for (int k = 0; k < 9; k++) {
             Hprev[k] = Hc[k];
         }
-        Hc[0] += d[0];
-        Hc[1] += d[1];
-        Hc[2] += d[2];
-        Hc[6] += d[3];
-        Hc[7] += d[4];
-        Hc[8] += d[5];
+        add_step(Hc, d);
     }
     if (!have) {
         return SPVS_E_DEGENERATE;
@@ -709,12 +715,7 @@ int spvs_h_lin_solve(const spvs_real sums[SPVS_H_LIN_SUMS], const spvs_real Hw[9
     for (int k = 0; k < 9; k++) {
         H[k] = Hw[k];
     }
-    H[0] += d[0];
-    H[1] += d[1];
-    H[2] += d[2];
-    H[6] += d[3];
-    H[7] += d[4];
-    H[8] += d[5];
+    add_step(H, d);
     return SPVS_OK;
 }
 
