@@ -201,11 +201,12 @@ static SPVS_ALWAYS_INLINE int score_points(const spvs_t *s, const spvs_real *h, 
 }
 
 /* Counts the inliers (hp_inlier) of H among the first n points and, when
- * mask is not NULL, marks them.  Stops early, returning a count below `need`, once `need` cannot be
- * reached (on SIMD lanes tested every SCORE_BLOCK points, else at every
- * point) or once the bail-out test says it will not be: after every
- * SCORE_BLOCK points, a count more than BAIL_SIGMAS binomial standard
- * deviations below the fraction need / n of the points seen so far.  For a
+ * mask is not NULL, marks them.  Stops early, returning a count below
+ * `need`, once `need` cannot be reached (on SIMD lanes tested every
+ * SCORE_BLOCK points, else at every point) or once the bail-out test says
+ * it will not be: after every SCORE_BLOCK points, a count more than
+ * BAIL_SIGMAS binomial standard deviations below the fraction need / n of
+ * the points seen so far.  For a
  * model as good as `need` that happens with a probability of about 0.1 %
  * per test; a contaminated sample's model is dropped after 16 to 48 points
  * instead of after n - need outliers.  The points are in spread order
