@@ -341,6 +341,15 @@ static int lin_sums(const spvs_t *s, const uint8_t *use, const spvs_real hw[9],
 #endif
 }
 
+/* Adds point i to the sums (to[i] set) or removes it; 0 when it could not
+ * be added (w0 <= 0 under hw). */
+static SPVS_ALWAYS_INLINE int lin_move(const spvs_t *s, const spvs_real hw[9], const uint8_t *to,
+                                       uint16_t i, spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    spvs_real buf[4];
+    return spvs_h_lin_update(hw, point_row(s, i, buf), to[i] != 0, sums) == SPVS_OK;
+}
+
 /* Moves the sums from the set `from` to the set `to`: the points flagged in
  * one and not the other added or removed, in point order.  The flags (0 or
  * 1) are compared eight at a time and only the differing bytes of a word
@@ -359,9 +368,7 @@ static int lin_follow(const spvs_t *s, const spvs_real hw[9], const uint8_t *fro
         const uint64_t a = spvs_load_le64(from + i0);
         const uint64_t b = spvs_load_le64(to + i0);
         for (uint64_t d = a ^ b; d != 0u; d &= d - 1u) {
-            const uint16_t i = (uint16_t)(i0 + spvs_byte_of_lowest(d));
-            spvs_real buf[4];
-            if (spvs_h_lin_update(hw, point_row(s, i, buf), to[i] != 0, sums) != SPVS_OK) {
+            if (!lin_move(s, hw, to, (uint16_t)(i0 + spvs_byte_of_lowest(d)), sums)) {
                 return -1;
             }
             moved = 1;
@@ -369,8 +376,7 @@ static int lin_follow(const spvs_t *s, const spvs_real hw[9], const uint8_t *fro
     }
     for (uint16_t i = i0; i < n; i++) {
         if (from[i] != to[i]) {
-            spvs_real buf[4];
-            if (spvs_h_lin_update(hw, point_row(s, i, buf), to[i] != 0, sums) != SPVS_OK) {
+            if (!lin_move(s, hw, to, i, sums)) {
                 return -1;
             }
             moved = 1;
@@ -400,15 +406,8 @@ static int est_refine(void *ctx, spvs_real *H, const uint8_t *mask)
     }
     const spvs_real t = s->p.inlier_px / (spvs_real)SPVS_COORD_SCALE;
     (void)score_first(s, m, H, t * t, 0, s->lo_mask);
-    spvs_real H2[9];
-    for (int k = 0; k < 9; k++) {
-        H2[k] = H[k];
-    }
-    if (fit_linear(s, s->lo_mask, m, H2) == SPVS_OK) {
-        for (int k = 0; k < 9; k++) {
-            H[k] = H2[k];
-        }
-    }
+    /* On failure the fit leaves H as the first pass made it. */
+    (void)fit_linear(s, s->lo_mask, m, H);
     return SPVS_OK;
 }
 
