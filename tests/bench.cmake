@@ -10,8 +10,16 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt)
   # The same with each estimator's repeats back to back (--order blocks), and
   # a bad --order value refused with status 2 and a message naming it.
   add_test(NAME bench_short_blocks
-    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --order blocks | /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/bench/check_short.py")
+    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --order blocks | /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/bench/check_short.py --order blocks")
   set_tests_properties(bench_short_blocks PROPERTIES LABELS "bench" TIMEOUT 60)
+  # Every estimate after one frame's feature extraction (--between frame),
+  # and a bad --between value refused like a bad --order.
+  add_test(NAME bench_short_frame
+    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --between frame | /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/bench/check_short.py --between frame")
+  set_tests_properties(bench_short_frame PROPERTIES LABELS "bench" TIMEOUT 120)
+  add_test(NAME bench_bad_between
+    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --between lunch 2>err.txt; rc=$?; grep -q \"'lunch'\" err.txt && test $rc -eq 2")
+  set_tests_properties(bench_bad_between PROPERTIES LABELS "bench" TIMEOUT 30)
   add_test(NAME bench_bad_order
     COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --order sideways 2>err.txt; rc=$?; grep -q \"'sideways'\" err.txt && test $rc -eq 2")
   set_tests_properties(bench_bad_order PROPERTIES LABELS "bench" TIMEOUT 30)

@@ -13,7 +13,8 @@
  *   --callgrind EST            run EST for --count K estimates (instruction
  *                              counts: run with K and with 0, subtract)
  * Options: --repeats K, --estimators a,b|all, --order turns|blocks,
- *   --instances I, --poses P, --seed S, --n N, --mismatch F, --sigma PX,
+ *   --between none|frame, --instances I, --poses P, --seed S, --n N,
+ *   --mismatch F, --sigma PX,
  *   --count K, --warmup K.
  * Bad options print one line on stderr and exit with status 2.
  */
@@ -31,6 +32,7 @@
 #include <opencv2/core.hpp>
 
 #include "estimators.h"
+#include "frame_work.h"
 #include "hombench.h"
 
 namespace {
@@ -59,6 +61,7 @@ struct Options {
     bool json = false;
     bool per_record = false;
     bool blocks = false;
+    bool frame = false;
     int repeats = -1;
     int warmup = -1;
     std::vector<std::string> estimators;
@@ -122,6 +125,10 @@ void print_help()
         "  --estimators a,b|all   estimators (default: spvs for --cases, all otherwise)\n"
         "  --order turns|blocks   on each record, estimators take turns repeat by repeat\n"
         "                         (default), or each runs its repeats back to back\n"
+        "  --between none|frame   untimed work before every timed estimate: nothing\n"
+        "                         (default), or one camera frame's feature extraction\n"
+        "                         (ORB, 500 features, 640x480) after which the matches\n"
+        "                         are handed over afresh: every estimator starts cold\n"
         "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
         "  --per-record           also print one JSON line per (record, estimator) on stderr\n"
         "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
@@ -181,6 +188,14 @@ Options parse(int argc, char **argv)
                 o.blocks = true;
             else
                 usage_error(std::string("--order takes turns or blocks, not '") + v + "'");
+        } else if (!std::strcmp(a, "--between")) {
+            const char *v = need(i);
+            if (!std::strcmp(v, "none"))
+                o.frame = false;
+            else if (!std::strcmp(v, "frame"))
+                o.frame = true;
+            else
+                usage_error(std::string("--between takes none or frame, not '") + v + "'");
         } else if (!std::strcmp(a, "--estimators")) {
             o.estimators = split_list(need(i));
             if (o.estimators.empty())
@@ -278,6 +293,9 @@ struct Cell {
     std::vector<double> us;      /* one per timed estimate              */
     std::vector<double> err_px;  /* corner error of estimates returning H */
     uint32_t estimates = 0, successes = 0, returned = 0;
+    /* How the estimates were timed (run_set). */
+    const char *order = "turns";
+    const char *between = "none";
 };
 
 double quantile(std::vector<double> v, double q)
@@ -338,14 +356,15 @@ std::string json_line(const std::string &est, const Cell &c)
                   "\"sigma_px\": %s, \"records\": %u, \"estimates\": %u, \"median_us\": %s, "
                   "\"q1_us\": %s, \"q3_us\": %s, \"iqr_us\": %s, \"success_rate\": %s, "
                   "\"returned_rate\": %s, \"mean_corner_err_px\": %s, "
-                  "\"median_corner_err_px\": %s, \"mean_corner_err_ok_px\": %s}",
+                  "\"median_corner_err_px\": %s, \"mean_corner_err_ok_px\": %s, "
+                  "\"order\": \"%s\", \"between\": \"%s\"}",
                   c.case_id, est.c_str(), c.n, jnum(c.mismatch).c_str(), jnum(c.sigma).c_str(),
                   c.records, c.estimates, jnum(s.median_us).c_str(), jnum(s.q1_us).c_str(),
                   jnum(s.q3_us).c_str(), jnum(s.q3_us - s.q1_us).c_str(),
                   jnum(s.success_rate).c_str(),
                   jnum(c.estimates ? (double)c.returned / c.estimates : 0.0).c_str(),
                   jnum(s.mean_err).c_str(), jnum(s.median_err).c_str(),
-                  jnum(s.mean_err_ok).c_str());
+                  jnum(s.mean_err_ok).c_str(), c.order, c.between);
     return b;
 }
 
@@ -357,9 +376,13 @@ using Results = std::vector<std::pair<uint32_t, std::map<std::string, Cell>>>;
  * estimate then starts where the other estimators have just run (caches and
  * branch predictors hold their code and data).  With `blocks` each
  * estimator instead runs its repeats back to back, as in a loop that runs
- * only it, and the estimators' order turns by one from record to record. */
+ * only it, and the estimators' order turns by one from record to record.
+ * With `frame`, one frame's feature extraction (FrameWork) runs before every
+ * timed estimate and the estimator's input is prepared again after it, so
+ * every estimator starts from the same cold caches and predictors, as on a
+ * robot (neither is timed). */
 Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int repeats,
-                int warmup, bool per_record, bool blocks)
+                int warmup, bool per_record, bool blocks, bool frame)
 {
     using clock = std::chrono::steady_clock;
     std::vector<std::unique_ptr<Estimator>> est;
@@ -373,6 +396,10 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
         if (e->prepare(set.rec[0]))
             for (int k = 0; k < warmup; k++)
                 (void)e->estimate(Hw);
+
+    std::unique_ptr<bench::FrameWork> work;
+    if (frame)
+        work.reset(new bench::FrameWork());
 
     Results res;
     std::map<uint32_t, size_t> pos;
@@ -399,6 +426,8 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
                 c.n = rec.n;
                 c.mismatch = rec.mismatch;
                 c.sigma = rec.sigma_px;
+                c.order = blocks ? "blocks" : "turns";
+                c.between = frame ? "frame" : "none";
             }
             c.records++;
         }
@@ -414,6 +443,10 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
             if (!ready[e])
                 continue;
             double H[9];
+            if (work) {
+                (void)work->run();
+                (void)est[e]->prepare(rec);
+            }
             auto t0 = clock::now();
             bool ok = est[e]->estimate(H);
             auto t1 = clock::now();
@@ -576,7 +609,7 @@ int main(int argc, char **argv)
             return 1;
         }
         Results res = run_set(set, o.estimators, o.repeats > 0 ? o.repeats : 5,
-                              o.warmup >= 0 ? o.warmup : 20, o.per_record, o.blocks);
+                              o.warmup >= 0 ? o.warmup : 20, o.per_record, o.blocks, o.frame);
         print_json(res, o.estimators, stdout);
         hb_set_free(&set);
         return 0;
@@ -599,7 +632,8 @@ int main(int argc, char **argv)
         }
         int repeats = o.repeats > 0 ? o.repeats : (o.mode == "--short" ? 3 : 5);
         int warmup = o.warmup >= 0 ? o.warmup : (o.mode == "--short" ? 3 : 20);
-        Results res = run_set(set, o.estimators, repeats, warmup, o.per_record, o.blocks);
+        Results res =
+            run_set(set, o.estimators, repeats, warmup, o.per_record, o.blocks, o.frame);
         if (!o.jsonl_path.empty()) {
             FILE *f = std::fopen(o.jsonl_path.c_str(), "w");
             if (!f) {

@@ -7,6 +7,8 @@ estimators are present, and ours meets the accuracy bar on the case: success
 rate 1.0 and mean corner transfer error under 2 px.
 
 usage: spvs-bench --short | check_short.py [--min-success S] [--max-err PX]
+                                          [--order O] [--between B]
+--order and --between: every line must say it was timed so.
 """
 import argparse
 import json
@@ -27,6 +29,8 @@ def main():
     ap.add_argument("--max-err", type=float, default=2.0)
     ap.add_argument("--need", default="spvs,cv_ransac,cv_usac_default",
                     help="estimators that must be present")
+    ap.add_argument("--order", choices=("turns", "blocks"), default="turns")
+    ap.add_argument("--between", choices=("none", "frame"), default="none")
     args = ap.parse_args()
 
     rows = {}
@@ -43,6 +47,10 @@ def main():
                 fail("line %d lacks field %s" % (k + 1, f))
         if not (isinstance(row["median_us"], (int, float)) and row["median_us"] > 0):
             fail("%s: median_us %r is not a positive time" % (row["estimator"], row["median_us"]))
+        for f in ("order", "between"):
+            if row.get(f) != getattr(args, f):
+                fail("%s: %s is %r, expected %r" % (row["estimator"], f, row.get(f),
+                                                     getattr(args, f)))
         rows[row["estimator"]] = row
     for name in args.need.split(","):
         if name not in rows:
