@@ -24,6 +24,16 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt)
     COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --order sideways 2>err.txt; rc=$?; grep -q \"'sideways'\" err.txt && test $rc -eq 2")
   set_tests_properties(bench_bad_order PROPERTIES LABELS "bench" TIMEOUT 30)
 
+  # One case of the matrix as a case file (--generate --case 15: N = 200,
+  # 20 %, 1 px, its 64 records) timed from the file as an outside harness
+  # would (--cases); --case with another mode refused.
+  add_test(NAME bench_case_file
+    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --generate case15.bin --case 15 && $<TARGET_FILE:spvs-bench> --cases case15.bin --json --repeats 1 --warmup 1 | /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/bench/check_short.py --need spvs --records 64")
+  set_tests_properties(bench_case_file PROPERTIES LABELS "bench" TIMEOUT 60)
+  add_test(NAME bench_bad_case
+    COMMAND sh -c "$<TARGET_FILE:spvs-bench> --short --case 15 2>err.txt; rc=$?; grep -q -- '--case goes with' err.txt && test $rc -eq 2")
+  set_tests_properties(bench_bad_case PROPERTIES LABELS "bench" TIMEOUT 30)
+
   # The case file reader and writer: round trip, and bad files rejected.
   spvs_add_test(NAME test_bench_cases SOURCES test_bench_cases.c
                 LIBS spvs_hombench LABELS bench TIMEOUT 60)

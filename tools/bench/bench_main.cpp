@@ -13,7 +13,7 @@
  *   --callgrind EST            run EST for --count K estimates (instruction
  *                              counts: run with K and with 0, subtract)
  * Options: --repeats K, --estimators a,b|all, --order turns|blocks,
- *   --between none|frame, --instances I, --poses P, --seed S, --n N,
+ *   --between none|frame, --case ID, --instances I, --poses P, --seed S, --n N,
  *   --mismatch F, --sigma PX,
  *   --count K, --warmup K.
  * Bad options print one line on stderr and exit with status 2.
@@ -68,6 +68,7 @@ struct Options {
     uint32_t instances = 8;
     uint32_t poses = 8;
     uint64_t seed = 1;
+    int only_case = -1;
     uint32_t n = 100;
     double mismatch = 0.2;
     double sigma = 1.0;
@@ -129,6 +130,8 @@ void print_help()
         "                         (default), or one camera frame's feature extraction\n"
         "                         (ORB, 500 features, 640x480) after which the matches\n"
         "                         are handed over afresh: every estimator starts cold\n"
+        "  --case ID              with --generate or --full: only case ID of the matrix\n"
+        "                         (0-23, (iN * 3 + iMismatch) * 2 + iSigma; 15 = N 200, 20 %%, 1 px)\n"
         "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
         "  --per-record           also print one JSON line per (record, estimator) on stderr\n"
         "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
@@ -200,6 +203,8 @@ Options parse(int argc, char **argv)
             o.estimators = split_list(need(i));
             if (o.estimators.empty())
                 usage_error("--estimators needs a comma-separated list");
+        } else if (!std::strcmp(a, "--case")) {
+            o.only_case = (int)parse_long(a, need(i), 0, 23);
         } else if (!std::strcmp(a, "--instances")) {
             o.instances = (uint32_t)parse_long(a, need(i), 1, 10000);
         } else if (!std::strcmp(a, "--poses")) {
@@ -220,6 +225,8 @@ Options parse(int argc, char **argv)
     }
     if (o.mode.empty())
         usage_error("no mode given");
+    if (o.only_case >= 0 && o.mode != "--generate" && o.mode != "--full")
+        usage_error("--case goes with --generate or --full");
     if (o.mode == "--cases" && !o.json)
         usage_error("--cases prints JSON lines only: add --json");
     if (o.estimators.empty() || (o.estimators.size() == 1 && o.estimators[0] == "all")) {
@@ -266,8 +273,10 @@ bool generate_case(hb_set_t &set, uint32_t case_id, uint32_t n, double mismatch,
     return true;
 }
 
-/* The whole matrix; case_id = (iN * 3 + iMismatch) * 2 + iSigma. */
-bool generate_matrix(hb_set_t &set, uint32_t instances, uint32_t poses, uint64_t seed)
+/* The whole matrix, or only case only_case when it is >= 0; case_id =
+ * (iN * 3 + iMismatch) * 2 + iSigma either way. */
+bool generate_matrix(hb_set_t &set, uint32_t instances, uint32_t poses, uint64_t seed,
+                     int only_case)
 {
     hb_scene_default(&set.scene);
     size_t total = 4 * 3 * 2 * (size_t)instances * poses;
@@ -279,8 +288,13 @@ bool generate_matrix(hb_set_t &set, uint32_t instances, uint32_t poses, uint64_t
     for (uint32_t n : kNs)
         for (double m : kMismatch)
             for (double s : kSigma)
-                if (!generate_case(set, id++, n, m, s, instances, poses, seed))
+            {
+                const uint32_t case_id = id++;
+                if (only_case >= 0 && case_id != (uint32_t)only_case)
+                    continue;
+                if (!generate_case(set, case_id, n, m, s, instances, poses, seed))
                     return false;
+            }
     return true;
 }
 
@@ -589,7 +603,7 @@ int main(int argc, char **argv)
 
     if (o.mode == "--generate") {
         hb_set_t set{};
-        if (!generate_matrix(set, o.instances, o.poses, o.seed)) {
+        if (!generate_matrix(set, o.instances, o.poses, o.seed, o.only_case)) {
             std::fprintf(stderr, "spvs-bench: case generation failed\n");
             hb_set_free(&set);
             return 1;
@@ -623,7 +637,7 @@ int main(int argc, char **argv)
             set.rec = (hb_record_t *)std::calloc(2 * 6, sizeof(hb_record_t));
             ok = set.rec && generate_case(set, 13, 200, 0.2, 1.0, 2, 6, o.seed);
         } else {
-            ok = generate_matrix(set, o.instances, o.poses, o.seed);
+            ok = generate_matrix(set, o.instances, o.poses, o.seed, o.only_case);
         }
         if (!ok) {
             std::fprintf(stderr, "spvs-bench: case generation failed\n");

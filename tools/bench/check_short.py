@@ -8,7 +8,9 @@ rate 1.0 and mean corner transfer error under 2 px.
 
 usage: spvs-bench --short | check_short.py [--min-success S] [--max-err PX]
                                           [--order O] [--between B]
---order and --between: every line must say it was timed so.
+                                          [--need a,b] [--records R]
+--order and --between: every line must say it was timed so; --records: ours
+must have timed that many records.
 """
 import argparse
 import json
@@ -31,6 +33,7 @@ def main():
                     help="estimators that must be present")
     ap.add_argument("--order", choices=("turns", "blocks"), default="turns")
     ap.add_argument("--between", choices=("none", "frame"), default="none")
+    ap.add_argument("--records", type=int, default=None)
     args = ap.parse_args()
 
     rows = {}
@@ -58,6 +61,8 @@ def main():
     ours = rows["spvs"]
     if ours["N"] != 200:
         fail("short case should have N = 200, got %r" % ours["N"])
+    if args.records is not None and ours.get("records") != args.records:
+        fail("ours timed %r records, expected %d" % (ours.get("records"), args.records))
     if ours["success_rate"] < args.min_success:
         fail("our success rate %.3f is below %.3f" % (ours["success_rate"], args.min_success))
     err = ours["mean_corner_err_px"]
@@ -66,7 +71,8 @@ def main():
     sys.stdout.write("check_short: spvs %.1f us, success %.3f, corner error %.3f px; "
                      "fastest OpenCV %.1f us\n" % (
                          ours["median_us"], ours["success_rate"], err,
-                         min(r["median_us"] for n, r in rows.items() if n.startswith("cv_"))))
+                         min((r["median_us"] for n, r in rows.items() if n.startswith("cv_")),
+                             default=float("nan"))))
 
 
 if __name__ == "__main__":
