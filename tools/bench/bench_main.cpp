@@ -95,6 +95,16 @@ long parse_long(const char *opt, const char *s, long lo, long hi)
     return v;
 }
 
+/* A two-way option: false for `off`, true for `on`. */
+bool parse_choice(const char *opt, const char *s, const char *off, const char *on)
+{
+    if (!std::strcmp(s, off))
+        return false;
+    if (!std::strcmp(s, on))
+        return true;
+    usage_error(std::string(opt) + " takes " + off + " or " + on + ", not '" + s + "'");
+}
+
 std::vector<std::string> split_list(const std::string &s)
 {
     std::vector<std::string> out;
@@ -184,21 +194,9 @@ Options parse(int argc, char **argv)
         } else if (!std::strcmp(a, "--warmup")) {
             o.warmup = (int)parse_long(a, need(i), 0, 100000);
         } else if (!std::strcmp(a, "--order")) {
-            const char *v = need(i);
-            if (!std::strcmp(v, "turns"))
-                o.blocks = false;
-            else if (!std::strcmp(v, "blocks"))
-                o.blocks = true;
-            else
-                usage_error(std::string("--order takes turns or blocks, not '") + v + "'");
+            o.blocks = parse_choice(a, need(i), "turns", "blocks");
         } else if (!std::strcmp(a, "--between")) {
-            const char *v = need(i);
-            if (!std::strcmp(v, "none"))
-                o.frame = false;
-            else if (!std::strcmp(v, "frame"))
-                o.frame = true;
-            else
-                usage_error(std::string("--between takes none or frame, not '") + v + "'");
+            o.frame = parse_choice(a, need(i), "none", "frame");
         } else if (!std::strcmp(a, "--estimators")) {
             o.estimators = split_list(need(i));
             if (o.estimators.empty())
