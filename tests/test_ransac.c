@@ -100,6 +100,22 @@ typedef struct {
     spvs_ransac_stats_t st;
 } run_t;
 
+/* Appends k mismatches to the n matches m[]: mismatch i keeps match i's
+ * target point and takes a current point uniform in the 640 x 480 frame,
+ * as feature n + i.  Returns the new count. */
+static uint16_t add_mismatches(spvs_match_t *m, uint16_t n, int k, uint64_t *rng)
+{
+    const uint16_t n0 = n;
+    for (int i = 0; i < k; i++) {
+        m[n] = m[i];
+        m[n].x_cur = (spvs_real)((synth_uniform(rng) - 0.5) * 640);
+        m[n].y_cur = (spvs_real)((synth_uniform(rng) - 0.5) * 480);
+        m[n].feature = (uint16_t)(n0 + i);
+        n++;
+    }
+    return n;
+}
+
 static int run(const spvs_estimator_t *est, const spvs_ransac_opts_t *o, run_t *r)
 {
     return spvs_ransac(est, o, &r->rng, r->idx, r->model, r->mask, r->scratch, &r->st);
@@ -273,13 +289,7 @@ static void test_planar_half_outliers(void **state)
         spvs_match_t m[200];
         uint16_t n = synth_frame(&p, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
         assert_int_equal(n, 100);
-        for (int i = 0; i < 100; i++) {
-            m[n] = m[i];
-            m[n].x_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 640);
-            m[n].y_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
-            m[n].feature = (uint16_t)(100 + i);
-            n++;
-        }
+        n = add_mismatches(m, n, 100, &rng);
         spvs_params_t prm;
         spvs_params_default(&prm, SPVS_METHOD_III);
         prm.seed = (uint32_t)t;
@@ -330,13 +340,7 @@ static void test_lo_lifts_share(void **state)
             m[i].x_tgt = (spvs_real)(m[i].x_tgt + synth_gauss(&rng));
             m[i].y_tgt = (spvs_real)(m[i].y_tgt + synth_gauss(&rng));
         }
-        for (int i = 0; i < 40; i++) {
-            m[n] = m[i];
-            m[n].x_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 640);
-            m[n].y_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
-            m[n].feature = (uint16_t)(160 + i);
-            n++;
-        }
+        n = add_mismatches(m, n, 40, &rng);
         spvs_params_t prm;
         spvs_params_default(&prm, SPVS_METHOD_III);
         prm.inlier_px = 3;
