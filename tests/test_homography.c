@@ -1,5 +1,7 @@
-/* test_homography.c - the planar 3-point solver, the transfer-error refit and
- * the pixel <-> scaled conversion (homography.h). */
+/* test_homography.c - the planar 3-point solver, the linear fit, the
+ * transfer-error refit and the pixel <-> scaled conversion (homography.h),
+ * and the core's private layer beneath them: the fits on the estimator's
+ * point store and the joint linear fit (firmware/src/h_fit.h, points.h). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -8,6 +10,7 @@
 
 #include <cmocka.h>
 
+#include "h_fit.h"
 #include "spvs/homography.h"
 #include "synth.h"
 
@@ -59,6 +62,21 @@ static void load_pt(spvs_real pt[4], const spvs_match_t *m)
     pt[1] = (spvs_real)(m->y_tgt / S);
     pt[2] = (spvs_real)(m->x_cur / S);
     pt[3] = (spvs_real)(m->y_cur / S);
+}
+
+/* The private fits on rows the test holds (h_fit.h). */
+static int lin_sums_rows(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                         const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    const spvs_pts_in_t in = {pts, 0};
+    return spvs_hf_lin_sums(&in, use, n, Hw, sums);
+}
+
+static int refit_lin_rows(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                          uint16_t steps, const spvs_real sums[SPVS_H_LIN_SUMS], spvs_real H[9])
+{
+    const spvs_pts_in_t in = {pts, 0};
+    return spvs_hf_refit(&in, use, n, steps, sums, H);
 }
 
 /* Eq. (2) built by matrix products equals the closed form of eq. (5). */
@@ -235,12 +253,14 @@ static void test_refit(void **state)
     assert_true(sum_noisy / n_cases < 0.5);
 }
 
-/* The column forms of the linear fit and the refit (the SIMD path where the
- * target has SIMD) give the same bits as the row forms (the path the
- * Cortex-M4F runs), for every count of points, including those that leave
- * a short last block, and any mask; so does the minimal solver read in place
- * from either layout. */
-static void test_columns_match_rows(void **state)
+/* The estimator's point store (points.c, in this build's layout: columns
+ * on SIMD lanes where SPVS_SIMD_COLUMNS is 1, rows elsewhere) gives the
+ * same bits as rows held by the caller, for the linear fit, the refit, the
+ * joint linear fit's sums and the refit from them, the inlier count and its
+ * cost, for every count of points, including those that leave a short last
+ * block, and any mask; so does the minimal solver read in place.  The host
+ * test command runs this in both layouts. */
+static void test_store_matches_rows(void **state)
 {
     (void)state;
     static const uint16_t counts[] = {3, 4, 5, 15, 16, 17, 33, 100, 203, 256};
@@ -261,16 +281,22 @@ static void test_columns_match_rows(void **state)
                 continue;
             }
             static spvs_real pts[256][4];
-            static spvs_real col[4][256];
+            static spvs_point_store_t store;
+            uint16_t feat[256];
             uint8_t use[256];
             for (uint16_t i = 0; i < n; i++) {
                 load_pt(pts[i], &m[i]);
-                for (int k = 0; k < 4; k++) {
-                    col[k][i] = pts[i][k];
-                }
                 use[i] = (uint8_t)(t == 0 || synth_uniform(&rng) < 0.8);
             }
-            const spvs_real *const cols[4] = {col[0], col[1], col[2], col[3]};
+            assert_int_equal(spvs_pts_load(&store, feat, m, n, n, NULL, 1), 0);
+            for (uint16_t i = 0; i < n; i++) {
+                spvs_real row[4];
+                spvs_pts_row(&store, i, row);
+                assert_memory_equal(row, pts[i], sizeof row);
+                assert_int_equal(feat[i], m[i].feature);
+            }
+            const spvs_pts_in_t rows = {(const spvs_real(*)[4])pts, 0};
+            const spvs_pts_in_t st = {0, &store};
             double Ht[9];
             synth_H(&p, &pl, 800, Ht);
             spvs_real H0[9];
@@ -285,7 +311,7 @@ static void test_columns_match_rows(void **state)
                 Hb[k] = H0[k];
             }
             int ra = spvs_h_fit_linear((const spvs_real(*)[4])pts, use, n, Ha);
-            int rb = spvs_h_fit_linear_cols(cols, use, n, Hb);
+            int rb = spvs_hf_fit_linear(&st, use, n, Hb);
             assert_int_equal(ra, rb);
             assert_memory_equal(Ha, Hb, sizeof Ha);
             for (int k = 0; k < 9; k++) {
@@ -293,15 +319,15 @@ static void test_columns_match_rows(void **state)
                 Hb[k] = H0[k];
             }
             ra = spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, Ha);
-            rb = spvs_h_refit_cols(cols, use, n, SPVS_REFIT_MAX_ITERS, Hb);
+            rb = spvs_hf_refit(&st, use, n, SPVS_REFIT_MAX_ITERS, NULL, Hb);
             assert_int_equal(ra, rb);
             assert_memory_equal(Ha, Hb, sizeof Ha);
             n_cases += ra == SPVS_OK;
             /* The joint linear fit's sums, and the refit that starts from
              * them. */
             spvs_real sa[SPVS_H_LIN_SUMS] = {0}, sb[SPVS_H_LIN_SUMS] = {0};
-            ra = spvs_h_lin_sums((const spvs_real(*)[4])pts, use, n, H0, sa);
-            rb = spvs_h_lin_sums_cols(cols, use, n, H0, sb);
+            ra = spvs_hf_lin_sums(&rows, use, n, H0, sa);
+            rb = spvs_hf_lin_sums(&st, use, n, H0, sb);
             assert_int_equal(ra, rb);
             assert_memory_equal(sa, sb, sizeof sa);
             if (ra == SPVS_OK) {
@@ -309,14 +335,41 @@ static void test_columns_match_rows(void **state)
                     Ha[k] = H0[k];
                     Hb[k] = H0[k];
                 }
-                ra = spvs_h_refit_lin((const spvs_real(*)[4])pts, use, n, 1, sa, Ha);
-                rb = spvs_h_refit_lin_cols(cols, use, n, 1, sb, Hb);
+                ra = spvs_hf_refit(&rows, use, n, 1, sa, Ha);
+                rb = spvs_hf_refit(&st, use, n, 1, sb, Hb);
                 assert_int_equal(ra, rb);
                 assert_memory_equal(Ha, Hb, sizeof Ha);
                 n_lin += ra == SPVS_OK;
             }
-            /* The minimal solver on a sample of the set, read in place from
-             * rows and from columns, against the solver on a copy. */
+            /* The inlier count at 3 px (no bail-out: need 0) against a
+             * count made here point by point, and the cost twice. */
+            const spvs_real t3 = SPVS_R(3.0) / (spvs_real)SPVS_COORD_SCALE;
+            uint8_t mask[256];
+            const uint16_t cnt = spvs_pts_score(&store, n, Ha, t3 * t3, 0, mask);
+            uint16_t expect = 0;
+            for (uint16_t i = 0; i < n; i++) {
+                const spvs_real e2 = spvs_h_transfer_err2(Ha, pts[i]);
+                /* Away from the threshold the division makes no difference. */
+                if (e2 >= SPVS_R(0.0) && fabs(sqrt((double)e2) * S - 3.0) > 1e-3) {
+                    assert_int_equal(mask[i], e2 <= t3 * t3);
+                }
+                expect = (uint16_t)(expect + mask[i]);
+            }
+            assert_int_equal(cnt, expect);
+            /* The cost: the inliers' squared residual |p_cur w - H p_tgt|^2. */
+            double cost = 0;
+            for (uint16_t i = 0; i < n; i++) {
+                if (mask[i]) {
+                    const double w = (double)Ha[6] * pts[i][0] + (double)Ha[7] * pts[i][1] + (double)Ha[8];
+                    const double ex = pts[i][2] * w - ((double)Ha[0] * pts[i][0] + (double)Ha[1] * pts[i][1] + (double)Ha[2]);
+                    const double ey = pts[i][3] * w - pts[i][1];
+                    cost += ex * ex + ey * ey;
+                }
+            }
+            const double got = (double)spvs_pts_cost(&store, n, Ha, t3 * t3);
+            assert_true(fabs(got - cost) <= 1e-3 * cost + 1e-12);
+            /* The minimal solver on a sample of the set, read in place,
+             * against the solver on a copy. */
             for (int d = 0; d < 8; d++) {
                 uint16_t idx[3];
                 idx[0] = (uint16_t)(synth_uniform(&rng) * n) % n;
@@ -332,12 +385,10 @@ static void test_columns_match_rows(void **state)
                         copy[i][k] = pts[idx[i]][k];
                     }
                 }
-                spvs_real Hc[9] = {0}, Hr[9] = {0}, Hk[9] = {0};
+                spvs_real Hc[9] = {0}, Hk[9] = {0};
                 const int rc = spvs_h_solve3((const spvs_real(*)[4])copy, Hc);
-                assert_int_equal(spvs_h_solve3_rows((const spvs_real(*)[4])pts, idx, Hr), rc);
-                assert_int_equal(spvs_h_solve3_cols(cols, idx, Hk), rc);
+                assert_int_equal(spvs_pts_solve3(&store, idx, Hk), rc);
                 if (rc == SPVS_OK) {
-                    assert_memory_equal(Hr, Hc, sizeof Hc);
                     assert_memory_equal(Hk, Hc, sizeof Hc);
                     n_solved++;
                 }
@@ -360,7 +411,7 @@ static double corner_err_sc(const spvs_real Hs[9], const double Ht[9])
 
 /* The joint linear fit at fixed weights: exact on exact data whatever the
  * weight model, within the noise on noisy data; one refit step from its
- * normal matrix (spvs_h_refit_lin) reaches the transfer-error minimum that
+ * normal matrix (refit_lin_rows) reaches the transfer-error minimum that
  * the full refit reaches; and sums moved point by point to another set
  * solve to the H of sums made afresh on that set. */
 static void test_lin_fit(void **state)
@@ -396,10 +447,10 @@ static void test_lin_fit(void **state)
             Hw[6] += SPVS_R(2.0e-5);
             spvs_h_rescale(Hw, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
             spvs_real sums[SPVS_H_LIN_SUMS];
-            assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, use, n, Hw, sums), SPVS_OK);
+            assert_int_equal(lin_sums_rows((const spvs_real(*)[4])pts, use, n, Hw, sums), SPVS_OK);
             guarded_h_t g;
             g.guard = SENTINEL;
-            assert_int_equal(spvs_h_lin_solve(sums, Hw, g.H), SPVS_OK);
+            assert_int_equal(spvs_hf_lin_solve(sums, Hw, g.H), SPVS_OK);
             assert_int_equal(g.guard, SENTINEL);
             /* The middle row is left as it was. */
             assert_true(g.H[3] == Hw[3] && g.H[4] == Hw[4] && g.H[5] == Hw[5]);
@@ -417,7 +468,7 @@ static void test_lin_fit(void **state)
                 Hs[k] = g.H[k];
                 Hg[k] = g.H[k];
             }
-            assert_int_equal(spvs_h_refit_lin((const spvs_real(*)[4])pts, use, n, 1, sums, Hs), SPVS_OK);
+            assert_int_equal(refit_lin_rows((const spvs_real(*)[4])pts, use, n, 1, sums, Hs), SPVS_OK);
             assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, Hg), SPVS_OK);
             double c_step = 0, c_gn = 0, c_lin = 0;
             for (int i = 0; i < n; i++) {
@@ -442,15 +493,15 @@ static void test_lin_fit(void **state)
                 other[i] = use[i];
                 if (synth_uniform(&rng) < 0.1) {
                     other[i] = (uint8_t)!use[i];
-                    assert_int_equal(spvs_h_lin_update(Hw, pts[i], other[i], moved), SPVS_OK);
+                    assert_int_equal(spvs_pts_lin_move(Hw, pts[i], other[i], moved), 1);
                     n_moved++;
                 }
             }
             spvs_real fresh[SPVS_H_LIN_SUMS];
-            assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, other, n, Hw, fresh), SPVS_OK);
+            assert_int_equal(lin_sums_rows((const spvs_real(*)[4])pts, other, n, Hw, fresh), SPVS_OK);
             spvs_real Hm[9], Hf[9];
-            assert_int_equal(spvs_h_lin_solve(moved, Hw, Hm), SPVS_OK);
-            assert_int_equal(spvs_h_lin_solve(fresh, Hw, Hf), SPVS_OK);
+            assert_int_equal(spvs_hf_lin_solve(moved, Hw, Hm), SPVS_OK);
+            assert_int_equal(spvs_hf_lin_solve(fresh, Hw, Hf), SPVS_OK);
             double Hfp[9];
             to_pixels(Hf, Hfp);
             const double d = corner_err_sc(Hm, Hfp);
@@ -480,21 +531,21 @@ static void test_lin_errors(void **state)
         sums[k] = SPVS_R(7.0);
     }
     uint8_t two[4] = {1, 1, 0, 0};
-    assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, two, 4, I, sums), SPVS_E_TOO_FEW);
+    assert_int_equal(lin_sums_rows((const spvs_real(*)[4])pts, two, 4, I, sums), SPVS_E_TOO_FEW);
     assert_true(sums[0] == SPVS_R(7.0) && sums[SPVS_H_LIN_SUMS - 1] == SPVS_R(7.0));
     /* Weights that put a flagged point behind the camera: h3 . p <= 0. */
     const spvs_real Hbad[9] = {1, 0, 0, 0, 1, 0, SPVS_R(-10.0), 0, 1};
     uint8_t all[4] = {1, 1, 1, 1};
-    assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])pts, all, 4, Hbad, sums), SPVS_E_DEGENERATE);
+    assert_int_equal(lin_sums_rows((const spvs_real(*)[4])pts, all, 4, Hbad, sums), SPVS_E_DEGENERATE);
     assert_true(sums[0] == SPVS_R(7.0));
-    assert_int_equal(spvs_h_lin_update(Hbad, pts[2], 1, sums), SPVS_E_DEGENERATE);
+    assert_int_equal(spvs_pts_lin_move(Hbad, pts[2], 1, sums), 0);
     assert_true(sums[0] == SPVS_R(7.0) && sums[SPVS_H_LIN_SUMS - 1] == SPVS_R(7.0));
     /* Collinear target points: no positive definite normal matrix. */
     spvs_real line[4][4] = {{0.1f, 0.0f, 0.1f, 0.0f}, {0.2f, 0.0f, 0.2f, 0.0f},
                             {0.3f, 0.0f, 0.3f, 0.0f}, {0.4f, 0.0f, 0.4f, 0.0f}};
-    assert_int_equal(spvs_h_lin_sums((const spvs_real(*)[4])line, all, 4, I, sums), SPVS_OK);
+    assert_int_equal(lin_sums_rows((const spvs_real(*)[4])line, all, 4, I, sums), SPVS_OK);
     spvs_real H[9] = {2, 0, 0, 0, 1, 0, 0, 0, 2};
-    assert_int_equal(spvs_h_lin_solve(sums, I, H), SPVS_E_DEGENERATE);
+    assert_int_equal(spvs_hf_lin_solve(sums, I, H), SPVS_E_DEGENERATE);
     assert_true(H[0] == SPVS_R(2.0) && H[8] == SPVS_R(2.0));
 }
 
@@ -541,7 +592,7 @@ int main(void)
         cmocka_unit_test(test_solve3_exact),
         cmocka_unit_test(test_solve3_degenerate),
         cmocka_unit_test(test_refit),
-        cmocka_unit_test(test_columns_match_rows),
+        cmocka_unit_test(test_store_matches_rows),
         cmocka_unit_test(test_lin_fit),
         cmocka_unit_test(test_lin_errors),
         cmocka_unit_test(test_refit_too_few),

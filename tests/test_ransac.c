@@ -280,7 +280,7 @@ static void test_rng(void **state)
 static void test_planar_half_outliers(void **state)
 {
     (void)state;
-    static spvs_t s;
+    static spvs_plane_h_t e;
     uint64_t rng = 3;
     for (int t = 0; t < 10; t++) {
         synth_pose_t p = {-3 + synth_uniform(&rng), -10 + 4 * synth_uniform(&rng), -0.5 + synth_uniform(&rng)};
@@ -292,26 +292,40 @@ static void test_planar_half_outliers(void **state)
         n = add_mismatches(m, n, 100, &rng);
         spvs_params_t prm;
         spvs_params_default(&prm, SPVS_METHOD_III);
-        prm.seed = (uint32_t)t;
-        assert_int_equal(spvs_init(&s, &prm), SPVS_OK);
-        spvs_output_t o1, o2;
-        assert_int_equal(spvs_estimate_h(&s, m, n, &o1), SPVS_OK);
-        assert_int_equal(o1.n_inliers, 100);
+        spvs_rng_t r1, r2;
+        spvs_rng_seed(&r1, (uint32_t)t);
+        spvs_rng_seed(&r2, (uint32_t)t);
+        uint32_t it1 = 0, it2 = 0;
+        assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
+        assert_int_equal(spvs_plane_h_estimate(&e, prm.inlier_px, prm.confidence, prm.max_iters,
+                                               &r1, &it1), SPVS_OK);
+        assert_int_equal(e.n_inliers, 100);
         for (int i = 0; i < n; i++) {
-            assert_int_equal(s.mask[i], s.feat[i] < 100 ? 1 : 0);
+            assert_int_equal(e.mask[i], e.feat[i] < 100 ? 1 : 0);
         }
         double Ht[9], He[9];
         synth_H(&p, &pl, 800, Ht);
+        spvs_real H1[9];
         for (int k = 0; k < 9; k++) {
-            He[k] = (double)o1.H[k];
+            H1[k] = e.H_sc[k];
+        }
+        spvs_h_rescale(H1, (spvs_real)SPVS_COORD_SCALE);
+        for (int k = 0; k < 9; k++) {
+            He[k] = (double)H1[k];
         }
         assert_true(synth_corner_err(He, Ht) < 0.05);
         /* Determinism: same seed, same hypotheses, same H. */
-        spvs_reset(&s);
-        assert_int_equal(spvs_estimate_h(&s, m, n, &o2), SPVS_OK);
-        assert_int_equal(o1.ransac_iters, o2.ransac_iters);
-        assert_memory_equal(o1.H, o2.H, sizeof o1.H);
-        assert_true(o1.ransac_iters <= SPVS_RANSAC_MAX_ITERS);
+        assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
+        assert_int_equal(spvs_plane_h_estimate(&e, prm.inlier_px, prm.confidence, prm.max_iters,
+                                               &r2, &it2), SPVS_OK);
+        assert_int_equal(it1, it2);
+        spvs_real H2[9];
+        for (int k = 0; k < 9; k++) {
+            H2[k] = e.H_sc[k];
+        }
+        spvs_h_rescale(H2, (spvs_real)SPVS_COORD_SCALE);
+        assert_memory_equal(H1, H2, sizeof H1);
+        assert_true(it1 <= SPVS_RANSAC_MAX_ITERS);
     }
 }
 

@@ -76,17 +76,17 @@ static void test_ok_and_remember(void **state)
     }
     /* Every off-plane feature is remembered, no plane feature is. */
     for (int i = 0; i < 125; i++) {
-        assert_int_equal(s.offplane[i] >= 2, i >= 100);
+        assert_int_equal(spvs_offplane_known(&s.off, (uint16_t)i), i >= 100);
     }
     /* ... and counted: the frame copy skips its counting pass only at 0. */
-    assert_int_equal(s.n_offplane_known, 25);
+    assert_int_equal(s.off.n_known, 25);
     /* The epipole: alpha_x tan(phi - phi_t), phi_t = -atan(3/10). */
     double expect = 800 * tan(-30 * DEG + atan(0.3));
     assert_true(fabs((double)g.out.e_x_px - expect) < 0.05);
     /* A reset forgets everything. */
     spvs_reset(&s);
-    assert_int_equal(s.offplane[110], 0);
-    assert_int_equal(s.n_offplane_known, 0);
+    assert_int_equal(s.off.score[110], 0);
+    assert_int_equal(s.off.n_known, 0);
     assert_int_equal(s.ctl.step, SPVS_STEP_ROTATE);
 }
 
@@ -231,6 +231,8 @@ static void test_estimate_h(void **state)
      * every 16 consecutive slots (the inlier count's block) hold between 1
      * and 6 of them (3.2 on average), which the count's bail-out test
      * relies on. */
+    static spvs_plane_h_t e;
+    assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
     static uint8_t bad[SPVS_MAX_FEATURES];
     static uint8_t stored[SPVS_MAX_FEATURES];
     memset(bad, 0, sizeof bad);
@@ -239,8 +241,8 @@ static void test_estimate_h(void **state)
         bad[m[i].feature] = (uint8_t)(i < n / 5);
     }
     for (int k = 0; k < n; k++) {
-        assert_true(s.feat[k] < SPVS_MAX_FEATURES);
-        stored[s.feat[k]]++;
+        assert_true(e.feat[k] < SPVS_MAX_FEATURES);
+        stored[e.feat[k]]++;
     }
     for (int i = 0; i < n; i++) {
         assert_int_equal(stored[m[i].feature], 1);
@@ -249,7 +251,7 @@ static void test_estimate_h(void **state)
     for (int k = 0; k + 16 <= n; k++) {
         int c = 0;
         for (int j = k; j < k + 16; j++) {
-            c += bad[s.feat[j]];
+            c += bad[e.feat[j]];
         }
         lo = c < lo ? c : lo;
         hi = c > hi ? c : hi;

@@ -1,11 +1,14 @@
 /*
- * homography.c - planar-motion homography: 3-point minimal solver and the
- * Gauss-Newton transfer-error refit (paper, section 2).
+ * homography.c - planar-motion homography: 3-point minimal solver, the
+ * linear fit and the Gauss-Newton transfer-error refit (paper, section 2),
+ * on rows the caller gives (homography.h) or on the estimator's point store
+ * (h_fit.h).
  */
 #include <math.h>
 
-#include "spvs/homography.h"
 #include "core_util.h"
+#include "h_fit.h"
+#include "spvs/homography.h"
 
 /* A 3x3 determinant this small (scaled units, so entries are O(1)) means the
  * sample is degenerate: collinear target points or a y-row with no content. */
@@ -13,8 +16,6 @@
 /* A refit step counts as coming from far only while the mean transfer error
  * before it is above 0.01 px (in scaled units). */
 #define FAR_RMS_SC (SPVS_R(0.01) / (spvs_real)SPVS_COORD_SCALE)
-/* H p_tgt must have a third coordinate above this to be in front. */
-#define W_EPS SPVS_R(1.0e-6)
 
 /* Solve the 3x3 system A x = b by the adjugate; returns 0 when |det| is
  * below det_eps (relative to nothing: callers keep entries O(1)). */
@@ -40,10 +41,8 @@ static int solve3x3(const spvs_real A[3][3], const spvs_real b[3], spvs_real x[3
     return 1;
 }
 
-/* The 3-point solver on points given as coordinate k of sample point i at
- * pc[k][idx[i] * is] (rows or columns, spvs_h_solve3*). */
-static SPVS_ALWAYS_INLINE int solve3(const spvs_real *const pc[4], const uint16_t idx[3],
-                                     uint32_t is, spvs_real H_out[9])
+int spvs_h_solve3_strided(const spvs_real *const pc[4], const uint16_t idx[3], uint32_t is,
+                          spvs_real H_out[9])
 {
 #define P3(i, k) (pc[k][(uint32_t)idx[i] * is])
     /* Both 3x3 systems rest on P, the rows (x_tgt, y_tgt, 1) of the three
@@ -76,7 +75,7 @@ static SPVS_ALWAYS_INLINE int solve3(const spvs_real *const pc[4], const uint16_
     for (int i = 0; i < 3; i++) {
         const spvs_real w = h3[0] * P3(i, 0) + h3[1] * P3(i, 1) + h3[2];
         /* A plane point seen by both cameras has a positive depth ratio. */
-        if (!(w > W_EPS)) {
+        if (!(w > SPVS_W_EPS)) {
             return SPVS_E_DEGENERATE;
         }
         bx[i] = P3(i, 2) * w;
@@ -105,25 +104,14 @@ static SPVS_ALWAYS_INLINE int solve3(const spvs_real *const pc[4], const uint16_
 int spvs_h_solve3(const spvs_real pts[3][4], spvs_real H_out[9])
 {
     static const uint16_t idx[3] = {0, 1, 2};
-    return spvs_h_solve3_rows(pts, idx, H_out);
-}
-
-int spvs_h_solve3_rows(const spvs_real (*pts)[4], const uint16_t idx[3], spvs_real H_out[9])
-{
     const spvs_real *const c[4] = {&pts[0][0], &pts[0][1], &pts[0][2], &pts[0][3]};
-    return solve3(c, idx, 4u, H_out);
-}
-
-int spvs_h_solve3_cols(const spvs_real *const cols[4], const uint16_t idx[3],
-                       spvs_real H_out[9])
-{
-    return solve3(cols, idx, 1u, H_out);
+    return spvs_h_solve3_strided(c, idx, 4u, H_out);
 }
 
 spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
 {
     spvs_real w = H[6] * pt[0] + H[7] * pt[1] + H[8];
-    if (!(w > W_EPS)) {
+    if (!(w > SPVS_W_EPS)) {
         return SPVS_R(-1.0);
     }
     spvs_real iw = SPVS_R(1.0) / w;
@@ -132,195 +120,10 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
     return du * du + dv * dv;
 }
 
-/* ---- sums over the used points ----------------------------------------
+/* ---- the fits ------------------------------------------------------------
  *
- * The linear fit and the Gauss-Newton refit are sums over the flagged points
- * of a few terms each.  Every sum runs in SUM_LANES interleaved lanes (point
- * i goes to lane i mod SUM_LANES, each lane in point order) that are added
- * pairwise at the end.  Where the points are in columns and the target has
- * SIMD (SPVS_SIMD_COLUMNS), a block of SUM_LANES points fills the lanes at
- * once; elsewhere each lane is summed alone, in registers.  Both loops make
- * the same operations in the same order, so both layouts give bit-identical
- * results on every target. */
-#define SUM_LANES 4
-/* lanes_fold and sum_lanewise add four lanes as (0 + 1) + (2 + 3). */
-_Static_assert(SUM_LANES == 4, "the lane folds are written for four lanes");
-#define TERMS_MAX 25
-
-/* Which terms a point contributes (h_point.inc). */
-enum { HP_FIT_Y, HP_FIT_X, HP_LIN, HP_GN, HP_COST, HP_GRAD };
-#define NT_FIT 9
-#define NT_LIN SPVS_H_LIN_SUMS
-#define NT_GN 25
-#define NT_COST 1
-#define NT_GRAD 7
-
-#define HP_TERMS
-#define HP_R spvs_real
-#define HP_M int32_t
-#define HP_SUFFIX
-#include "h_point.inc"
-#if SPVS_SIMD_COLUMNS
-_Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
-#define HP_R spvs_v4
-#define HP_M spvs_v4i
-#define HP_SUFFIX _v
-#include "h_point.inc"
-#endif
-
-/* Adds the lanes pairwise into out[0..nt). */
-static SPVS_ALWAYS_INLINE void lanes_fold(int nt, spvs_real acc[][SUM_LANES], spvs_real *out)
-{
-    SPVS_UNROLL
-    for (int k = 0; k < nt; k++) {
-        out[k] = (acc[k][0] + acc[k][1]) + (acc[k][2] + acc[k][3]);
-    }
-}
-
-/* Sums the `kind` terms of the points flagged in `use` into out[0..nt), the
- * points given as point i's coordinate k at c[k][i * is].  Each lane is one
- * loop, its sums in registers.  Returns the number of used points if
- * `count` (0 otherwise), or -1 when a used point has w <= W_EPS. */
-static SPVS_ALWAYS_INLINE int32_t sum_lanewise(int kind, int nt, int count, const spvs_real *H,
-                                               const spvs_real *const c[4], uint32_t is,
-                                               const uint8_t *use, uint16_t n, spvs_real *out)
-{
-    spvs_real acc[TERMS_MAX][SUM_LANES];
-    int32_t used = 0;
-    /* Bound: SUM_LANES lanes of at most n / SUM_LANES + 1 points. */
-    for (uint16_t j = 0; j < SUM_LANES; j++) {
-        spvs_real a[TERMS_MAX];
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            a[k] = SPVS_R(0.0);
-        }
-        for (uint16_t i = j; i < n; i = (uint16_t)(i + SUM_LANES)) {
-            if (!use[i]) {
-                continue;
-            }
-            const uint32_t o = (uint32_t)i * is;
-            if (!hp_terms(kind, H, c[0][o], c[1][o], c[2][o], c[3][o], SPVS_R(1.0), a)) {
-                return -1;
-            }
-            used += count;
-        }
-        SPVS_UNROLL
-        for (int k = 0; k < nt; k++) {
-            acc[k][j] = a[k];
-        }
-    }
-    lanes_fold(nt, acc, out);
-    return used;
-}
-
-#if SPVS_SIMD_COLUMNS
-/* The same sums on points in columns c[0..3], SUM_LANES points at a time in
- * one vector (lane j holds points j, j + SUM_LANES, ..., as above), branch
- * free: an unused point adds +-0, which leaves a lane's sum as it was (sums
- * start at +0 and so never become -0). */
-static SPVS_ALWAYS_INLINE int32_t sum_blockwise(int kind, int nt, int count, const spvs_real *H,
-                                                const spvs_real *const c[4],
-                                                const uint8_t *use, uint16_t n,
-                                                spvs_real *out)
-{
-    spvs_v4 acc[TERMS_MAX];
-    SPVS_UNROLL
-    for (int k = 0; k < nt; k++) {
-        acc[k] = (spvs_v4){0};
-    }
-    /* -1 in a lane while all its points have had w > W_EPS. */
-    spvs_v4i all_ok = (spvs_v4i){0} - 1;
-    spvs_v4i cnt = {0};
-    /* A local copy: nothing the loop stores can then alias it. */
-    spvs_real h[9];
-    for (int k = 0; k < 9; k++) {
-        h[k] = H[k];
-    }
-    const spvs_v4 one = (spvs_v4){0} + SPVS_R(1.0);
-    const uint32_t n_rows = (uint32_t)n / SUM_LANES;
-    /* Bound: n / SUM_LANES rows of lanes. */
-    for (uint32_t r = 0; r < n_rows; r++) {
-        const uint32_t i = r * SUM_LANES;
-        const spvs_v4i on = spvs_v4_flags(use + i);
-        all_ok &= hp_terms_v(kind, h, spvs_v4_load(c[0] + i), spvs_v4_load(c[1] + i),
-                             spvs_v4_load(c[2] + i), spvs_v4_load(c[3] + i),
-                             (spvs_v4)((spvs_v4i)one & on), acc);
-        if (count) {
-            cnt -= on;
-        }
-    }
-    /* The rest, fewer than SUM_LANES points, as one more row padded with
-     * unused points at the origin (an unused point adds +-0 and passes). */
-    const uint32_t i0 = n_rows * SUM_LANES;
-    if (i0 < n) {
-        spvs_real t[4][SUM_LANES] = {{SPVS_R(0.0)}};
-        uint8_t t_use[SUM_LANES] = {0};
-        for (uint32_t i = i0; i < n; i++) {
-            for (int k = 0; k < 4; k++) {
-                t[k][i - i0] = c[k][i];
-            }
-            t_use[i - i0] = use[i];
-        }
-        const spvs_v4i on = spvs_v4_flags(t_use);
-        all_ok &= hp_terms_v(kind, h, spvs_v4_load(t[0]), spvs_v4_load(t[1]),
-                             spvs_v4_load(t[2]), spvs_v4_load(t[3]),
-                             (spvs_v4)((spvs_v4i)one & on), acc);
-        if (count) {
-            cnt -= on;
-        }
-    }
-    int32_t any_bad = 0;
-    int32_t used = 0;
-    for (int j = 0; j < SUM_LANES; j++) {
-        any_bad |= all_ok[j] == 0;
-        used += (int32_t)cnt[j];
-    }
-    if (any_bad) {
-        return -1;
-    }
-    /* The lanes added as (0 + 1) + (2 + 3) (lanes_fold's order), four sums
-     * at once: the pairs (0 + 1) and (2 + 3) of two sums side by side, then
-     * those of four sums added across.  The rest one at a time. */
-    int k = 0;
-    SPVS_UNROLL
-    for (; k + 4 <= nt; k += 4) {
-        const spvs_v4 ab = SPVS_V4_SHUFFLE2(acc[k], acc[k + 1], 0, 2, 4, 6) +
-                           SPVS_V4_SHUFFLE2(acc[k], acc[k + 1], 1, 3, 5, 7);
-        const spvs_v4 cd = SPVS_V4_SHUFFLE2(acc[k + 2], acc[k + 3], 0, 2, 4, 6) +
-                           SPVS_V4_SHUFFLE2(acc[k + 2], acc[k + 3], 1, 3, 5, 7);
-        *(spvs_v4u *)(out + k) = SPVS_V4_SHUFFLE2(ab, cd, 0, 2, 4, 6) +
-                                 SPVS_V4_SHUFFLE2(ab, cd, 1, 3, 5, 7);
-    }
-    SPVS_UNROLL
-    for (; k < nt; k++) {
-        const spvs_v4 p = acc[k] + SPVS_V4_SHUFFLE(acc[k], 1, 0, 3, 2);
-        out[k] = (p + SPVS_V4_SHUFFLE(p, 2, 3, 0, 1))[0];
-    }
-    return used;
-}
-#endif
-
-/* Either layout: rows (pts, SPVS_SIMD_COLUMNS or not) or columns. */
-typedef struct {
-    const spvs_real (*rows)[4];
-    const spvs_real *const *cols;
-} pts_in_t;
-
-static SPVS_ALWAYS_INLINE int32_t sum_terms(int kind, int nt, int count, const spvs_real *H,
-                                            const pts_in_t *in, const uint8_t *use,
-                                            uint16_t n, spvs_real *out)
-{
-    if (in->rows != 0) {
-        const spvs_real *const c[4] = {&in->rows[0][0], &in->rows[0][1], &in->rows[0][2],
-                                       &in->rows[0][3]};
-        return sum_lanewise(kind, nt, count, H, c, 4u, use, n, out);
-    }
-#if SPVS_SIMD_COLUMNS
-    return sum_blockwise(kind, nt, count, H, in->cols, use, n, out);
-#else
-    return sum_lanewise(kind, nt, count, H, in->cols, 1u, use, n, out);
-#endif
-}
+ * Each fit is a few sums over the flagged points (points.h, spvs_pts_sum),
+ * then a small solve. */
 
 /* The number of points flagged in use[0..n). */
 static uint16_t count_used(const uint8_t *use, uint16_t n)
@@ -334,19 +137,19 @@ static uint16_t count_used(const uint8_t *use, uint16_t n)
 
 /* Solves the 3x3 normal equations of a linear-fit pass: s[0..5] the upper
  * triangle of the symmetric matrix, s[6..8] the right side. */
-static int solve_fit(const spvs_real s[NT_FIT], spvs_real x[3])
+static int solve_fit(const spvs_real s[SPVS_NT_FIT], spvs_real x[3])
 {
     const spvs_real A[3][3] = {{s[0], s[1], s[2]}, {s[1], s[3], s[4]}, {s[2], s[4], s[5]}};
     const spvs_real b[3] = {s[6], s[7], s[8]};
     return solve3x3(A, b, x);
 }
 
-static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_real H[9])
+int spvs_hf_fit_linear(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n, spvs_real H[9])
 {
     /* Row 3: sum over the used points of (y_cur (h3 . p) - y_tgt)^2 / w0^2,
      * w0 the current H's third coordinate, is the y transfer error at w0. */
-    spvs_real sy[NT_FIT];
-    const int32_t used = sum_terms(HP_FIT_Y, NT_FIT, 1, H, in, use, n, sy);
+    spvs_real sy[SPVS_NT_FIT];
+    const int32_t used = spvs_pts_sum(SPVS_T_FIT_Y, H, in, use, n, sy);
     if (used < 0) {
         return SPVS_E_DEGENERATE;
     }
@@ -360,8 +163,8 @@ static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_r
     /* Row 1 given row 3: sum of (h1 . p - x_cur w)^2 / w^2 is exactly the x
      * transfer error. */
     const spvs_real Hw[9] = {0, 0, 0, 0, 0, 0, h3[0], h3[1], h3[2]};
-    spvs_real sx[NT_FIT];
-    if (sum_terms(HP_FIT_X, NT_FIT, 0, Hw, in, use, n, sx) < 0) {
+    spvs_real sx[SPVS_NT_FIT];
+    if (spvs_pts_sum(SPVS_T_FIT_X, Hw, in, use, n, sx) < 0) {
         return SPVS_E_DEGENERATE;
     }
     spvs_real h1[3];
@@ -383,15 +186,8 @@ static int fit_linear(const pts_in_t *in, const uint8_t *use, uint16_t n, spvs_r
 int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
                       spvs_real H[9])
 {
-    const pts_in_t in = {pts, 0};
-    return fit_linear(&in, use, n, H);
-}
-
-int spvs_h_fit_linear_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
-                           spvs_real H[9])
-{
-    const pts_in_t in = {0, cols};
-    return fit_linear(&in, use, n, H);
+    const spvs_pts_in_t in = {pts, 0};
+    return spvs_hf_fit_linear(&in, use, n, H);
 }
 
 /* Solve the 6x6 symmetric positive definite system N x = g by Cholesky.
@@ -440,8 +236,8 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
     return 1;
 }
 
-/* The 6x6 normal matrix from the 18 sums laid out as HP_GN's terms 0-17
- * (and HP_LIN's): the symmetric 3x3 blocks N11, N13 and N33, each six
+/* The 6x6 normal matrix from the 18 sums laid out as SPVS_T_GN's terms 0-17
+ * (and SPVS_T_LIN's): the symmetric 3x3 blocks N11, N13 and N33, each six
  * entries of q = (x^2, x y, x, y^2, y, 1). */
 static void unpack_normal(const spvs_real *s, spvs_real N[6][6])
 {
@@ -467,14 +263,15 @@ static void unpack_normal(const spvs_real *s, spvs_real N[6][6])
  *   N11 = sum p p^T / w^2, N13 = -sum u p p^T / w^2,
  *   N33 = sum (u^2 + v^2) p p^T / w^2,
  * and only the six distinct entries of p p^T, q = (x^2, x y, x, y^2, y, 1),
- * are summed per weight (terms 0-17 of HP_GN), then the gradient halves
+ * are summed per weight (terms 0-17 of SPVS_T_GN), then the gradient halves
  * g1 = -sum r_x p / w and g3 = sum (u r_x + v r_y) p / w (terms 18-23) and
  * the cost (term 24). */
-static SPVS_ALWAYS_INLINE spvs_real refit_pass(const pts_in_t *in, const uint8_t *use, uint16_t n,
-                            const spvs_real H[9], spvs_real N[6][6], spvs_real g[6])
+static SPVS_ALWAYS_INLINE spvs_real refit_pass(const spvs_pts_in_t *in, const uint8_t *use,
+                                               uint16_t n, const spvs_real H[9],
+                                               spvs_real N[6][6], spvs_real g[6])
 {
-    spvs_real s[NT_GN];
-    if (sum_terms(HP_GN, NT_GN, 0, H, in, use, n, s) < 0) {
+    spvs_real s[SPVS_NT_GN];
+    if (spvs_pts_sum(SPVS_T_GN, H, in, use, n, s) < 0) {
         return SPVS_REAL_MAX;
     }
     unpack_normal(s, N);
@@ -484,13 +281,13 @@ static SPVS_ALWAYS_INLINE spvs_real refit_pass(const pts_in_t *in, const uint8_t
     return s[24];
 }
 
-/* The gradient half g of refit_pass alone (terms 18-24 of HP_GN, in the
- * same order: HP_GRAD), and the cost it returns. */
-static spvs_real refit_grad(const pts_in_t *in, const uint8_t *use, uint16_t n,
+/* The gradient half g of refit_pass alone (terms 18-24 of SPVS_T_GN, in the
+ * same order: SPVS_T_GRAD), and the cost it returns. */
+static spvs_real refit_grad(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9], spvs_real g[6])
 {
-    spvs_real s[NT_GRAD];
-    if (sum_terms(HP_GRAD, NT_GRAD, 0, H, in, use, n, s) < 0) {
+    spvs_real s[SPVS_NT_GRAD];
+    if (spvs_pts_sum(SPVS_T_GRAD, H, in, use, n, s) < 0) {
         return SPVS_REAL_MAX;
     }
     for (int k = 0; k < 6; k++) {
@@ -502,11 +299,11 @@ static spvs_real refit_grad(const pts_in_t *in, const uint8_t *use, uint16_t n,
 /* The summed squared transfer error of the used points at H, alone (the
  * check of a last Gauss-Newton step needs no normal equations);
  * SPVS_REAL_MAX when a point is behind the camera. */
-static spvs_real refit_cost(const pts_in_t *in, const uint8_t *use, uint16_t n,
+static spvs_real refit_cost(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
                             const spvs_real H[9])
 {
     spvs_real c;
-    if (sum_terms(HP_COST, NT_COST, 0, H, in, use, n, &c) < 0) {
+    if (spvs_pts_sum(SPVS_T_COST, H, in, use, n, &c) < 0) {
         return SPVS_REAL_MAX;
     }
     return c;
@@ -523,11 +320,8 @@ static void add_step(spvs_real H[9], const spvs_real d[6])
     H[8] += d[5];
 }
 
-/* The refit of spvs_h_refit; with lin (SPVS_H_LIN_SUMS sums) the first
- * step takes its normal matrix from those sums and only the gradient and
- * the cost are summed at H (spvs_h_refit_lin). */
-static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t max_iters,
-                 const spvs_real *lin, spvs_real H[9])
+int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t max_iters,
+                  const spvs_real *lin, spvs_real H[9])
 {
     if (max_iters < 1u) {
         max_iters = 1u;
@@ -622,89 +416,31 @@ static int refit(const pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t ma
 int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
                  uint16_t max_iters, spvs_real H[9])
 {
-    const pts_in_t in = {pts, 0};
-    return refit(&in, use, n, max_iters, 0, H);
-}
-
-int spvs_h_refit_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
-                      uint16_t max_iters, spvs_real H[9])
-{
-    const pts_in_t in = {0, cols};
-    return refit(&in, use, n, max_iters, 0, H);
-}
-
-int spvs_h_refit_lin(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                     uint16_t max_iters, const spvs_real sums[SPVS_H_LIN_SUMS], spvs_real H[9])
-{
-    const pts_in_t in = {pts, 0};
-    return refit(&in, use, n, max_iters, sums, H);
-}
-
-int spvs_h_refit_lin_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
-                          uint16_t max_iters, const spvs_real sums[SPVS_H_LIN_SUMS],
-                          spvs_real H[9])
-{
-    const pts_in_t in = {0, cols};
-    return refit(&in, use, n, max_iters, sums, H);
+    const spvs_pts_in_t in = {pts, 0};
+    return spvs_hf_refit(&in, use, n, max_iters, 0, H);
 }
 
 /* ---- the joint linear fit at fixed weights ------------------------------ */
 
-static int lin_sums(const pts_in_t *in, const uint8_t *use, uint16_t n, const spvs_real Hw[9],
-                    spvs_real sums[SPVS_H_LIN_SUMS])
+int spvs_hf_lin_sums(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
+                     const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS])
 {
-    spvs_real t[NT_LIN];
-    const int32_t used = sum_terms(HP_LIN, NT_LIN, 1, Hw, in, use, n, t);
+    spvs_real t[SPVS_H_LIN_SUMS];
+    const int32_t used = spvs_pts_sum(SPVS_T_LIN, Hw, in, use, n, t);
     if (used < 0) {
         return SPVS_E_DEGENERATE;
     }
     if (used < 3) {
         return SPVS_E_TOO_FEW;
     }
-    for (int k = 0; k < NT_LIN; k++) {
+    for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
         sums[k] = t[k];
     }
     return SPVS_OK;
 }
 
-int spvs_h_lin_sums(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                    const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS])
-{
-    const pts_in_t in = {pts, 0};
-    return lin_sums(&in, use, n, Hw, sums);
-}
-
-int spvs_h_lin_sums_cols(const spvs_real *const cols[4], const uint8_t *use, uint16_t n,
-                         const spvs_real Hw[9], spvs_real sums[SPVS_H_LIN_SUMS])
-{
-    const pts_in_t in = {0, cols};
-    return lin_sums(&in, use, n, Hw, sums);
-}
-
-int spvs_h_lin_update(const spvs_real Hw[9], const spvs_real pt[4], int add,
-                      spvs_real sums[SPVS_H_LIN_SUMS])
-{
-    spvs_real t[NT_LIN];
-    for (int k = 0; k < NT_LIN; k++) {
-        t[k] = SPVS_R(0.0);
-    }
-    if (!hp_terms(HP_LIN, Hw, pt[0], pt[1], pt[2], pt[3], SPVS_R(1.0), t)) {
-        return SPVS_E_DEGENERATE;
-    }
-    if (add) {
-        for (int k = 0; k < NT_LIN; k++) {
-            sums[k] += t[k];
-        }
-    } else {
-        for (int k = 0; k < NT_LIN; k++) {
-            sums[k] -= t[k];
-        }
-    }
-    return SPVS_OK;
-}
-
-int spvs_h_lin_solve(const spvs_real sums[SPVS_H_LIN_SUMS], const spvs_real Hw[9],
-                     spvs_real H[9])
+int spvs_hf_lin_solve(const spvs_real sums[SPVS_H_LIN_SUMS], const spvs_real Hw[9],
+                      spvs_real H[9])
 {
     spvs_real N[6][6];
     unpack_normal(sums, N);
@@ -716,6 +452,27 @@ int spvs_h_lin_solve(const spvs_real sums[SPVS_H_LIN_SUMS], const spvs_real Hw[9
         H[k] = Hw[k];
     }
     add_step(H, d);
+    return SPVS_OK;
+}
+
+int spvs_h_inverse(const spvs_real H[9], spvs_real Hi[9])
+{
+    /* Planar form: H = [[a b c] [0 1 0] [g h i]]. */
+    const spvs_real a = H[0], b = H[1], c = H[2], g = H[6], h = H[7], i = H[8];
+    spvs_real det = a * i - c * g;
+    if (!(SPVS_FABS(det) > SPVS_R(1.0e-9))) {
+        return SPVS_E_DEGENERATE;
+    }
+    spvs_real id = SPVS_R(1.0) / det;
+    Hi[0] = i * id;
+    Hi[1] = (c * h - b * i) * id;
+    Hi[2] = -c * id;
+    Hi[3] = SPVS_R(0.0);
+    Hi[4] = SPVS_R(1.0);
+    Hi[5] = SPVS_R(0.0);
+    Hi[6] = -g * id;
+    Hi[7] = (b * g - a * h) * id;
+    Hi[8] = a * id;
     return SPVS_OK;
 }
 

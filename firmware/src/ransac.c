@@ -7,12 +7,6 @@
 
 #include "spvs/ransac.h"
 
-/* A hypothesis is polished (LO step) only when at least 1 / RANSAC_LO_MIN_SHARE
- * of the points are its inliers: below that it is almost surely a
- * contaminated sample's model, and polishing it is wasted.  Measured with the
- * benchmark's cases (docs/BENCHMARKS.md): about 1.6 instead of 2.5 LO steps
- * per estimate at N = 100, with the same success rates and corner errors. */
-#define RANSAC_LO_MIN_SHARE 5u
 
 void spvs_rng_seed(spvs_rng_t *rng, uint32_t seed)
 {
@@ -144,7 +138,7 @@ int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts,
         /* The polished model taken: its mask is then in best_mask. */
         int polished_taken = 0;
         if (est->refine != 0 && (cnt > best_n || !have) &&
-            (uint32_t)cnt * RANSAC_LO_MIN_SHARE >= (uint32_t)n) {
+            (uint32_t)cnt * (uint32_t)SPVS_LO_MIN_SHARE >= (uint32_t)n) {
             /* Local optimisation: polish the new best on its inliers; keep
              * it if it has more inliers, or as many at a lower cost.  This
              * hypothesis is the new best either way, so the old best's mask

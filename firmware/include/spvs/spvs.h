@@ -1,22 +1,17 @@
 /*
  * spvs.h - the update pipeline: one call per frame, matches in, command out.
  *
- *   matches -> homography (3-point planar RANSAC + refit, homography.h/ransac.h)
- *           -> epipole / parallax (off-plane matches, epipole.h)
+ *   matches -> H: planar-motion RANSAC, re-selection and refit (plane_h.h,
+ *              on homography.h and ransac.h)
+ *           -> off-plane candidates and memory (offplane.h)
+ *           -> epipole and parallax (epipole.h)
  *           -> step logic and control law (control.h) -> (v, w)
  *
  * The instance is a plain struct the caller owns (usually static): no heap.
  * Its size is sizeof(spvs_t), about
- *   SPVS_MAX_MATCHES * (4 * sizeof(spvs_real) + 4) + SPVS_MAX_FEATURES
- *   + SPVS_MAX_OFFPLANE * 3 + a few hundred bytes.
- *
- * Off-plane memory: a match the plane homography rejects with a large transfer
- * error that also agrees with the epipole is counted as off-plane for its
- * target feature.  Once a feature has been seen off the plane twice it is kept
- * out of the homography estimate for good (until spvs_reset), so that near the
- * target, where its parallax shrinks under the inlier threshold, it cannot bias
- * H.  A plane inlier seen while the scene still shows clear parallax counts
- * against it.
+ *   SPVS_MAX_MATCHES * (4 * sizeof(spvs_real) + 6) + SPVS_MAX_FEATURES
+ *   + SPVS_MAX_OFFPLANE * (10 * sizeof(spvs_real) + 5) + a few hundred bytes
+ * (spvs_config.h), the same whatever the point layout.
  */
 #ifndef SPVS_SPVS_H
 #define SPVS_SPVS_H
@@ -25,6 +20,8 @@
 #include "spvs/control.h"
 #include "spvs/epipole.h"
 #include "spvs/homography.h"
+#include "spvs/offplane.h"
+#include "spvs/plane_h.h"
 #include "spvs/ransac.h"
 
 #ifdef __cplusplus
@@ -71,45 +68,14 @@ typedef struct {
     spvs_real last_good_t_s;  /* time of the last frame with a valid H        */
     uint8_t has_last;
     uint8_t has_good;
-    /* Work buffers for one frame (scaled units).  Points 0..n_plane are the
-     * matches of features not known to be off the plane, n_plane..n_pts
-     * the others. */
-    uint16_t n_pts;
-    uint16_t n_plane;
-    spvs_real H_sc[9];                  /* this frame's H, scaled units     */
-#if SPVS_SIMD_COLUMNS
-    /* The points in columns (x_tgt, y_tgt, x_cur, y_cur), for the blocked
-     * inlier count and sums on SIMD lanes (spvs_config.h); the off-plane
-     * candidates' points as rows, for the epipole, and their order. */
-    spvs_real col[4][SPVS_MAX_MATCHES];
-    spvs_real cand_pts[SPVS_MAX_OFFPLANE][4];
-    uint16_t cand_ord[SPVS_MAX_OFFPLANE];
-#else
-    spvs_real pts[SPVS_MAX_MATCHES][4]; /* the points as rows              */
-#endif
-    uint16_t feat[SPVS_MAX_MATCHES];
-    uint16_t idx[SPVS_MAX_MATCHES];     /* RANSAC index scratch             */
-    uint8_t mask[SPVS_MAX_MATCHES];     /* plane inliers among the points   */
-    uint8_t idx_mask[SPVS_MAX_MATCHES]; /* inliers under a refitted H       */
-    /* The LO step's second pass: the polished model's inliers among the
-     * first SPVS_LO_POINTS points. */
-    uint8_t lo_mask[SPVS_LO_POINTS];
-    /* The inlier re-selection's joint linear fit: its weight model and its
-     * sums over the set in use (homography.h, spvs_h_lin_sums). */
-    spvs_real lin_hw[9];
-    spvs_real lin_sums[SPVS_H_LIN_SUMS];
-    uint16_t cand[SPVS_MAX_OFFPLANE];   /* off-plane candidates (pts index) */
-    uint8_t support[SPVS_MAX_OFFPLANE];
+    spvs_plane_h_t est;       /* the frame's points and H (plane_h.h)         */
+    spvs_offplane_t off;      /* off-plane memory and candidates (offplane.h) */
     spvs_epipole_work_t ework;
     /* The last SPVS_EPIPOLE_MEDIAN epipole estimates (x in pixels, side). */
     spvs_real ehist_x[SPVS_EPIPOLE_MEDIAN];
     int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
     uint8_t n_ehist;
     uint8_t i_ehist;
-    /* Off-plane memory, per target feature: >= 2 means off the plane, and
-     * how many features are off the plane now. */
-    int8_t offplane[SPVS_MAX_FEATURES];
-    uint16_t n_offplane_known;
 } spvs_t;
 
 /* Parameters for a method: the defaults of docs/CONTROL.md. */

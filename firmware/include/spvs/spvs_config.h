@@ -8,10 +8,10 @@
  *
  * Memory of one spvs_t instance (see spvs.h) grows with:
  *   SPVS_MAX_MATCHES  x (4 scalars + 4 index bytes + 2 flag bytes)
- *                       (the 4 scalars in columns with SPVS_SIMD_COLUMNS)
  *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
- *   SPVS_MAX_OFFPLANE x 3 scalars (+ 4 scalars and 2 index bytes with
- *                       SPVS_SIMD_COLUMNS)
+ *   SPVS_MAX_OFFPLANE x (7 scalars + 4 index bytes + 1 flag byte)
+ *   SPVS_LO_POINTS    x 1 byte
+ * whatever the point layout (SPVS_SIMD_COLUMNS).
  */
 #ifndef SPVS_CONFIG_H
 #define SPVS_CONFIG_H
@@ -59,11 +59,23 @@
 #endif
 
 /* Most Gauss-Newton steps spvs_h_refit takes (callers ask for fewer; it
- * stops earlier once a step gains under 1e-4 of the cost).  spvs_update
- * starts it from a linear fit on the same inliers and asks for one step
- * (FINAL_GN_STEPS in spvs.c). */
+ * stops earlier once a step gains under 1e-4 of the cost). */
 #ifndef SPVS_REFIT_MAX_ITERS
 #define SPVS_REFIT_MAX_ITERS 5
+#endif
+
+/* Gauss-Newton steps of the estimator's final refit (plane_h.c), which
+ * starts from the re-selection's linear fit on the same inliers, so one
+ * step is enough (docs/ESTIMATION.md); a step is kept only if it lowers the
+ * transfer error. */
+#ifndef SPVS_FINAL_GN_STEPS
+#define SPVS_FINAL_GN_STEPS 1
+#endif
+
+/* Fewest plane inliers that make a consensus, and fewest plane candidates
+ * a frame must have. */
+#ifndef SPVS_MIN_INLIERS
+#define SPVS_MIN_INLIERS 8
 #endif
 
 /* Inlier re-selection rounds after RANSAC (linear fit -> re-score), ending
@@ -73,9 +85,46 @@
 #endif
 
 /* Points that RANSAC's LO step fits on: the first of the spread order
- * (spvs.c, est_refine). */
+ * (plane_h.c, est_refine). */
 #ifndef SPVS_LO_POINTS
 #define SPVS_LO_POINTS 96
+#endif
+
+/* RANSAC polishes a new best model (LO step) only when at least
+ * 1 / SPVS_LO_MIN_SHARE of the points are its inliers: below that it is
+ * almost surely a contaminated sample's model, and polishing it is
+ * wasted. */
+#ifndef SPVS_LO_MIN_SHARE
+#define SPVS_LO_MIN_SHARE 5
+#endif
+
+/* The inlier count (points.c) runs in blocks of SPVS_SCORE_BLOCK points (a
+ * multiple of 4, the SIMD lanes) and after each block drops a model whose
+ * count so far is more than SPVS_BAIL_SIGMAS binomial standard deviations
+ * below what a model as good as the best so far would show. */
+#ifndef SPVS_SCORE_BLOCK
+#define SPVS_SCORE_BLOCK 16
+#endif
+#ifndef SPVS_BAIL_SIGMAS
+#define SPVS_BAIL_SIGMAS 3
+#endif
+
+/* Off-plane memory (offplane.h): a target feature's score counts frames in
+ * which it was seen off the plane; at SPVS_OFFPLANE_ON it is off the plane,
+ * and it stays within SPVS_OFFPLANE_MIN..SPVS_OFFPLANE_MAX.  A plane inlier
+ * lowers its score only while the scene's parallax exceeds
+ * SPVS_PARALLAX_CLEAR times the off-plane threshold. */
+#ifndef SPVS_OFFPLANE_ON
+#define SPVS_OFFPLANE_ON 2
+#endif
+#ifndef SPVS_OFFPLANE_MAX
+#define SPVS_OFFPLANE_MAX 3
+#endif
+#ifndef SPVS_OFFPLANE_MIN
+#define SPVS_OFFPLANE_MIN (-3)
+#endif
+#ifndef SPVS_PARALLAX_CLEAR
+#define SPVS_PARALLAX_CLEAR 2
 #endif
 
 /* Pixel coordinates are multiplied by 1/SPVS_COORD_SCALE inside the core so
@@ -90,15 +139,12 @@
 #define SPVS_MAX_COORD_PX 8192
 #endif
 
-/* 1: keep the frame's points in columns instead of rows, count inliers in
- * blocks of 16 and run the sums of the linear fit and of the Gauss-Newton
- * refit a block at a time, loops a compiler runs on SIMD lanes (the
- * off-plane candidates are copied out as rows for the epipole:
- * SPVS_MAX_OFFPLANE x 4 more scalars in spvs_t).  0: rows, everything point
- * by point.  The result is the same bits either way; the
- * default is 1 where the compiler says the target has SSE2 or NEON, 0
- * elsewhere (Cortex-M4F).  Compile the core and the code that allocates
- * spvs_t with the same setting. */
+/* The point layout, chosen in points.c and nowhere else.  1: the frame's
+ * points in columns, inliers counted a score block at a time and the sums
+ * of the fits a row of four points at a time, loops a compiler runs on SIMD
+ * lanes.  0: rows, everything point by point.  The results are the same
+ * bits either way, and spvs_t is the same size.  The default is 1 where the
+ * compiler says the target has SSE2 or NEON, 0 elsewhere (Cortex-M4F). */
 #ifndef SPVS_SIMD_COLUMNS
 #if defined(__SSE2__) || defined(__ARM_NEON)
 #define SPVS_SIMD_COLUMNS 1
@@ -108,10 +154,9 @@
 #endif
 
 /* 1: ask the data cache for the frame's matches before they are read in the
- * spread order (a gather the hardware prefetcher cannot follow); measured on
- * the host benchmark, about 8 % less time per estimate when other code ran
- * in between (docs/BENCHMARKS.md).  Default: where SPVS_SIMD_COLUMNS is (a
- * target with a data cache), 0 elsewhere (the Cortex-M4F has none). */
+ * spread order, a gather the hardware prefetcher cannot follow
+ * (docs/ESTIMATION.md).  Default: where SPVS_SIMD_COLUMNS is (a target with
+ * a data cache), 0 elsewhere (the Cortex-M4F has none). */
 #ifndef SPVS_PREFETCH
 #define SPVS_PREFETCH SPVS_SIMD_COLUMNS
 #endif
@@ -152,6 +197,30 @@
 #endif
 #if (SPVS_LO_POINTS < 8) || (SPVS_LO_POINTS > 4096)
 #error "SPVS_LO_POINTS must be in 8..4096"
+#endif
+#if (SPVS_FINAL_GN_STEPS < 1) || (SPVS_FINAL_GN_STEPS > SPVS_REFIT_MAX_ITERS)
+#error "SPVS_FINAL_GN_STEPS must be in 1..SPVS_REFIT_MAX_ITERS"
+#endif
+#if (SPVS_MIN_INLIERS < 4) || (SPVS_MIN_INLIERS > SPVS_MAX_MATCHES)
+#error "SPVS_MIN_INLIERS must be in 4..SPVS_MAX_MATCHES"
+#endif
+#if (SPVS_LO_MIN_SHARE < 1) || (SPVS_LO_MIN_SHARE > 100)
+#error "SPVS_LO_MIN_SHARE must be in 1..100"
+#endif
+#if (SPVS_SCORE_BLOCK < 4) || (SPVS_SCORE_BLOCK > 64) || ((SPVS_SCORE_BLOCK % 4) != 0)
+#error "SPVS_SCORE_BLOCK must be a multiple of 4 in 4..64"
+#endif
+#if (SPVS_BAIL_SIGMAS < 1) || (SPVS_BAIL_SIGMAS > 10)
+#error "SPVS_BAIL_SIGMAS must be in 1..10"
+#endif
+#if (SPVS_OFFPLANE_MIN > -1) || (SPVS_OFFPLANE_MIN < -100)
+#error "SPVS_OFFPLANE_MIN must be in -100..-1"
+#endif
+#if (SPVS_OFFPLANE_ON < 1) || (SPVS_OFFPLANE_ON > SPVS_OFFPLANE_MAX) || (SPVS_OFFPLANE_MAX > 100)
+#error "SPVS_OFFPLANE_ON must be in 1..SPVS_OFFPLANE_MAX, and SPVS_OFFPLANE_MAX at most 100"
+#endif
+#if (SPVS_PARALLAX_CLEAR < 1) || (SPVS_PARALLAX_CLEAR > 100)
+#error "SPVS_PARALLAX_CLEAR must be in 1..100"
 #endif
 #if (SPVS_COORD_SCALE < 1) || (SPVS_COORD_SCALE > 65536)
 #error "SPVS_COORD_SCALE must be in 1..65536"

@@ -1,0 +1,83 @@
+/*
+ * offplane.h - the points off the dominant plane: the memory of which
+ * target features are off it, and the frame's off-plane candidates for the
+ * epipole and the parallax (DESIGN.md section 2).
+ *
+ * Candidates: the matches of remembered off-plane features first, then the
+ * plane candidates that H rejects with a transfer error above offplane_px
+ * both forward (in the current image) and back (in the target image).
+ *
+ * Memory: a candidate with a large transfer error that also agrees with the
+ * epipole raises its target feature's score; at SPVS_OFFPLANE_ON the
+ * feature is off the plane and stays out of the homography estimate until
+ * spvs_offplane_reset, so that near the target, where its parallax shrinks
+ * under the inlier threshold, it cannot bias H.  A plane inlier seen while
+ * the scene shows clear parallax (above SPVS_PARALLAX_CLEAR x offplane_px)
+ * lowers its score.  Scores stay within SPVS_OFFPLANE_MIN..SPVS_OFFPLANE_MAX.
+ *
+ * Bounds: every loop runs over at most SPVS_MAX_MATCHES matches or
+ * SPVS_MAX_OFFPLANE candidates.
+ */
+#ifndef SPVS_OFFPLANE_H
+#define SPVS_OFFPLANE_H
+
+#include "spvs/common.h"
+#include "spvs/plane_h.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    /* The memory: a score per target feature, and how many features are
+     * off the plane now (score >= SPVS_OFFPLANE_ON). */
+    int8_t score[SPVS_MAX_FEATURES];
+    uint16_t n_known;
+    /* This frame's candidates: n_cand of them, the first n_cand_known the
+     * remembered features; point index in the estimator, the point as a
+     * row (scaled units), the epipole's order over them (0..n_cand) and
+     * whether each supports the epipole. */
+    uint16_t n_cand;
+    uint16_t n_cand_known;
+    uint16_t cand[SPVS_MAX_OFFPLANE];
+    spvs_real cand_pts[SPVS_MAX_OFFPLANE][4];
+    uint16_t cand_ord[SPVS_MAX_OFFPLANE];
+    uint8_t support[SPVS_MAX_OFFPLANE];
+} spvs_offplane_t;
+
+/* Forget every feature. */
+void spvs_offplane_reset(spvs_offplane_t *o);
+
+/* 1 when the memory holds feature f as off the plane (0 for f out of
+ * range). */
+int spvs_offplane_known(const spvs_offplane_t *o, uint16_t f);
+
+/* Splits the matches m[0..n) (n <= SPVS_MAX_MATCHES) for
+ * spvs_plane_h_load: order[] gets the indices of the matches whose feature
+ * is not known to be off the plane, in input order, then the others from
+ * the back.  Returns the number of the former. */
+uint16_t spvs_offplane_split(const spvs_offplane_t *o, const spvs_match_t *m, uint16_t n,
+                             uint16_t order[SPVS_MAX_MATCHES]);
+
+/* Collects this frame's candidates from the estimate e (its points, H_sc
+ * and inlier mask); offplane_px is the transfer error, pixels, above which
+ * a rejected plane candidate is one.  At most SPVS_MAX_OFFPLANE. */
+void spvs_offplane_collect(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real offplane_px);
+
+/* Median transfer error, pixels, of the remembered features' candidates
+ * under H_sc (scaled units); negative when none is in view.  scratch:
+ * SPVS_MAX_OFFPLANE scalars. */
+spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
+                                          spvs_real *scratch);
+
+/* Updates the memory after the epipole: e_ok says whether it was found
+ * (o->support then holds its supporters), parallax_px is the frame's
+ * parallax. */
+void spvs_offplane_remember(spvs_offplane_t *o, const spvs_plane_h_t *e, int e_ok,
+                            spvs_real parallax_px, spvs_real offplane_px);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPVS_OFFPLANE_H */

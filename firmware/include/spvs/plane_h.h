@@ -1,0 +1,118 @@
+/*
+ * plane_h.h - the robust estimate of the plane homography under planar
+ * motion: 3-point RANSAC with a local optimisation (LO) step, inlier
+ * re-selection and a final Gauss-Newton refit (paper, section 2; the
+ * decisions are in docs/ESTIMATION.md).
+ *
+ *   load      the frame's matches, checked and scaled (pixels /
+ *             SPVS_COORD_SCALE), stored in a spread order: the plane
+ *             candidates first, the matches the caller knows to be off the
+ *             plane after them;
+ *   RANSAC    (ransac.h) over the plane candidates with this module's
+ *             callbacks: the 3-point solver (homography.h), the inlier
+ *             count with a bail-out test, a tie-break cost and the LO step;
+ *   reselect  up to SPVS_REFIT_ROUNDS rounds of the joint linear fit on the
+ *             inliers and a new inlier set under it, until the set stops
+ *             changing;
+ *   refit     SPVS_FINAL_GN_STEPS Gauss-Newton steps on the final set, kept
+ *             only where they lower the transfer error.
+ *
+ * Error: the transfer error in the current image, |p_cur - dehom(H p_tgt)|,
+ * against the caller's threshold in pixels.
+ *
+ * Bounds: RANSAC's (ransac.h: min(adaptive count, max_iters) hypotheses,
+ * each scored once over at most n points, at most one LO step of two
+ * linear fits on SPVS_LO_POINTS points each), then SPVS_REFIT_ROUNDS
+ * rounds of one 6x6 solve and one pass over the points, and one
+ * Gauss-Newton step (two passes).
+ *
+ * The work struct is plain data the caller owns (it is part of spvs_t);
+ * its size does not depend on the point layout (points.c).
+ */
+#ifndef SPVS_PLANE_H_H
+#define SPVS_PLANE_H_H
+
+#include "spvs/common.h"
+#include "spvs/ransac.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The sums of the joint linear fit (the re-selection's normal equations). */
+#define SPVS_H_LIN_SUMS 24
+
+/* A frame's points, scaled units, in the build's layout (rows or columns:
+ * read them with spvs_plane_h_point). */
+typedef struct {
+    spvs_real v[4u * SPVS_MAX_MATCHES];
+} spvs_point_store_t;
+
+typedef struct {
+    spvs_point_store_t pts;
+    /* Points 0..n_plane are the plane candidates, n_plane..n_pts the
+     * matches the caller knows to be off the plane; feat[i] is point i's
+     * target-image feature. */
+    uint16_t n_pts;
+    uint16_t n_plane;
+    uint16_t feat[SPVS_MAX_MATCHES];
+    /* The estimate: H_cur_tgt in scaled units, its inliers among the plane
+     * candidates (mask[i] = 1) and their count. */
+    spvs_real H_sc[9];
+    uint8_t mask[SPVS_MAX_MATCHES];
+    uint16_t n_inliers;
+    /* Work: RANSAC's index scratch (also the load order), the second mask,
+     * the LO step's mask over the first SPVS_LO_POINTS points, the joint
+     * linear fit's weight model and sums, the squared threshold. */
+    uint16_t idx[SPVS_MAX_MATCHES];
+    uint8_t idx_mask[SPVS_MAX_MATCHES];
+    uint8_t lo_mask[SPVS_LO_POINTS];
+    spvs_real lin_hw[9];
+    spvs_real lin_sums[SPVS_H_LIN_SUMS];
+    spvs_real t2;
+} spvs_plane_h_t;
+
+/* The checks of a frame that need no values: returns SPVS_OK,
+ * SPVS_E_CAPACITY (n > SPVS_MAX_MATCHES), SPVS_E_ARG (m NULL with n > 0) or
+ * SPVS_E_TOO_FEW (n < 3). */
+SPVS_NODISCARD int spvs_plane_h_check(const spvs_match_t *m, uint16_t n);
+
+/* Loads a frame: m[0..n) in centred pixels.  order: NULL when every match
+ * is a plane candidate (n_plane = n); else n indices into m, the plane
+ * candidates' first (order[0..n_plane), in input order) and the others'
+ * after them.  order may be e->idx.  The plane candidates are stored in a
+ * spread order, slot k holding the (k stride mod n_plane)-th of them with
+ * stride near 0.618 n_plane and coprime with it: matches often come sorted
+ * by image position or by object, so mismatches come in runs, and the
+ * inlier count's bail-out test needs every stretch of the stored order to
+ * look like the whole.
+ * Returns spvs_plane_h_check's statuses, SPVS_E_NONFINITE (a NaN or
+ * infinite coordinate), SPVS_E_RANGE (|coordinate| > SPVS_MAX_COORD_PX or a
+ * feature index >= SPVS_MAX_FEATURES) or SPVS_E_TOO_FEW (fewer than
+ * SPVS_MIN_INLIERS plane candidates).  Bound: n matches, twice for a bad
+ * frame. */
+SPVS_NODISCARD int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, uint16_t n,
+                                     const uint16_t *order, uint16_t n_plane);
+
+/* Estimates H on the loaded plane candidates: RANSAC (inlier threshold
+ * inlier_px pixels, confidence in (0, 1), at most max_iters <=
+ * SPVS_RANSAC_MAX_ITERS hypotheses, samples drawn from rng), the
+ * re-selection and the final refit.  On success e->H_sc, e->mask and
+ * e->n_inliers hold the estimate.  *iters: hypotheses tried (also on
+ * failure).
+ * Returns SPVS_OK, SPVS_E_DEGENERATE (every sample degenerate) or
+ * SPVS_E_NO_CONSENSUS (fewer than SPVS_MIN_INLIERS inliers), and
+ * SPVS_E_ARG for options out of range. */
+SPVS_NODISCARD int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px,
+                                         spvs_real confidence, uint32_t max_iters,
+                                         spvs_rng_t *rng, uint32_t *iters);
+
+/* Point i of the loaded frame as a row (x_tgt, y_tgt, x_cur, y_cur),
+ * scaled units. */
+void spvs_plane_h_point(const spvs_plane_h_t *e, uint16_t i, spvs_real row[4]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPVS_PLANE_H_H */

@@ -1,0 +1,295 @@
+/*
+ * plane_h.c - the robust planar-motion homography (plane_h.h): the loading
+ * of a frame, RANSAC's callbacks, the LO step, the inlier re-selection and
+ * the final refit.  The loops over the points are points.c's.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "core_util.h"
+#include "h_fit.h"
+#include "spvs/homography.h"
+#include "spvs/plane_h.h"
+
+/* The estimator's view of its points for the fits (h_fit.h). */
+static spvs_pts_in_t source(const spvs_plane_h_t *e)
+{
+    const spvs_pts_in_t in = {0, &e->pts};
+    return in;
+}
+
+void spvs_plane_h_point(const spvs_plane_h_t *e, uint16_t i, spvs_real row[4])
+{
+    spvs_pts_row(&e->pts, i, row);
+}
+
+/* ---- loading a frame ------------------------------------------------------ */
+
+int spvs_plane_h_check(const spvs_match_t *m, uint16_t n)
+{
+    if (n > SPVS_MAX_MATCHES) {
+        return SPVS_E_CAPACITY;
+    }
+    if (m == 0 && n > 0) {
+        return SPVS_E_ARG;
+    }
+    if (n < 3u) {
+        return SPVS_E_TOO_FEW;
+    }
+    return SPVS_OK;
+}
+
+/* The first bad value of a frame, as a status: a non-finite coordinate,
+ * one out of range, or a feature index out of range. */
+static int frame_error(const spvs_match_t *m, uint16_t n)
+{
+    const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
+    for (uint16_t i = 0; i < n; i++) {
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int j = 0; j < 4; j++) {
+            if (!spvs_is_finite(c[j])) {
+                return SPVS_E_NONFINITE;
+            }
+            if (SPVS_FABS(c[j]) > lim) {
+                return SPVS_E_RANGE;
+            }
+        }
+        if (m[i].feature >= SPVS_MAX_FEATURES) {
+            return SPVS_E_RANGE;
+        }
+    }
+    return SPVS_OK;
+}
+
+/* A stride for storing n matches in a spread order: near 0.618 n and
+ * coprime with n, so that r -> (r * stride) mod n is a permutation that puts
+ * neighbouring matches far apart.  Bound: SPREAD_TRIES candidates, each
+ * tested by at most GCD_STEPS steps of Euclid's algorithm (enough for any
+ * 16-bit pair); 1 (the input order) if none passes. */
+#define SPREAD_TRIES 16
+#define GCD_STEPS 32
+static uint16_t spread_stride(uint16_t n)
+{
+    uint32_t p = ((uint32_t)n * 40503u) >> 16;
+    for (int t = 0; t < SPREAD_TRIES && p > 1u; t++, p--) {
+        uint32_t a = n;
+        uint32_t b = p;
+        for (int k = 0; k < GCD_STEPS && b != 0u; k++) {
+            const uint32_t r = a % b;
+            a = b;
+            b = r;
+        }
+        if (a == 1u && b == 0u) {
+            return (uint16_t)p;
+        }
+    }
+    return 1u;
+}
+
+int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, uint16_t n,
+                      const uint16_t *order, uint16_t n_plane)
+{
+    int rc = spvs_plane_h_check(m, n);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    if (order == 0) {
+        n_plane = n;
+    }
+    if (n_plane > n) {
+        return SPVS_E_ARG;
+    }
+    spvs_prefetch(m, (size_t)n * sizeof *m);
+    /* The copy checks every value without branches; only a bad frame is
+     * looked at again, for its status. */
+    if (spvs_pts_load(&e->pts, e->feat, m, n, n_plane, order, spread_stride(n_plane)) != 0) {
+        rc = frame_error(m, n);
+        return rc != SPVS_OK ? rc : SPVS_E_RANGE;
+    }
+    e->n_plane = n_plane;
+    e->n_pts = n;
+    return n_plane < SPVS_MIN_INLIERS ? SPVS_E_TOO_FEW : SPVS_OK;
+}
+
+/* ---- RANSAC's callbacks (ransac.h) ---------------------------------------- */
+
+static int est_fit(void *ctx, const uint16_t *sample, spvs_real *model)
+{
+    const spvs_plane_h_t *e = (const spvs_plane_h_t *)ctx;
+    return spvs_pts_solve3(&e->pts, sample, model);
+}
+
+/* The inlier count over all the plane candidates, with the bail-out test
+ * (points.h, spvs_pts_score).  For a model as good as `need` the test
+ * fails with a probability of about 0.1 % per block; a contaminated
+ * sample's model is dropped after 16 to 48 points instead of after
+ * n - need outliers. */
+static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t need,
+                          uint8_t *mask)
+{
+    const spvs_plane_h_t *e = (const spvs_plane_h_t *)ctx;
+    return spvs_pts_score(&e->pts, e->n_plane, H, t2, need, mask);
+}
+
+/* Tie-break cost of H: its inliers' squared algebraic residual. */
+static spvs_real est_cost(void *ctx, const spvs_real *H, spvs_real t2)
+{
+    const spvs_plane_h_t *e = (const spvs_plane_h_t *)ctx;
+    return spvs_pts_cost(&e->pts, e->n_plane, H, t2);
+}
+
+/* LO step: polish a hypothesis with the weighted linear fit on its inliers
+ * among the first SPVS_LO_POINTS points, then once more on the polished
+ * model's own inliers among them.  The step only has to lift the count
+ * that the stopping rule reads, and the points are in spread order, so the
+ * first SPVS_LO_POINTS stand for all of them.  A 3-point model's inliers
+ * are those near its sample and it misses the others, so one fit on them
+ * lifts the count only part of the way; the second pass takes it the rest.
+ * The final model is refitted on every inlier (spvs_plane_h_estimate). */
+static int est_refine(void *ctx, spvs_real *H, const uint8_t *mask)
+{
+    spvs_plane_h_t *e = (spvs_plane_h_t *)ctx;
+    const spvs_pts_in_t in = source(e);
+    const uint16_t m = e->n_plane < SPVS_LO_POINTS ? e->n_plane : SPVS_LO_POINTS;
+    const int rc = spvs_hf_fit_linear(&in, mask, m, H);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    (void)spvs_pts_score(&e->pts, m, H, e->t2, 0, e->lo_mask);
+    /* On failure the fit leaves H as the first pass made it, which is
+     * still the polished model. */
+    const int rc2 = spvs_hf_fit_linear(&in, e->lo_mask, m, H);
+    (void)rc2;
+    return SPVS_OK;
+}
+
+/* ---- the re-selection ----------------------------------------------------- */
+
+/* Moves the sums from the set `from` to the set `to`: the points flagged in
+ * one and not the other added or removed, in point order.  The flags (0 or
+ * 1) are compared eight at a time and only the differing bytes of a word
+ * visited (most words are equal).  Returns 0 when the sets are the same,
+ * 1 when the sums moved, -1 when a point could not be added (w0 <= 0 under
+ * hw: the sums are then no longer usable). */
+static int lin_follow(const spvs_plane_h_t *e, const spvs_real hw[9], const uint8_t *from,
+                      const uint8_t *to, spvs_real sums[SPVS_H_LIN_SUMS])
+{
+    const uint16_t n = e->n_plane;
+    int moved = 0;
+    spvs_real p[4];
+    /* Bound: n / 8 words, each with at most 8 differing bytes, then fewer
+     * than 8 points. */
+    uint16_t i0 = 0;
+    for (; i0 + 8u <= n; i0 = (uint16_t)(i0 + 8u)) {
+        const uint64_t a = spvs_load_le64(from + i0);
+        const uint64_t b = spvs_load_le64(to + i0);
+        for (uint64_t d = a ^ b; d != 0u; d &= d - 1u) {
+            const uint16_t i = (uint16_t)(i0 + spvs_byte_of_lowest(d));
+            spvs_pts_row(&e->pts, i, p);
+            if (!spvs_pts_lin_move(hw, p, to[i] != 0, sums)) {
+                return -1;
+            }
+            moved = 1;
+        }
+    }
+    for (uint16_t i = i0; i < n; i++) {
+        if (from[i] != to[i]) {
+            spvs_pts_row(&e->pts, i, p);
+            if (!spvs_pts_lin_move(hw, p, to[i] != 0, sums)) {
+                return -1;
+            }
+            moved = 1;
+        }
+    }
+    return moved;
+}
+
+/* Re-selects the inliers of `model` until the set stops changing (bound:
+ * SPVS_REFIT_ROUNDS rounds): each round solves the joint linear fit on the
+ * set in use and takes the inliers of its H as the next set, kept while
+ * the count does not fall.  The fit's weights stay those of the RANSAC
+ * model, so its sums follow the set by the points that enter or leave it
+ * (lin_follow) instead of another pass.  On return e->mask holds the set,
+ * *n_inl its count, and the result is 1 when e->lin_sums are the sums over
+ * it (for the final refit), 0 when they could not be kept. */
+static int reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
+{
+    const spvs_pts_in_t in = source(e);
+    /* The set in use and the next one, swapped each round. */
+    uint8_t *cur = e->mask;
+    uint8_t *next = e->idx_mask;
+    spvs_real *const hw = e->lin_hw;
+    spvs_real *const sums = e->lin_sums;
+    for (int k = 0; k < 9; k++) {
+        hw[k] = model[k];
+    }
+    int lin = spvs_hf_lin_sums(&in, cur, e->n_plane, hw, sums) == SPVS_OK;
+    for (int round = 0; lin && round < SPVS_REFIT_ROUNDS; round++) {
+        spvs_real Hr[9];
+        if (spvs_hf_lin_solve(sums, hw, Hr) != SPVS_OK) {
+            break;
+        }
+        const uint16_t n_new = spvs_pts_score(&e->pts, e->n_plane, Hr, e->t2, 0, next);
+        if (n_new < *n_inl) {
+            break;
+        }
+        for (int k = 0; k < 9; k++) {
+            model[k] = Hr[k];
+        }
+        /* The model is now the fit on cur; the sums move to next. */
+        const int moved = lin_follow(e, hw, cur, next, sums);
+        if (moved < 0) {
+            lin = 0;
+            break;
+        }
+        uint8_t *const was = cur;
+        cur = next;
+        next = was;
+        *n_inl = n_new;
+        if (moved == 0) {
+            break;
+        }
+    }
+    if (cur != e->mask) {
+        memcpy(e->mask, cur, e->n_plane);
+    }
+    return lin;
+}
+
+int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px, spvs_real confidence,
+                          uint32_t max_iters, spvs_rng_t *rng, uint32_t *iters)
+{
+    SPVS_ASSERT(e != 0 && rng != 0 && iters != 0);
+    const spvs_real t = inlier_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+    e->t2 = t * t;
+    spvs_estimator_t est = {3u, e->n_plane, e, est_fit, est_score, est_cost, est_refine};
+    spvs_ransac_opts_t opts = {e->t2, confidence, max_iters, SPVS_MIN_INLIERS};
+    spvs_ransac_stats_t st;
+    spvs_real model[SPVS_MODEL_MAX];
+    int rc = spvs_ransac(&est, &opts, rng, e->idx, model, e->mask, e->idx_mask, &st);
+    *iters = st.iters;
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    uint16_t n_inl = st.n_inliers;
+    const int lin = reselect(e, model, &n_inl);
+    /* The final refit on the final set, its first normal matrix taken from
+     * the re-selection's sums where they are kept; its steps are kept only
+     * where they lower the transfer error (homography.h). */
+    const spvs_pts_in_t in = source(e);
+    spvs_real Hr[9];
+    for (int k = 0; k < 9; k++) {
+        Hr[k] = model[k];
+    }
+    if (spvs_hf_refit(&in, e->mask, e->n_plane, SPVS_FINAL_GN_STEPS, lin ? e->lin_sums : 0, Hr) ==
+        SPVS_OK) {
+        for (int k = 0; k < 9; k++) {
+            model[k] = Hr[k];
+        }
+    }
+    for (int k = 0; k < 9; k++) {
+        e->H_sc[k] = model[k];
+    }
+    e->n_inliers = n_inl;
+    return SPVS_OK;
+}

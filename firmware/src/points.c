@@ -1,0 +1,535 @@
+/*
+ * points.c - the point layout of this build and the loops over the points
+ * (points.h).  SPVS_SIMD_COLUMNS (spvs_config.h) chooses, here and nowhere
+ * else, between two implementations of each layout-dependent function:
+ * columns on SIMD lanes, or rows one point at a time.  Both make the same
+ * operations in the same order.
+ */
+#include <math.h>
+#include <stddef.h>
+
+#include "core_util.h"
+#include "h_fit.h"
+#include "points.h"
+
+/* Four interleaved lanes per sum: point i in lane i mod 4, each lane in
+ * point order, added as (0 + 1) + (2 + 3) at the end. */
+#define SUM_LANES 4
+_Static_assert(SUM_LANES == 4, "the lane folds are written for four lanes");
+#define TERMS_MAX 25
+_Static_assert(SPVS_H_LIN_SUMS <= TERMS_MAX && SPVS_NT_GN <= TERMS_MAX, "terms fit the lanes");
+_Static_assert(SPVS_SCORE_BLOCK % SUM_LANES == 0, "a score block is whole rows of lanes");
+
+#define HP_R spvs_real
+#define HP_M int32_t
+#define HP_SUFFIX
+#include "h_point.inc"
+
+/* Adds the lanes pairwise into out[0..nt). */
+static SPVS_ALWAYS_INLINE void lanes_fold(int nt, spvs_real acc[][SUM_LANES], spvs_real *out)
+{
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        out[k] = (acc[k][0] + acc[k][1]) + (acc[k][2] + acc[k][3]);
+    }
+}
+
+/* Sums the `kind` terms of the points flagged in `use` into out[0..nt),
+ * point i's coordinate k being c[k][4 i] (rows).  Each lane is one loop,
+ * its sums in registers.  Returns the number of used points if `count` (0
+ * otherwise), or -1 when a used point has w <= SPVS_W_EPS. */
+static SPVS_ALWAYS_INLINE int32_t sum_rows(int kind, int nt, int count, const spvs_real *H,
+                                           const spvs_real (*rows)[4], const uint8_t *use,
+                                           uint16_t n, spvs_real *out)
+{
+    spvs_real acc[TERMS_MAX][SUM_LANES];
+    int32_t used = 0;
+    /* Bound: SUM_LANES lanes of at most n / SUM_LANES + 1 points. */
+    for (uint16_t j = 0; j < SUM_LANES; j++) {
+        spvs_real a[TERMS_MAX];
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            a[k] = SPVS_R(0.0);
+        }
+        for (uint16_t i = j; i < n; i = (uint16_t)(i + SUM_LANES)) {
+            if (!use[i]) {
+                continue;
+            }
+            const spvs_real *p = rows[i];
+            if (!hp_terms(kind, H, p[0], p[1], p[2], p[3], SPVS_R(1.0), a)) {
+                return -1;
+            }
+            used += count;
+        }
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            acc[k][j] = a[k];
+        }
+    }
+    lanes_fold(nt, acc, out);
+    return used;
+}
+
+int spvs_pts_lin_move(const spvs_real H[9], const spvs_real pt[4], int add,
+                      spvs_real acc[SPVS_H_LIN_SUMS])
+{
+    spvs_real t[SPVS_H_LIN_SUMS];
+    for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
+        t[k] = SPVS_R(0.0);
+    }
+    if (!hp_terms(SPVS_T_LIN, H, pt[0], pt[1], pt[2], pt[3], SPVS_R(1.0), t)) {
+        return 0;
+    }
+    if (add) {
+        for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
+            acc[k] += t[k];
+        }
+    } else {
+        for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
+            acc[k] -= t[k];
+        }
+    }
+    return 1;
+}
+
+/* The input index of stored slot k (spvs_pts_load): the plane matches'
+ * slots 0..n_plane take them in spread order, the position among them
+ * advancing by `stride` (mod n_plane) from slot to slot, through order[]
+ * when it is given; the other slots take order[k]. */
+static SPVS_ALWAYS_INLINE uint16_t slot_source(uint16_t k, uint16_t n_plane,
+                                               const uint16_t *order, uint16_t stride,
+                                               uint16_t *pos)
+{
+    if (order != 0 && k >= n_plane) {
+        return order[k];
+    }
+    const uint16_t p = *pos;
+    const uint16_t q = (uint16_t)(p + stride);
+    *pos = (uint16_t)(q >= n_plane ? q - n_plane : q);
+    return order != 0 ? order[p] : p;
+}
+
+/* spvs_pts_score's bail-out test after m points with inl inliers: a
+ * shortfall d = p m - inl fails when d > 0 and d^2 > bail_var m, where
+ * bail_var = SPVS_BAIL_SIGMAS^2 p (1 - p) (integers of points, no root). */
+static SPVS_ALWAYS_INLINE int bails(spvs_real p, spvs_real bail_var, size_t m, int32_t inl)
+{
+    const spvs_real m_pts = (spvs_real)m;
+    const spvs_real d = p * m_pts - (spvs_real)inl;
+    return d > SPVS_R(0.0) && d * d > bail_var * m_pts;
+}
+
+/* Coordinate k of point i of the store (each layout defines it), and the
+ * inlier count point by point (defined below, once for both layouts). */
+static SPVS_ALWAYS_INLINE spvs_real at(const spvs_point_store_t *st, size_t i, int k);
+static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const spvs_real *h,
+                                           size_t i, size_t end, spvs_real t2, int32_t max_out,
+                                           uint8_t *mask, int32_t *inl);
+
+#if SPVS_SIMD_COLUMNS
+/* ======================================================================
+ * Columns: coordinate k of point i at v[k SPVS_MAX_MATCHES + i], read
+ * SPVS_VLANES points at a time.
+ * ====================================================================== */
+
+#include "v4.h"
+#define HP_R spvs_v4
+#define HP_M spvs_v4i
+#define HP_SUFFIX _v
+#include "h_point.inc"
+_Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
+/* The loader reads a match's four coordinates as one vector. */
+_Static_assert(offsetof(spvs_match_t, x_tgt) == 0 &&
+                   offsetof(spvs_match_t, y_cur) == 3 * sizeof(spvs_real),
+               "the coordinates of a match are contiguous");
+
+#define COL(st, k) (&(st)->v[(size_t)(k) * SPVS_MAX_MATCHES])
+
+static SPVS_ALWAYS_INLINE spvs_real at(const spvs_point_store_t *st, size_t i, int k)
+{
+    return st->v[(size_t)k * SPVS_MAX_MATCHES + i];
+}
+
+int spvs_pts_solve3(const spvs_point_store_t *st, const uint16_t idx[3], spvs_real H_out[9])
+{
+    const spvs_real *const c[4] = {COL(st, 0), COL(st, 1), COL(st, 2), COL(st, 3)};
+    return spvs_h_solve3_strided(c, idx, 1u, H_out);
+}
+
+/* The sums of sum_rows on the columns c[0..3], SUM_LANES points at a time
+ * in one vector (lane j holds points j, j + SUM_LANES, ...), branch free:
+ * an unused point adds +-0, which leaves a lane's sum as it was (sums start
+ * at +0 and so never become -0). */
+static SPVS_ALWAYS_INLINE int32_t sum_store(int kind, int nt, int count, const spvs_real *H,
+                                            const spvs_point_store_t *st, const uint8_t *use,
+                                            uint16_t n, spvs_real *out)
+{
+    const spvs_real *const c[4] = {COL(st, 0), COL(st, 1), COL(st, 2), COL(st, 3)};
+    spvs_v4 acc[TERMS_MAX];
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        acc[k] = (spvs_v4){0};
+    }
+    /* -1 in a lane while all its points have had w > SPVS_W_EPS. */
+    spvs_v4i all_ok = (spvs_v4i){0} - 1;
+    spvs_v4i cnt = {0};
+    /* A local copy: nothing the loop stores can then alias it. */
+    spvs_real h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = H[k];
+    }
+    const spvs_v4 one = (spvs_v4){0} + SPVS_R(1.0);
+    const uint32_t n_rows = (uint32_t)n / SUM_LANES;
+    /* Bound: n / SUM_LANES rows of lanes. */
+    for (uint32_t r = 0; r < n_rows; r++) {
+        const uint32_t i = r * SUM_LANES;
+        const spvs_v4i on = spvs_v4_flags(use + i);
+        all_ok &= hp_terms_v(kind, h, spvs_v4_load(c[0] + i), spvs_v4_load(c[1] + i),
+                             spvs_v4_load(c[2] + i), spvs_v4_load(c[3] + i),
+                             (spvs_v4)((spvs_v4i)one & on), acc);
+        if (count) {
+            cnt -= on;
+        }
+    }
+    /* The rest, fewer than SUM_LANES points, as one more row padded with
+     * unused points at the origin (an unused point adds +-0 and passes). */
+    const uint32_t i0 = n_rows * SUM_LANES;
+    if (i0 < n) {
+        spvs_real t[4][SUM_LANES] = {{SPVS_R(0.0)}};
+        uint8_t t_use[SUM_LANES] = {0};
+        for (uint32_t i = i0; i < n; i++) {
+            for (int k = 0; k < 4; k++) {
+                t[k][i - i0] = c[k][i];
+            }
+            t_use[i - i0] = use[i];
+        }
+        const spvs_v4i on = spvs_v4_flags(t_use);
+        all_ok &= hp_terms_v(kind, h, spvs_v4_load(t[0]), spvs_v4_load(t[1]),
+                             spvs_v4_load(t[2]), spvs_v4_load(t[3]),
+                             (spvs_v4)((spvs_v4i)one & on), acc);
+        if (count) {
+            cnt -= on;
+        }
+    }
+    int32_t any_bad = 0;
+    int32_t used = 0;
+    for (int j = 0; j < SUM_LANES; j++) {
+        any_bad |= all_ok[j] == 0;
+        used += (int32_t)cnt[j];
+    }
+    if (any_bad) {
+        return -1;
+    }
+    /* The lanes added as (0 + 1) + (2 + 3) (lanes_fold's order), four sums
+     * at once: the pairs (0 + 1) and (2 + 3) of two sums side by side, then
+     * those of four sums added across.  The rest one at a time. */
+    int k = 0;
+    SPVS_UNROLL
+    for (; k + 4 <= nt; k += 4) {
+        const spvs_v4 ab = SPVS_V4_SHUFFLE2(acc[k], acc[k + 1], 0, 2, 4, 6) +
+                           SPVS_V4_SHUFFLE2(acc[k], acc[k + 1], 1, 3, 5, 7);
+        const spvs_v4 cd = SPVS_V4_SHUFFLE2(acc[k + 2], acc[k + 3], 0, 2, 4, 6) +
+                           SPVS_V4_SHUFFLE2(acc[k + 2], acc[k + 3], 1, 3, 5, 7);
+        *(spvs_v4u *)(out + k) = SPVS_V4_SHUFFLE2(ab, cd, 0, 2, 4, 6) +
+                                 SPVS_V4_SHUFFLE2(ab, cd, 1, 3, 5, 7);
+    }
+    SPVS_UNROLL
+    for (; k < nt; k++) {
+        const spvs_v4 p = acc[k] + SPVS_V4_SHUFFLE(acc[k], 1, 0, 3, 2);
+        out[k] = (p + SPVS_V4_SHUFFLE(p, 2, 3, 0, 1))[0];
+    }
+    return used;
+}
+
+/* The loader's copy (spvs_pts_load); `order` is NULL or not where it is
+ * called, so each case gets its own loop. */
+static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
+                                       const spvs_match_t *m, uint16_t n, uint16_t n_plane,
+                                       const uint16_t *order, uint16_t stride)
+{
+    const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    spvs_real *const c0 = COL(st, 0), *const c1 = COL(st, 1);
+    spvs_real *const c2 = COL(st, 2), *const c3 = COL(st, 3);
+    uint16_t pos = 0;
+    int32_t bad = 0;
+    uint16_t k = 0;
+    /* -1 in a lane while every coordinate it has seen is in range. */
+    spvs_v4i in_range = (spvs_v4i){0} - 1;
+    /* Four slots at a time: the four coordinates of a match are one vector,
+     * transposed with the three others into columns.  Bound: n /
+     * SPVS_VLANES groups. */
+    for (; k + SPVS_VLANES <= n; k = (uint16_t)(k + SPVS_VLANES)) {
+        spvs_v4 r[SPVS_VLANES];
+        for (uint16_t j = 0; j < SPVS_VLANES; j++) {
+            const uint16_t i = slot_source((uint16_t)(k + j), n_plane, order, stride, &pos);
+            const uint16_t f = m[i].feature;
+            bad |= f >= SPVS_MAX_FEATURES;
+            feat[k + j] = f;
+            const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
+            in_range &= spvs_v4_abs(c) <= lim;
+            r[j] = c * inv;
+        }
+        /* (x y u v) rows to (x0 x1 x2 x3) ... columns. */
+        const spvs_v4 t0 = SPVS_V4_SHUFFLE2(r[0], r[1], 0, 4, 1, 5);
+        const spvs_v4 t1 = SPVS_V4_SHUFFLE2(r[0], r[1], 2, 6, 3, 7);
+        const spvs_v4 t2 = SPVS_V4_SHUFFLE2(r[2], r[3], 0, 4, 1, 5);
+        const spvs_v4 t3 = SPVS_V4_SHUFFLE2(r[2], r[3], 2, 6, 3, 7);
+        *(spvs_v4u *)&c0[k] = SPVS_V4_SHUFFLE2(t0, t2, 0, 1, 4, 5);
+        *(spvs_v4u *)&c1[k] = SPVS_V4_SHUFFLE2(t0, t2, 2, 3, 6, 7);
+        *(spvs_v4u *)&c2[k] = SPVS_V4_SHUFFLE2(t1, t3, 0, 1, 4, 5);
+        *(spvs_v4u *)&c3[k] = SPVS_V4_SHUFFLE2(t1, t3, 2, 3, 6, 7);
+    }
+    bad |= (in_range[0] & in_range[1] & in_range[2] & in_range[3]) == 0;
+    /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
+    for (; k < n; k++) {
+        const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
+        const uint16_t f = m[i].feature;
+        bad |= f >= SPVS_MAX_FEATURES;
+        feat[k] = f;
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int j = 0; j < 4; j++) {
+            bad |= !(SPVS_FABS(c[j]) <= lim);
+            COL(st, j)[k] = c[j] * inv;
+        }
+    }
+    return bad;
+}
+
+/* The inliers of H among points i..i + SPVS_SCORE_BLOCK, marked in
+ * mask[i..] when with_mask; returns their count. */
+static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_point_store_t *st,
+                                              size_t i, spvs_real t2, uint8_t *mask,
+                                              int with_mask)
+{
+    spvs_v4i cnt = {0};
+    SPVS_UNROLL
+    for (size_t r = i; r < i + SPVS_SCORE_BLOCK; r += SPVS_VLANES) {
+        spvs_v4 e;
+        const spvs_v4i in =
+            hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
+                        spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, &e);
+        cnt -= in;
+        if (with_mask) {
+            spvs_v4_store_flags(in, mask + r);
+        }
+    }
+    /* The four lane counts added by two swaps (no lane extractions). */
+    cnt += SPVS_V4_SHUFFLE(cnt, 2, 3, 0, 1);
+    cnt += SPVS_V4_SHUFFLE(cnt, 1, 0, 3, 2);
+    return (int32_t)cnt[0];
+}
+
+/* One block of spvs_pts_score, the whole block counted on SIMD lanes;
+ * returns 0 when `need` can no longer be reached (tested once per block). */
+static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
+                                              size_t i, spvs_real t2, int32_t max_out,
+                                              uint8_t *mask, int32_t *inl)
+{
+    *inl += mask ? score_block(h, st, i, t2, mask, 1) : score_block(h, st, i, t2, mask, 0);
+    return (int32_t)(i + SPVS_SCORE_BLOCK) - *inl <= max_out;
+}
+
+spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
+                        spvs_real t2)
+{
+    spvs_real lane[SUM_LANES] = {SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0)};
+    /* An outlier adds +0, which leaves a lane's sum (never -0) as it was. */
+    spvs_v4 acc = {0};
+    uint16_t i0 = 0;
+    /* Bound: n / SUM_LANES rows. */
+    for (; i0 + SUM_LANES <= n; i0 = (uint16_t)(i0 + SUM_LANES)) {
+        spvs_v4 e;
+        const spvs_v4i in =
+            hp_inlier_v(H, spvs_v4_load(&COL(st, 0)[i0]), spvs_v4_load(&COL(st, 1)[i0]),
+                        spvs_v4_load(&COL(st, 2)[i0]), spvs_v4_load(&COL(st, 3)[i0]), t2, &e);
+        acc += (spvs_v4)((spvs_v4i)e & in);
+    }
+    for (int j = 0; j < SUM_LANES; j++) {
+        lane[j] = acc[j];
+    }
+    /* The rest of each lane, in point order.  Bound: fewer than SUM_LANES. */
+    for (uint16_t j = 0; j < SUM_LANES; j++) {
+        for (uint16_t i = (uint16_t)(i0 + j); i < n; i = (uint16_t)(i + SUM_LANES)) {
+            spvs_real e;
+            if (hp_inlier(H, at(st, i, 0), at(st, i, 1), at(st, i, 2), at(st, i, 3), t2, &e)) {
+                lane[j] += e;
+            }
+        }
+    }
+    return (lane[0] + lane[1]) + (lane[2] + lane[3]);
+}
+
+#else /* !SPVS_SIMD_COLUMNS */
+/* ======================================================================
+ * Rows: point i at v[4 i .. 4 i + 3], read one point at a time.
+ * ====================================================================== */
+
+#define ROWS(st) ((const spvs_real(*)[4])(st)->v)
+
+static SPVS_ALWAYS_INLINE spvs_real at(const spvs_point_store_t *st, size_t i, int k)
+{
+    return st->v[4u * i + (size_t)k];
+}
+
+int spvs_pts_solve3(const spvs_point_store_t *st, const uint16_t idx[3], spvs_real H_out[9])
+{
+    const spvs_real *const c[4] = {&st->v[0], &st->v[1], &st->v[2], &st->v[3]};
+    return spvs_h_solve3_strided(c, idx, 4u, H_out);
+}
+
+static SPVS_ALWAYS_INLINE int32_t sum_store(int kind, int nt, int count, const spvs_real *H,
+                                            const spvs_point_store_t *st, const uint8_t *use,
+                                            uint16_t n, spvs_real *out)
+{
+    return sum_rows(kind, nt, count, H, ROWS(st), use, n, out);
+}
+
+static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
+                                       const spvs_match_t *m, uint16_t n, uint16_t n_plane,
+                                       const uint16_t *order, uint16_t stride)
+{
+    const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
+    const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
+    spvs_real(*const rows)[4] = (spvs_real(*)[4])st->v;
+    uint16_t pos = 0;
+    int32_t bad = 0;
+    /* Bound: n slots. */
+    for (uint16_t k = 0; k < n; k++) {
+        const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
+        const uint16_t f = m[i].feature;
+        bad |= f >= SPVS_MAX_FEATURES;
+        feat[k] = f;
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int j = 0; j < 4; j++) {
+            bad |= !(SPVS_FABS(c[j]) <= lim);
+            rows[k][j] = c[j] * inv;
+        }
+    }
+    return bad;
+}
+
+/* One block of spvs_pts_score point by point, so `need` is tested at every
+ * point. */
+static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
+                                              size_t i, spvs_real t2, int32_t max_out,
+                                              uint8_t *mask, int32_t *inl)
+{
+    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, max_out, mask, inl);
+}
+
+spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
+                        spvs_real t2)
+{
+    spvs_real lane[SUM_LANES] = {SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0)};
+    /* Each lane in point order.  Bound: n points. */
+    for (uint16_t j = 0; j < SUM_LANES; j++) {
+        for (uint16_t i = j; i < n; i = (uint16_t)(i + SUM_LANES)) {
+            spvs_real e;
+            const spvs_real *p = ROWS(st)[i];
+            if (hp_inlier(H, p[0], p[1], p[2], p[3], t2, &e)) {
+                lane[j] += e;
+            }
+        }
+    }
+    return (lane[0] + lane[1]) + (lane[2] + lane[3]);
+}
+
+#endif /* SPVS_SIMD_COLUMNS */
+
+/* ---- the same in both layouts ------------------------------------------ */
+
+/* Counts the inliers among points [i, end) one at a time into *inl,
+ * marking them in mask when it is not NULL; returns 0 at the first point
+ * that leaves more than max_out outliers so far (the count can no longer
+ * reach `need`), 1 otherwise. */
+static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const spvs_real *h,
+                                           size_t i, size_t end, spvs_real t2, int32_t max_out,
+                                           uint8_t *mask, int32_t *inl)
+{
+    for (size_t r = i; r < end; r++) {
+        spvs_real e;
+        const int32_t ok =
+            hp_inlier(h, at(st, r, 0), at(st, r, 1), at(st, r, 2), at(st, r, 3), t2, &e);
+        *inl += ok;
+        if (mask) {
+            mask[r] = (uint8_t)ok;
+        }
+        if ((int32_t)(r + 1) - *inl > max_out) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+void spvs_pts_row(const spvs_point_store_t *st, uint16_t i, spvs_real row[4])
+{
+    row[0] = at(st, i, 0);
+    row[1] = at(st, i, 1);
+    row[2] = at(st, i, 2);
+    row[3] = at(st, i, 3);
+}
+
+static SPVS_ALWAYS_INLINE int32_t sum_kind(int kind, int nt, int count, const spvs_real H[9],
+                                           const spvs_pts_in_t *in, const uint8_t *use,
+                                           uint16_t n, spvs_real *out)
+{
+    if (in->store != 0) {
+        return sum_store(kind, nt, count, H, in->store, use, n, out);
+    }
+    return sum_rows(kind, nt, count, H, in->rows, use, n, out);
+}
+
+int32_t spvs_pts_sum(spvs_terms_t kind, const spvs_real H[9], const spvs_pts_in_t *in,
+                     const uint8_t *use, uint16_t n, spvs_real *out)
+{
+    switch (kind) {
+    case SPVS_T_FIT_Y:
+        return sum_kind(SPVS_T_FIT_Y, SPVS_NT_FIT, 1, H, in, use, n, out);
+    case SPVS_T_FIT_X:
+        return sum_kind(SPVS_T_FIT_X, SPVS_NT_FIT, 0, H, in, use, n, out);
+    case SPVS_T_LIN:
+        return sum_kind(SPVS_T_LIN, SPVS_H_LIN_SUMS, 1, H, in, use, n, out);
+    case SPVS_T_GN:
+        return sum_kind(SPVS_T_GN, SPVS_NT_GN, 0, H, in, use, n, out);
+    case SPVS_T_COST:
+        return sum_kind(SPVS_T_COST, SPVS_NT_COST, 0, H, in, use, n, out);
+    case SPVS_T_GRAD:
+        return sum_kind(SPVS_T_GRAD, SPVS_NT_GRAD, 0, H, in, use, n, out);
+    }
+    SPVS_ASSERT(0);
+    return -1;
+}
+
+int32_t spvs_pts_load(spvs_point_store_t *st, uint16_t *feat, const spvs_match_t *m, uint16_t n,
+                      uint16_t n_plane, const uint16_t *order, uint16_t stride)
+{
+    return order == 0 ? load(st, feat, m, n, n_plane, 0, stride)
+                      : load(st, feat, m, n, n_plane, order, stride);
+}
+
+uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real H[9],
+                        spvs_real t2, uint16_t need, uint8_t *mask)
+{
+    const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
+    const spvs_real p = need <= n ? (spvs_real)need / (spvs_real)n : SPVS_R(1.0);
+    const spvs_real bail_var =
+        (spvs_real)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * p * (SPVS_R(1.0) - p);
+    /* A local copy: the mask stores cannot then alias the model. */
+    spvs_real h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = H[k];
+    }
+    int32_t inl = 0;
+    size_t i = 0;
+    /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
+     * points. */
+    for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
+        if (!score_blockwise(st, h, i, t2, max_out, mask, &inl) ||
+            bails(p, bail_var, i + SPVS_SCORE_BLOCK, inl)) {
+            return (uint16_t)inl;
+        }
+    }
+    (void)score_points(st, h, i, n, t2, max_out, mask, &inl);
+    return (uint16_t)inl;
+}
