@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds the float and double variants and runs every
-# test with ctest.  This is the README's test command and what CI runs.
+# Installs dependencies, builds the float and double variants, the rows
+# layout and the sanitizer build, and runs every test with ctest.  This is
+# the README's test command and what CI runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,6 +25,27 @@ echo "=== configure and build (double core, core tests) ==="
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_DOUBLE=ON >/dev/null
 cmake --build "$dir" -j "$jobs" --target $core_tests
 echo "=== ctest (double core, core tests) ==="
+ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "^($(echo $core_tests | tr ' ' '|'))\$" || status=1
+
+# Rows: the Cortex-M4F's point layout on the host (SPVS_SIMD_COLUMNS=0,
+# firmware/src/points.c): the core's tests again, and the closed loop must
+# equal the columns build's bit for bit.
+dir=build/test-rows
+echo "=== configure and build (float32 core, rows layout, core tests) ==="
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_DOUBLE=OFF \
+  -DCMAKE_C_FLAGS=-DSPVS_SIMD_COLUMNS=0 -DCMAKE_CXX_FLAGS=-DSPVS_SIMD_COLUMNS=0 >/dev/null
+cmake --build "$dir" -j "$jobs" --target $core_tests spvs-sim
+echo "=== ctest (float32 core, rows layout, core tests) ==="
+ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "^($(echo $core_tests | tr ' ' '|'))\$" || status=1
+echo "=== closed loop: columns build against rows build ==="
+tests/compare_layouts.sh build/test-float/sim_host/spvs-sim "$dir/sim_host/spvs-sim" || status=1
+
+# Sanitizers: the core's tests and the closed loop under ASan and UBSan.
+dir=build/test-sanitize
+echo "=== configure and build (float32 core, ASan + UBSan, core tests) ==="
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DSPVS_DOUBLE=OFF -DSPVS_SANITIZE=ON >/dev/null
+cmake --build "$dir" -j "$jobs" --target $core_tests
+echo "=== ctest (float32 core, ASan + UBSan, core tests) ==="
 ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "^($(echo $core_tests | tr ' ' '|'))\$" || status=1
 
 exit $status

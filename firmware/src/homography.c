@@ -351,8 +351,7 @@ int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n, uint1
      * the first also builds the normal matrix N, which later steps reuse
      * while they stay close (chord Gauss-Newton: from a RANSAC start N
      * hardly changes over two steps, and a gradient pass sums 7 terms per
-     * point instead of 25; measured, the benchmark's corner errors and the
-     * closed-loop runs are the same as with N rebuilt every step).  A step
+     * point instead of 25; docs/ESTIMATION.md).  A step
      * that raises the cost is undone and ends the refit; so does a
      * relative improvement under 1e-4.  The pass after the last step only
      * evaluates the cost.  Bound: max_iters + 1 <= SPVS_REFIT_MAX_ITERS + 1

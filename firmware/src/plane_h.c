@@ -293,3 +293,21 @@ int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px, spvs_real conf
     e->n_inliers = n_inl;
     return SPVS_OK;
 }
+
+int spvs_plane_h_adopt(spvs_plane_h_t *e, const spvs_real H_sc[9], spvs_real inlier_px)
+{
+    SPVS_ASSERT(e != 0 && H_sc != 0);
+    if (!spvs_finite3x2(H_sc, H_sc + 6)) {
+        return SPVS_E_DEGENERATE;
+    }
+    for (int k = 0; k < 9; k++) {
+        e->H_sc[k] = H_sc[k];
+    }
+    e->H_sc[3] = SPVS_R(0.0);
+    e->H_sc[4] = SPVS_R(1.0);
+    e->H_sc[5] = SPVS_R(0.0);
+    const spvs_real t = inlier_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+    e->t2 = t * t;
+    e->n_inliers = spvs_pts_score(&e->pts, e->n_plane, e->H_sc, e->t2, 0, e->mask);
+    return e->n_inliers < SPVS_MIN_INLIERS ? SPVS_E_NO_CONSENSUS : SPVS_OK;
+}

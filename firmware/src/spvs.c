@@ -90,10 +90,11 @@ static void clear_output(spvs_output_t *out, uint16_t n)
 }
 
 /* Check and load the frame, the matches of features known to be off the
- * plane kept out of the plane candidates, and estimate H.  On success
- * s->est holds H in scaled units and its inliers, and out->H the same in
- * pixels. */
-static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+ * plane kept out of the plane candidates, and estimate H (or take H_px,
+ * pixels, when it is given).  On success s->est holds H in scaled units and
+ * its inliers, and out->H the same in pixels. */
+static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, const spvs_real *H_px,
+                    spvs_output_t *out)
 {
     int rc = spvs_plane_h_check(m, n);
     if (rc != SPVS_OK) {
@@ -109,10 +110,19 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
     if (rc != SPVS_OK) {
         return rc;
     }
-    uint32_t iters = 0;
-    rc = spvs_plane_h_estimate(&s->est, s->p.inlier_px, s->p.confidence, s->p.max_iters,
-                               &s->rng, &iters);
-    out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
+    if (H_px != 0) {
+        spvs_real H_sc[9];
+        for (int k = 0; k < 9; k++) {
+            H_sc[k] = H_px[k];
+        }
+        spvs_h_rescale(H_sc, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+        rc = spvs_plane_h_adopt(&s->est, H_sc, s->p.inlier_px);
+    } else {
+        uint32_t iters = 0;
+        rc = spvs_plane_h_estimate(&s->est, s->p.inlier_px, s->p.confidence, s->p.max_iters,
+                                   &s->rng, &iters);
+        out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
+    }
     if (rc != SPVS_OK) {
         return rc;
     }
@@ -131,7 +141,7 @@ int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t 
         return SPVS_E_ARG;
     }
     clear_output(out, n);
-    int rc = estimate(s, m, n, out);
+    int rc = estimate(s, m, n, 0, out);
     out->status = (int16_t)rc;
     return rc;
 }
@@ -160,13 +170,11 @@ static void epipole_filter(spvs_t *s, const spvs_epipole_t *ep, spvs_control_inp
     in->e_dir_z = votes > 0 ? SPVS_R(1.0) : (votes < 0 ? SPVS_R(-1.0) : ep->dir_z);
 }
 
-int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
-                spvs_output_t *out)
+/* The frame's time and H (estimated, or H_px when given): SPVS_OK, or the
+ * status that stops the robot. */
+static int begin_frame(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                       const spvs_real *H_px, spvs_output_t *out)
 {
-    if (s == 0 || out == 0) {
-        return SPVS_E_ARG;
-    }
-    clear_output(out, n);
     int rc = SPVS_OK;
     if (!spvs_is_finite(t_s)) {
         rc = SPVS_E_NONFINITE;
@@ -178,13 +186,9 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
     if (rc == SPVS_OK) {
         s->last_t_s = t_s;
         s->has_last = 1;
-        rc = estimate(s, m, n, out);
+        rc = estimate(s, m, n, H_px, out);
     }
     if (rc != SPVS_OK) {
-        /* The robot is told to stop: the controller's odometry must know. */
-        s->ctl.last_v = SPVS_R(0.0);
-        out->status = (int16_t)rc;
-        out->step = (uint8_t)s->ctl.step;
         return rc;
     }
     /* A long gap since the last good frame: the step-end tests restart, as
@@ -196,7 +200,14 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
     }
     s->has_good = 1;
     s->last_good_t_s = t_s;
+    return SPVS_OK;
+}
 
+/* The pipeline after H: the off-plane points, the epipole and the
+ * controller's command. */
+static int after_h(spvs_t *s, spvs_real t_s, spvs_output_t *out)
+{
+    int rc;
     /* The off-plane points, the parallax of the remembered ones, the
      * epipole from all of them, and what the memory learns from it. */
     spvs_offplane_t *const o = &s->off;
@@ -238,4 +249,42 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
     out->status = (int16_t)rc;
     out->step = (uint8_t)s->ctl.step;
     return rc;
+}
+
+/* spvs_update and spvs_update_with_h. */
+static int update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                  const spvs_real *H_px, spvs_output_t *out)
+{
+    if (s == 0 || out == 0) {
+        return SPVS_E_ARG;
+    }
+    clear_output(out, n);
+    const int rc = begin_frame(s, m, n, t_s, H_px, out);
+    if (rc != SPVS_OK) {
+        /* The robot is told to stop: the controller's odometry must know. */
+        s->ctl.last_v = SPVS_R(0.0);
+        out->status = (int16_t)rc;
+        out->step = (uint8_t)s->ctl.step;
+        return rc;
+    }
+    return after_h(s, t_s, out);
+}
+
+int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                spvs_output_t *out)
+{
+    return update(s, m, n, t_s, 0, out);
+}
+
+int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                       const spvs_real H_px[9], spvs_output_t *out)
+{
+    if (H_px == 0) {
+        if (out != 0) {
+            clear_output(out, n);
+            out->status = SPVS_E_ARG;
+        }
+        return SPVS_E_ARG;
+    }
+    return update(s, m, n, t_s, H_px, out);
 }

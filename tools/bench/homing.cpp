@@ -5,10 +5,10 @@
  * camera, noise, kinematics; DESIGN.md section 5's defaults) is timed end to
  * end twice: with the core's pipeline behind the in-process link
  * (spvs_update), and with a link in which OpenCV's findHomography estimates H
- * while the core's epipole and control law do the rest, on the same matches
- * and with the same parameters.  The OpenCV loop has no off-plane memory
- * (that is part of our estimation stage), so it is the loop a user would
- * write around findHomography with our controller.
+ * while the core's own stages do the rest (spvs_update_with_h: the frame
+ * check, the inliers of that H, the off-plane memory and candidates, the
+ * epipole and its median, the controller), on the same matches and with the
+ * same parameters.  Only the estimate of H differs between the two loops.
  *
  * usage: spvs-bench-homing [--method 1|2|3] [--noise PX] [--outliers F]
  *                          [--seed S] [--runs R] [--cv-method NAME] [--json]
@@ -41,17 +41,14 @@ namespace {
     std::exit(2);
 }
 
-/* The OpenCV link: H from cv::findHomography, then the core's epipole on the
- * matches it rejects, then the core's controller. */
+/* The OpenCV link: H from cv::findHomography, then the core's pipeline
+ * after H (spvs_update_with_h). */
 struct CvLink {
     int method = cv::USAC_DEFAULT;
     spvs_params_t p{};
-    spvs_control_t ctl{};
+    spvs_t core{};
     std::vector<cv::Point2f> src, dst;
     std::vector<uint8_t> inl;
-    spvs_real pts[SPVS_MAX_MATCHES][4];
-    uint16_t cand[SPVS_MAX_OFFPLANE];
-    spvs_epipole_work_t work;
 };
 
 int cv_exchange(void *ctx, uint32_t seq, double t_s, const spvs_match_t *m, uint16_t n,
@@ -61,11 +58,8 @@ int cv_exchange(void *ctx, uint32_t seq, double t_s, const spvs_match_t *m, uint
     (void)err;
     (void)err_len;
     CvLink &L = *static_cast<CvLink *>(ctx);
-    std::memset(out, 0, sizeof *out);
-    out->parallax_px = SPVS_R(-1.0);
-    out->n_matches = n;
-    const spvs_control_input_t *inp = nullptr;
-    spvs_control_input_t in{};
+    spvs_real H[9];
+    bool have = false;
     if (n >= 4 && n <= SPVS_MAX_MATCHES) {
         L.src.resize(n);
         L.dst.resize(n);
@@ -84,53 +78,18 @@ int cv_exchange(void *ctx, uint32_t seq, double t_s, const spvs_match_t *m, uint
             /* The core's convention: h22 (row 1, column 1) = 1. */
             const double h22 = Hm.at<double>(1, 1);
             for (int k = 0; k < 9; k++)
-                in.H[k] = (spvs_real)(Hm.at<double>(k / 3, k % 3) / h22);
-            /* The epipole stage of the core, fed as spvs_update feeds it:
-             * scaled units, candidates = rejected matches with a transfer
-             * error above offplane_px. */
-            const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
-            spvs_real Hs[9];
-            for (int k = 0; k < 9; k++)
-                Hs[k] = in.H[k];
-            spvs_h_rescale(Hs, inv);
-            const spvs_real off = L.p.offplane_px * inv;
-            uint16_t nc = 0;
-            for (uint16_t i = 0; i < n; i++) {
-                L.pts[i][0] = m[i].x_tgt * inv;
-                L.pts[i][1] = m[i].y_tgt * inv;
-                L.pts[i][2] = m[i].x_cur * inv;
-                L.pts[i][3] = m[i].y_cur * inv;
-                if (i < L.inl.size() && L.inl[i])
-                    continue;
-                if (nc < SPVS_MAX_OFFPLANE && spvs_h_transfer_err2(Hs, L.pts[i]) > off * off)
-                    L.cand[nc++] = i;
-            }
-            spvs_epipole_t ep{};
-            int erc = spvs_epipole_estimate(Hs, (const spvs_real(*)[4])L.pts, L.cand, nc,
-                                            L.p.epipole_sin_tol * L.p.epipole_sin_tol,
-                                            L.p.min_support, &ep, nullptr, &L.work);
-            bool e_ok = erc == SPVS_OK;
-            in.e_valid = (uint8_t)e_ok;
-            in.e_x_px = e_ok ? ep.e_x_px : SPVS_R(0.0);
-            in.e_dir_x = e_ok ? ep.dir_x : SPVS_R(0.0);
-            in.e_dir_z = e_ok ? ep.dir_z : SPVS_R(0.0);
-            in.parallax_px = e_ok ? ep.parallax_px : SPVS_R(-1.0);
-            in.t_s = (spvs_real)t_s;
-            inp = &in;
-            for (int k = 0; k < 9; k++)
-                out->H[k] = in.H[k];
-            out->h_valid = 1;
-            out->e_valid = in.e_valid;
-            out->e_x_px = in.e_x_px;
-            out->parallax_px = in.parallax_px;
+                H[k] = (spvs_real)(Hm.at<double>(k / 3, k % 3) / h22);
+            have = true;
         }
     }
-    spvs_real v = 0, w = 0;
-    int rc = spvs_control_step(&L.ctl, &L.p.ctl, inp, &v, &w);
-    out->v = rc == SPVS_OK ? v : SPVS_R(0.0);
-    out->w = rc == SPVS_OK ? w : SPVS_R(0.0);
-    out->status = (int16_t)(inp ? rc : SPVS_E_NO_CONSENSUS);
-    out->step = (uint8_t)L.ctl.step;
+    /* Without an H the core is handed a degenerate one, so that it stops
+     * the robot and keeps its frame-time bookkeeping as on any bad frame. */
+    if (!have)
+        for (int k = 0; k < 9; k++)
+            H[k] = std::nan("");
+    /* The status travels in out->status, as on every link. */
+    const int rc = spvs_update_with_h(&L.core, m, n, (spvs_real)t_s, H, out);
+    (void)rc;
     return 0;
 }
 
@@ -234,12 +193,11 @@ int main(int argc, char **argv)
                 CvLink *L = new CvLink();
                 L->method = cv_method;
                 L->p = p;
-                if (spvs_control_params_check(&p.ctl) != SPVS_OK) {
-                    std::fprintf(stderr, "spvs-bench-homing: control parameters rejected\n");
+                if (spvs_init(&L->core, &p) != SPVS_OK) {
+                    std::fprintf(stderr, "spvs-bench-homing: parameters rejected\n");
                     delete L;
                     return 1;
                 }
-                spvs_control_reset(&L->ctl);
                 link.ctx = L;
                 link.exchange = cv_exchange;
                 link.close = cv_close;

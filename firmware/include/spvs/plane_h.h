@@ -107,6 +107,15 @@ SPVS_NODISCARD int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px,
                                          spvs_real confidence, uint32_t max_iters,
                                          spvs_rng_t *rng, uint32_t *iters);
 
+/* Takes H_sc (scaled units, planar form) as the estimate of the loaded
+ * frame instead of estimating it: e->mask and e->n_inliers get its inliers
+ * among the plane candidates under inlier_px pixels.  Returns SPVS_OK,
+ * SPVS_E_DEGENERATE (a non-finite H_sc) or SPVS_E_NO_CONSENSUS (fewer than
+ * SPVS_MIN_INLIERS inliers); e->H_sc is set in every case but the first
+ * error. */
+SPVS_NODISCARD int spvs_plane_h_adopt(spvs_plane_h_t *e, const spvs_real H_sc[9],
+                                      spvs_real inlier_px);
+
 /* Point i of the loaded frame as a row (x_tgt, y_tgt, x_cur, y_cur),
  * scaled units. */
 void spvs_plane_h_point(const spvs_plane_h_t *e, uint16_t i, spvs_real row[4]);

@@ -10,10 +10,10 @@
  *                  sample_size draws, no retry loop.
  * The adaptive count is ceil(log(1 - confidence) / log(1 - w^s)) with w the
  * best inlier fraction so far and s the sample size.  With a refine callback
- * each new best model with at least a fifth of the points as inliers is
- * polished on its inliers first (LO-RANSAC), so w reflects the model's true
- * support and the count falls sooner; refine runs at most once per
- * hypothesis.
+ * each new best model with at least 1 / SPVS_LO_MIN_SHARE of the points as
+ * inliers is polished on its inliers first (LO-RANSAC), so w reflects the
+ * model's true support and the count falls sooner; refine runs at most once
+ * per hypothesis.
  */
 #ifndef SPVS_RANSAC_H
 #define SPVS_RANSAC_H

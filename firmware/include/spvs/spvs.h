@@ -99,6 +99,19 @@ void spvs_reset(spvs_t *s);
 SPVS_NODISCARD int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                spvs_real t_s, spvs_output_t *out);
 
+/* spvs_update with H given by the caller instead of estimated: H_px is
+ * H_cur_tgt in centred pixels (planar form, h22 = 1; its middle row is
+ * taken as (0, 1, 0)).  The frame is checked and loaded as in spvs_update,
+ * the plane candidates within inlier_px of H are its inliers, and the rest
+ * of the pipeline (off-plane memory, epipole, controller) runs unchanged.
+ * For comparing estimators on the same pipeline (tools/bench/homing.cpp).
+ * Returns what spvs_update returns (SPVS_E_NO_CONSENSUS when fewer than
+ * SPVS_MIN_INLIERS candidates are inliers of H_px), SPVS_E_ARG for H_px
+ * NULL, and SPVS_E_DEGENERATE for a non-finite H_px. */
+SPVS_NODISCARD int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
+                                      spvs_real t_s, const spvs_real H_px[9],
+                                      spvs_output_t *out);
+
 /* The estimation stage alone: validate the matches, run the planar RANSAC and
  * the refit, and fill out->H (pixels), n_matches, n_inliers, ransac_iters,
  * h_valid and status; the command is (0, 0).  Matches whose feature the
