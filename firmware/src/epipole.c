@@ -11,28 +11,14 @@
  * too close to the horizon row or has too little parallax to say anything. */
 #define DIR_MIN2 SPVS_R(1.0e-12)
 
-int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
-                          const uint16_t *cand, uint16_t n_cand,
-                          spvs_real sin_tol2, uint16_t min_support,
-                          spvs_epipole_t *out, uint8_t *support_out,
-                          spvs_epipole_work_t *work)
+/* Per candidate: the line l = p_cur x (H p_tgt) holds the epipole
+ * e = (e_x, 0, e_z), so l1 e_x + l3 e_z = 0; with gamma > 0 the signed
+ * direction of (e_x, e_z) is sign(y_cur) (l3, -l1) (see epipole.h).  The
+ * directions go to work->dx, dz and their squared norms to work->n2. */
+static SPVS_ALWAYS_INLINE void line_directions(const spvs_real H[9], const spvs_real (*pts)[4],
+                                               const uint16_t *cand, uint16_t n_cand,
+                                               uint8_t *support_out, spvs_epipole_work_t *work)
 {
-    if (H == 0 || pts == 0 || out == 0 || work == 0 || (cand == 0 && n_cand > 0) ||
-        n_cand > SPVS_MAX_OFFPLANE || min_support < 1u) {
-        return SPVS_E_ARG;
-    }
-    out->e_x_px = SPVS_R(0.0);
-    out->dir_x = SPVS_R(0.0);
-    out->dir_z = SPVS_R(0.0);
-    out->parallax_px = SPVS_R(0.0);
-    out->n_support = 0;
-
-    /* Per candidate: the line l = p_cur x (H p_tgt) holds the epipole
-     * e = (e_x, 0, e_z), so l1 e_x + l3 e_z = 0; with gamma > 0 the signed
-     * direction of (e_x, e_z) is sign(y_cur) (l3, -l1) (see epipole.h). */
-    spvs_real *dx = work->dx;
-    spvs_real *dz = work->dz;
-    spvs_real *n2 = work->n2;
     for (uint16_t i = 0; i < n_cand; i++) {
         const spvs_real *p = pts[cand[i]];
         spvs_real q1 = H[0] * p[0] + H[1] * p[1] + H[2];
@@ -41,21 +27,29 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
         spvs_real l1 = p[3] * q3 - q2;
         spvs_real l3 = p[2] * q2 - p[3] * q1;
         spvs_real sg = p[3] < SPVS_R(0.0) ? SPVS_R(-1.0) : SPVS_R(1.0);
-        dx[i] = sg * l3;
-        dz[i] = -sg * l1;
-        n2[i] = dx[i] * dx[i] + dz[i] * dz[i];
+        const spvs_real dx = sg * l3;
+        const spvs_real dz = -sg * l1;
+        work->dx[i] = dx;
+        work->dz[i] = dz;
+        work->n2[i] = dx * dx + dz * dz;
         if (support_out) {
             support_out[i] = 0;
         }
     }
+}
 
-    /* 1-point consensus: each usable candidate's direction is a hypothesis;
-     * a candidate supports it when it points the same way within the angle
-     * whose squared sine is sin_tol2 (no square roots, no divisions).
-     * Bound: SPVS_EPIPOLE_MAX_HYP x SPVS_MAX_OFFPLANE pair tests. */
-    uint16_t best = 0;
+/* 1-point consensus: each usable candidate's direction is a hypothesis; a
+ * candidate supports it when it points the same way within the angle whose
+ * squared sine is sin_tol2 (no square roots, no divisions).  At most
+ * SPVS_EPIPOLE_MAX_HYP hypotheses, evenly spread over the list.  Returns
+ * the best's support and its candidate in *best.  Bound:
+ * SPVS_EPIPOLE_MAX_HYP x SPVS_MAX_OFFPLANE pair tests. */
+static SPVS_ALWAYS_INLINE uint16_t consensus(const spvs_epipole_work_t *work, uint16_t n_cand,
+                                             spvs_real sin_tol2, uint16_t *best)
+{
+    const spvs_real *dx = work->dx, *dz = work->dz, *n2 = work->n2;
     uint16_t best_support = 0;
-    /* At most SPVS_EPIPOLE_MAX_HYP hypotheses, evenly spread over the list. */
+    *best = 0;
     uint16_t n_hyp = n_cand < SPVS_EPIPOLE_MAX_HYP ? n_cand : (uint16_t)SPVS_EPIPOLE_MAX_HYP;
     for (uint16_t h = 0; h < n_hyp; h++) {
         uint16_t j = (uint16_t)(((uint32_t)h * n_cand) / n_hyp);
@@ -75,19 +69,27 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
         }
         if (support > best_support) {
             best_support = support;
-            best = j;
+            *best = j;
         }
     }
-    if (best_support < min_support) {
-        return SPVS_E_NO_PARALLAX;
-    }
+    return best_support;
+}
 
-    /* Refine robustly: each supporter's angle from the hypothesis b, as
-     * tan(delta_i) = cross(b, d_i) / dot(b, d_i); the median angle turns b
-     * onto the estimate.  A mismatch that fell inside the consensus cone
-     * moves a median by one rank at most.  Storage: the tangents go to n2[]
-     * and the squared parallaxes to dz[], entry k <= i written only after
-     * entry i was read; the hypothesis is kept in locals. */
+/* The estimate from the supporters of hypothesis `best`: each supporter's
+ * angle from the hypothesis b, as tan(delta_i) = cross(b, d_i) /
+ * dot(b, d_i); the median angle turns b onto the estimate.  A mismatch that
+ * fell inside the consensus cone moves a median by one rank at most.
+ * Storage: the tangents go to n2[] and the squared parallaxes to dz[],
+ * entry k <= i written only after entry i was read; the hypothesis is kept
+ * in locals. */
+static SPVS_ALWAYS_INLINE void refine(const spvs_real H[9], const spvs_real (*pts)[4],
+                                      const uint16_t *cand, uint16_t n_cand, spvs_real sin_tol2,
+                                      uint16_t best, spvs_epipole_t *out, uint8_t *support_out,
+                                      spvs_epipole_work_t *work)
+{
+    const spvs_real *dx = work->dx;
+    spvs_real *dz = work->dz;
+    spvs_real *n2 = work->n2;
     const spvs_real hx = dx[best];
     const spvs_real hz = dz[best];
     const spvs_real n2_best = n2[best];
@@ -144,6 +146,30 @@ int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
     if (n_par > 0) {
         out->parallax_px = scale * SPVS_SQRT(par[n_par / 2]);
     }
+}
+
+int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
+                          const uint16_t *cand, uint16_t n_cand,
+                          spvs_real sin_tol2, uint16_t min_support,
+                          spvs_epipole_t *out, uint8_t *support_out,
+                          spvs_epipole_work_t *work)
+{
+    if (H == 0 || pts == 0 || out == 0 || work == 0 || (cand == 0 && n_cand > 0) ||
+        n_cand > SPVS_MAX_OFFPLANE || min_support < 1u) {
+        return SPVS_E_ARG;
+    }
+    out->e_x_px = SPVS_R(0.0);
+    out->dir_x = SPVS_R(0.0);
+    out->dir_z = SPVS_R(0.0);
+    out->parallax_px = SPVS_R(0.0);
+    out->n_support = 0;
+    line_directions(H, pts, cand, n_cand, support_out, work);
+    uint16_t best = 0;
+    const uint16_t best_support = consensus(work, n_cand, sin_tol2, &best);
+    if (best_support < min_support) {
+        return SPVS_E_NO_PARALLAX;
+    }
+    refine(H, pts, cand, n_cand, sin_tol2, best, out, support_out, work);
     out->n_support = best_support;
     return SPVS_OK;
 }
