@@ -19,6 +19,11 @@ extern "C" {
  * never steps back when the wall clock is set. */
 double sim_clock_now_s(void);
 
+/* Sleep until the monotonic clock reads t_s (seconds, as sim_clock_now_s);
+ * at once if that has passed.  A signal does not cut the sleep short: the
+ * deadline is absolute. */
+void sim_clock_sleep_until(double t_s);
+
 /* A run id unlike any earlier run's on this machine: the wall clock in
  * nanoseconds mixed with the process id, so that two links opened in the
  * same nanosecond by different processes still differ.  A node that sees a
