@@ -18,7 +18,7 @@ if(TARGET spvs_frontend)
   target_include_directories(test_frontend_loop PRIVATE ${CMOCKA_INC}
                              ${CMAKE_CURRENT_SOURCE_DIR})
   target_link_libraries(test_frontend_loop PRIVATE spvs::core spvs_frontend
-                        ${CMOCKA_LIB} m)
+                        spvs_clock ${CMOCKA_LIB} m)
   target_compile_options(test_frontend_loop PRIVATE -Wall -Wextra)
   set_target_properties(test_frontend_loop PROPERTIES LINKER_LANGUAGE CXX)
   if(SPVS_DOUBLE)

@@ -19,10 +19,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <cmocka.h>
 
+#include "sim/clock.h"
 #include "sim/frontend.h"
 #include "sim/link_inproc.h"
 #include "sim/sim.h"
@@ -79,13 +79,6 @@ static int watch(const sim_frame_t *f, void *user)
     return 0;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void closed_loop_from_images(void **state)
 {
     const loop_case_t *lc = *state;
@@ -106,7 +99,7 @@ static void closed_loop_from_images(void **state)
     sim_frontend_params_t fp;
     sim_frontend_params_default(&fp);
     fp.seed = c.seed;
-    double t0 = now_s();
+    double t0 = sim_clock_now_s();
     sim_frontend_t *fe = sim_frontend_create(&fp, &world.cam, &world.plane,
                                              err, sizeof(err));
     if (fe == NULL) {
@@ -120,7 +113,7 @@ static void closed_loop_from_images(void **state)
     memset(&st, 0, sizeof(st));
     sim_result_t r;
     int rc = sim_run_inproc(&c, &r, watch, &st, err, sizeof(err));
-    double wall = now_s() - t0;
+    double wall = sim_clock_now_s() - t0;
     sim_frontend_totals_t tot;
     sim_frontend_totals(fe, &tot);
     sim_frontend_destroy(fe);

@@ -10,11 +10,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "sim/cli.h"
 #include "sim/link_inproc.h"
 #include "sim/record.h"
 #include "sim/sim.h"
@@ -31,7 +31,7 @@
 
 #define PI 3.14159265358979323846
 #define EXIT_LINK 1
-#define EXIT_USAGE 2
+#define EXIT_USAGE SIM_CLI_EXIT_USAGE
 
 typedef struct {
     sim_config_t cfg;
@@ -94,67 +94,12 @@ static const char *const usage_text =
     "Exit status: 0 run completed (any outcome), 1 link or output error,\n"
     "2 bad options.\n";
 
-/* One-line error on stderr and exit status 2. */
-static void usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    fputs("spvs-sim: ", stderr);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputs(" (see --help)\n", stderr);
-    exit(EXIT_USAGE);
-}
-
-static double parse_number(const char *opt, const char *s)
-{
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(v)) {
-        usage_error("%s: '%s' is not a finite number", opt, s);
-    }
-    return v;
-}
-
-/* "A,B,C" -> three finite numbers. */
-static void parse_triple(const char *opt, const char *s, double v[3])
-{
-    const char *p = s;
-    for (int i = 0; i < 3; ++i) {
-        char *end = NULL;
-        errno = 0;
-        v[i] = strtod(p, &end);
-        if (end == p || errno == ERANGE || !isfinite(v[i])) {
-            usage_error("%s: '%s' is not three finite numbers A,B,C", opt, s);
-        }
-        if (i < 2) {
-            if (*end != ',') {
-                usage_error("%s: '%s' is not three numbers A,B,C", opt, s);
-            }
-            p = end + 1;
-        } else if (*end != '\0') {
-            usage_error("%s: '%s' is not three numbers A,B,C", opt, s);
-        }
-    }
-}
-
-static uint32_t parse_seed(const char *opt, const char *s)
-{
-    char *end = NULL;
-    errno = 0;
-    if (s[0] < '0' || s[0] > '9') {
-        usage_error("%s: '%s' is not an integer in 0..4294967295", opt, s);
-    }
-    unsigned long long v = strtoull(s, &end, 10);
-    if (*end != '\0' || errno == ERANGE || v > 4294967295ULL) {
-        usage_error("%s: '%s' is not an integer in 0..4294967295", opt, s);
-    }
-    return (uint32_t)v;
-}
+/* Seeds and frame counts: 32 bits. */
+#define U32_MAX_LL 4294967295LL
 
 static void parse_options(int argc, char **argv, options_t *o)
 {
+    sim_cli_program("spvs-sim");
     memset(o, 0, sizeof(*o));
     sim_config_default(&o->cfg);
     o->transport = "inproc";
@@ -167,7 +112,7 @@ static void parse_options(int argc, char **argv, options_t *o)
     for (int i = 1; i < argc; ++i) {
         const char *arg = argv[i];
         if (strncmp(arg, "--", 2) != 0) {
-            usage_error("unexpected argument '%s'", arg);
+            sim_cli_fail("unexpected argument '%s'", arg);
         }
         /* Accept both "--opt value" and "--opt=value". */
         char name[32];
@@ -175,7 +120,7 @@ static void parse_options(int argc, char **argv, options_t *o)
         const char *eq = strchr(arg, '=');
         size_t len = eq ? (size_t)(eq - arg) : strlen(arg);
         if (len >= sizeof(name)) {
-            usage_error("unknown option '%.40s'", arg);
+            sim_cli_fail("unknown option '%.40s'", arg);
         }
         memcpy(name, arg, len);
         name[len] = '\0';
@@ -194,7 +139,7 @@ static void parse_options(int argc, char **argv, options_t *o)
         }
         if (is_flag) {
             if (val) {
-                usage_error("%s takes no value", name);
+                sim_cli_fail("%s takes no value", name);
             }
             if (strcmp(name, "--help") == 0) {
                 fputs(usage_text, stdout);
@@ -225,73 +170,56 @@ static void parse_options(int argc, char **argv, options_t *o)
             }
         }
         if (!known) {
-            usage_error("unknown option '%s'", name);
+            sim_cli_fail("unknown option '%s'", name);
         }
         if (!val) {
             if (i + 1 >= argc) {
-                usage_error("%s needs a value", name);
+                sim_cli_fail("%s needs a value", name);
             }
             val = argv[++i];
         }
 
         sim_config_t *c = &o->cfg;
         if (strcmp(name, "--method") == 0) {
-            if (strcmp(val, "1") == 0 || strcmp(val, "2") == 0 ||
-                strcmp(val, "3") == 0) {
-                c->method = val[0] - '0';
-            } else {
-                usage_error("--method: '%s' is not 1, 2 or 3", val);
-            }
+            c->method = (int)sim_cli_int(name, val, 1, 3);
         } else if (strcmp(name, "--pose") == 0) {
             double v[3];
-            parse_triple(name, val, v);
+            sim_cli_triple(name, val, -SIM_CLI_INF, SIM_CLI_INF, v);
             c->start.x_m = v[0];
             c->start.z_m = v[1];
             c->start.phi_rad = v[2] * PI / 180.0;
         } else if (strcmp(name, "--normal") == 0) {
-            parse_triple(name, val, c->normal);
+            sim_cli_triple(name, val, -SIM_CLI_INF, SIM_CLI_INF, c->normal);
             if (hypot(hypot(c->normal[0], c->normal[1]), c->normal[2]) <
                 1e-9) {
-                usage_error("--normal: '%s' is a zero vector", val);
+                sim_cli_fail("--normal: '%s' is a zero vector", val);
             }
         } else if (strcmp(name, "--distance") == 0) {
-            c->distance_m = parse_number(name, val);
-            if (!(c->distance_m > 0.0)) {
-                usage_error("--distance: %s m is not positive", val);
-            }
+            c->distance_m = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
+                                         SIM_CLI_OPEN);
         } else if (strcmp(name, "--noise") == 0) {
-            c->noise_px = parse_number(name, val);
-            if (c->noise_px < 0.0) {
-                usage_error("--noise: %s px is negative", val);
-            }
+            c->noise_px = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
+                                       SIM_CLI_OPEN_HI);
         } else if (strcmp(name, "--outliers") == 0) {
-            c->outliers = parse_number(name, val);
-            if (!(c->outliers >= 0.0 && c->outliers < 1.0)) {
-                usage_error("--outliers: %s is outside [0, 1)", val);
-            }
+            c->outliers = sim_cli_real(name, val, 0.0, 1.0, SIM_CLI_OPEN_HI);
         } else if (strcmp(name, "--drift") == 0) {
-            c->drift_deg_per_m = parse_number(name, val);
+            c->drift_deg_per_m = sim_cli_real(name, val, -SIM_CLI_INF,
+                                              SIM_CLI_INF, SIM_CLI_OPEN);
         } else if (strcmp(name, "--focal-mm") == 0) {
-            c->focal_true_mm = parse_number(name, val);
+            c->focal_true_mm = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
+                                            SIM_CLI_OPEN);
             o->focal_given = 1;
-            if (!(c->focal_true_mm > 0.0)) {
-                usage_error("--focal-mm: %s mm is not positive", val);
-            }
         } else if (strcmp(name, "--pp-offset") == 0) {
-            c->pp_offset_px = parse_number(name, val);
+            c->pp_offset_px = sim_cli_real(name, val, -SIM_CLI_INF,
+                                           SIM_CLI_INF, SIM_CLI_OPEN);
         } else if (strcmp(name, "--seed") == 0) {
-            o->seed32 = parse_seed(name, val);
+            o->seed32 = (uint32_t)sim_cli_int(name, val, 0, U32_MAX_LL);
             c->seed = o->seed32;
         } else if (strcmp(name, "--dt") == 0) {
-            c->dt_s = parse_number(name, val);
-            if (!(c->dt_s > 0.0 && c->dt_s <= 10.0)) {
-                usage_error("--dt: %s s is outside (0, 10]", val);
-            }
+            c->dt_s = sim_cli_real(name, val, 0.0, 10.0, SIM_CLI_OPEN_LO);
         } else if (strcmp(name, "--max-time") == 0) {
-            c->max_time_s = parse_number(name, val);
-            if (!(c->max_time_s > 0.0)) {
-                usage_error("--max-time: %s s is not positive", val);
-            }
+            c->max_time_s = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
+                                         SIM_CLI_OPEN);
         } else if (strcmp(name, "--trace") == 0) {
             o->trace_path = val;
         } else if (strcmp(name, "--record") == 0) {
@@ -299,7 +227,7 @@ static void parse_options(int argc, char **argv, options_t *o)
         } else if (strcmp(name, "--transport") == 0) {
             if (strcmp(val, "inproc") != 0 && strcmp(val, "lcm") != 0 &&
                 strcmp(val, "zenoh") != 0) {
-                usage_error("--transport: '%s' is not inproc, lcm or zenoh",
+                sim_cli_fail("--transport: '%s' is not inproc, lcm or zenoh",
                             val);
             }
             o->transport = val;
@@ -314,42 +242,34 @@ static void parse_options(int argc, char **argv, options_t *o)
 #ifdef SPVS_HAVE_FRONTEND
                 o->images = 1;
 #else
-                usage_error("--frontend images: this build has no image "
+                sim_cli_fail("--frontend images: this build has no image "
                             "front end (OpenCV)");
 #endif
             } else {
-                usage_error("--frontend: '%s' is not points or images", val);
+                sim_cli_fail("--frontend: '%s' is not points or images", val);
             }
         } else if (strcmp(name, "--save-frames") == 0) {
             o->save_frames_dir = val;
         } else if (strcmp(name, "--save-every") == 0) {
-            uint32_t n = parse_seed(name, val);
-            if (n == 0) {
-                usage_error("--save-every: 0 is not a frame count");
-            }
-            o->save_every = n;
+            o->save_every = (uint32_t)sim_cli_int(name, val, 1, U32_MAX_LL);
         } else if (strcmp(name, "--save-matches") == 0) {
-            o->save_matches_frame = (long)parse_seed(name, val);
+            o->save_matches_frame = (long)sim_cli_int(name, val, 0, U32_MAX_LL);
         } else if (strcmp(name, "--timeout") == 0) {
-            o->timeout_s = parse_number(name, val);
-            if (!(o->timeout_s > 0.0 && o->timeout_s <= 3600.0)) {
-                usage_error("--timeout: %s s is outside (0, 3600]", val);
-            }
+            o->timeout_s = sim_cli_real(name, val, 0.0, 3600.0,
+                                        SIM_CLI_OPEN_LO);
         } else if (strcmp(name, "--lcm-matches-channel") == 0) {
             if (val[0] == '\0' || strlen(val) > 63) {
-                usage_error("--lcm-matches-channel: '%s' is not 1..63 "
+                sim_cli_fail("--lcm-matches-channel: '%s' is not 1..63 "
                             "characters", val);
             }
             o->lcm_matches_channel = val;
         } else if (strcmp(name, "--keep-last") == 0) {
-            o->keep_last_s = parse_number(name, val);
-            if (!(o->keep_last_s > 0.0 && o->keep_last_s <= 3600.0)) {
-                usage_error("--keep-last: %s s is outside (0, 3600]", val);
-            }
+            o->keep_last_s = sim_cli_real(name, val, 0.0, 3600.0,
+                                          SIM_CLI_OPEN_LO);
         }
     }
     if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
-        usage_error("--save-frames and --save-matches need --frontend images");
+        sim_cli_fail("--save-frames and --save-matches need --frontend images");
     }
 #ifdef SPVS_HAVE_FRONTEND
     /* Images are taken with the front end's wide camera, and the
@@ -365,7 +285,7 @@ static void parse_options(int argc, char **argv, options_t *o)
     /* Whatever the single checks missed (combinations, ranges). */
     char err[160];
     if (sim_config_check(&o->cfg, err, sizeof(err)) != 0) {
-        usage_error("%s", err);
+        sim_cli_fail("%s", err);
     }
 }
 
@@ -557,14 +477,14 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
         return sim_link_lcm_open_opts(o->lcm_url, o->timeout_s, &lo, link,
                                       err, err_len);
 #else
-        usage_error("--transport lcm: this build has no LCM support");
+        sim_cli_fail("--transport lcm: this build has no LCM support");
 #endif
     }
 #ifdef SPVS_HAVE_ZENOH
     return sim_link_zenoh_open(o->zenoh_endpoint, o->timeout_s, link, err,
                                err_len);
 #else
-    usage_error("--transport zenoh: this build has no Zenoh support");
+    sim_cli_fail("--transport zenoh: this build has no Zenoh support");
 #endif
     return -1;
 }
@@ -580,7 +500,7 @@ int main(int argc, char **argv)
         static sim_world_t probe;
         char werr[200];
         if (sim_config_world(&o.cfg, &probe, werr, sizeof(werr)) != 0) {
-            usage_error("%s", werr);
+            sim_cli_fail("%s", werr);
         }
     }
 
@@ -589,7 +509,7 @@ int main(int argc, char **argv)
     if (o.trace_path) {
         sinks.trace = fopen(o.trace_path, "w");
         if (!sinks.trace) {
-            usage_error("--trace: cannot open '%s': %s", o.trace_path,
+            sim_cli_fail("--trace: cannot open '%s': %s", o.trace_path,
                         strerror(errno));
         }
         /* Line-buffered, so that a reader following the trace (the demo's
@@ -601,7 +521,7 @@ int main(int argc, char **argv)
     if (o.record_path) {
         sinks.record = fopen(o.record_path, "wb");
         if (!sinks.record) {
-            usage_error("--record: cannot open '%s': %s", o.record_path,
+            sim_cli_fail("--record: cannot open '%s': %s", o.record_path,
                         strerror(errno));
         }
         if (sim_record_write_header(sinks.record) != 0) {
@@ -617,7 +537,7 @@ int main(int argc, char **argv)
         static sim_world_t w;
         char ferr[200];
         if (sim_config_world(&o.cfg, &w, ferr, sizeof(ferr)) != 0) {
-            usage_error("%s", ferr);
+            sim_cli_fail("%s", ferr);
         }
         sim_frontend_params_t fp;
         sim_frontend_params_default(&fp);
@@ -625,7 +545,7 @@ int main(int argc, char **argv)
         images.fe = sim_frontend_create(&fp, &w.cam, &w.plane, ferr,
                                         sizeof(ferr));
         if (images.fe == NULL) {
-            usage_error("%s", ferr);
+            sim_cli_fail("%s", ferr);
         }
         images.o = &o;
         o.cfg.observe = observe_images;

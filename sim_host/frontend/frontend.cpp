@@ -3,7 +3,6 @@
 #include "sim/frontend.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -16,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "frontend_internal.hpp"
+#include "sim/clock.h"
 #include "spvs/spvs_config.h"
 
 namespace {
@@ -27,11 +27,10 @@ constexpr int kGridX = 8; /* target keypoint spreading grid */
 constexpr int kGridY = 6;
 constexpr uint32_t kTargetSeq = 0xffffffffu; /* sensor noise of the target */
 
-double ms_since(std::chrono::steady_clock::time_point t0)
+/* Milliseconds since t0_s on the edge's monotonic clock (sim/clock.h). */
+double ms_since(double t0_s)
 {
-    return std::chrono::duration<double, std::milli>(
-               std::chrono::steady_clock::now() - t0)
-        .count();
+    return (sim_clock_now_s() - t0_s) * 1e3;
 }
 
 void set_err(char *err, unsigned len, const char *msg)
@@ -446,10 +445,10 @@ uint16_t sim_frontend_observe(sim_frontend_t *f, uint32_t seq,
         f->kept.clear();
     } else {
         try {
-            auto t0 = std::chrono::steady_clock::now();
+            double t0 = sim_clock_now_s();
             render_frame(f, *pose, seq, f->img_cur);
             s.render_ms = ms_since(t0);
-            t0 = std::chrono::steady_clock::now();
+            t0 = sim_clock_now_s();
             f->kp_cur.clear();
             cv::Mat half;
             f->det_cur->detectAndCompute(detector_image(f, f->img_cur, half),

@@ -10,14 +10,9 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
-double spvs_node_now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "sim/cli.h"
+#include "sim/clock.h"
 
 static void node_log(const spvs_node_t *node, int level, const char *what)
 {
@@ -52,7 +47,7 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
     (void)channel;
     spvs_node_t *node = (spvs_node_t *)user;
     (void)spvs_node_on_bytes(node, rbuf->data, (int)rbuf->data_size,
-                             spvs_node_now_s());
+                             sim_clock_now_s());
 }
 
 int spvs_node_init(spvs_node_t *node, lcm_t *lcm, const spvs_params_t *p,
@@ -247,7 +242,6 @@ const char *const spvs_node_param_names[] = {
 int spvs_node_param_set(spvs_params_t *p, const char *name, const char *value,
                         char *err, unsigned err_len)
 {
-    char *end = NULL;
     /* "alpha" sets both focal lengths: the nominal camera has square pixels. */
     if (strcmp(name, "alpha") == 0) {
         if (spvs_node_param_set(p, "alpha_x", value, err, err_len) != 0)
@@ -258,25 +252,17 @@ int spvs_node_param_set(spvs_params_t *p, const char *name, const char *value,
         if (strcmp(name, pdesc[i].name) != 0)
             continue;
         char *field = (char *)p + pdesc[i].offset;
-        errno = 0;
         if (pdesc[i].type == P_REAL) {
-            double x = strtod(value, &end);
-            if (end == value || *end != '\0' || errno || !isfinite(x)) {
-                snprintf(err, err_len, "%s: '%s' is not a finite number",
-                         name, value);
+            double x;
+            if (sim_cli_parse_real(name, value, -SIM_CLI_INF, SIM_CLI_INF,
+                                   SIM_CLI_CLOSED, &x, err, err_len) != 0)
                 return -1;
-            }
             *(spvs_real *)(void *)field = (spvs_real)x;
         } else {
-            unsigned long long u = strtoull(value, &end, 10);
-            unsigned long long max = pdesc[i].type == P_U16 ? 65535ull
-                                                            : 4294967295ull;
-            if (end == value || *end != '\0' || errno || value[0] == '-' ||
-                u > max) {
-                snprintf(err, err_len, "%s: '%s' is not an integer in 0..%llu",
-                         name, value, max);
+            long long u;
+            long long max = pdesc[i].type == P_U16 ? 65535 : 4294967295LL;
+            if (sim_cli_parse_int(name, value, 0, max, &u, err, err_len) != 0)
                 return -1;
-            }
             if (pdesc[i].type == P_U16)
                 *(uint16_t *)(void *)field = (uint16_t)u;
             else

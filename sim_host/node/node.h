@@ -70,7 +70,8 @@ typedef struct {
 } spvs_node_t;
 
 /* Set up the node with core parameters p and subscribe it to SPVS_MATCHES on
- * lcm.  now_s: monotonic clock, seconds (starts the watchdog).
+ * lcm.  now_s: monotonic clock, seconds (sim_clock_now_s() of sim/clock.h;
+ * starts the watchdog).
  * Returns SPVS_OK, SPVS_E_CONFIG (p rejected by spvs_init, or watchdog_s not
  * positive) or SPVS_E_ARG (subscribing failed). */
 int spvs_node_init(spvs_node_t *node, lcm_t *lcm, const spvs_params_t *p,
@@ -89,9 +90,6 @@ int spvs_node_tick(spvs_node_t *node, double now_s);
 
 /* Unsubscribe (the lcm_t stays with the caller). */
 void spvs_node_close(spvs_node_t *node);
-
-/* Monotonic clock, seconds. */
-double spvs_node_now_s(void);
 
 /* Set one named parameter from text, the names of the node's --gains file
  * and of its flags with '-' written '_' (k_w, k_v, k_w3, k_w11, v_max, w_max,

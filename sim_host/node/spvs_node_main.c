@@ -8,14 +8,14 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
-#include <errno.h>
-#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "node.h"
+#include "sim/cli.h"
+#include "sim/clock.h"
 
 #define DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
 
@@ -53,36 +53,19 @@ static void usage(FILE *f)
     fprintf(f, "\n");
 }
 
-static int bad(const char *what, const char *arg)
-{
-    fprintf(stderr, "spvs-node: %s%s%s (see --help)\n", what,
-            arg ? ": " : "", arg ? arg : "");
-    return 2;
-}
-
-static int parse_long(const char *s, long lo, long hi, long *out)
-{
-    char *end = NULL;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
-}
-
 int main(int argc, char **argv)
 {
-    long method = 3;
+    long long method = 3;
     const char *gains = NULL;
     const char *url = getenv("LCM_DEFAULT_URL");
     double watchdog_s = 0.5;
-    long log_level = 1;
-    long progress = 0;
+    long long log_level = 1;
+    long long progress = 0;
     char err[256];
 
     if (!url || !*url)
         url = DEFAULT_URL;
+    sim_cli_program("spvs-node");
 
     /* Pass 1: options that decide the starting parameter set, so the order
      * on the command line does not matter: defaults of the method, then the
@@ -94,42 +77,35 @@ int main(int argc, char **argv)
             return 0;
         }
         if (strncmp(a, "--", 2) != 0)
-            return bad("unexpected argument", a);
+            sim_cli_fail("unexpected argument: %s", a);
         if (i + 1 >= argc)
-            return bad("missing value for", a);
+            sim_cli_fail("missing value for: %s", a);
         const char *v = argv[++i];
         if (strcmp(a, "--method") == 0) {
-            if (parse_long(v, 1, 3, &method) != 0)
-                return bad("--method must be 1, 2 or 3, not", v);
+            method = sim_cli_int(a, v, 1, 3);
         } else if (strcmp(a, "--gains") == 0) {
             gains = v;
         } else if (strcmp(a, "--lcm-url") == 0) {
             url = v;
         } else if (strcmp(a, "--watchdog") == 0) {
-            char *end = NULL;
-            watchdog_s = strtod(v, &end);
-            if (end == v || *end != '\0' || !isfinite(watchdog_s) ||
-                watchdog_s <= 0.0 || watchdog_s > 3600.0)
-                return bad("--watchdog must be seconds in (0, 3600]", v);
+            watchdog_s = sim_cli_real(a, v, 0.0, 3600.0, SIM_CLI_OPEN_LO);
         } else if (strcmp(a, "--log-level") == 0) {
-            if (parse_long(v, 0, 3, &log_level) != 0)
-                return bad("--log-level must be 0..3, not", v);
+            log_level = sim_cli_int(a, v, 0, 3);
         } else if (strcmp(a, "--progress") == 0) {
-            if (parse_long(v, 0, 1000000, &progress) != 0)
-                return bad("--progress must be a frame count >= 0, not", v);
+            progress = sim_cli_int(a, v, 0, 1000000);
         } else if (strcmp(a, "--k-w") && strcmp(a, "--k-v") &&
                    strcmp(a, "--k-w3") && strcmp(a, "--k-w11") &&
                    strcmp(a, "--v-max") && strcmp(a, "--w-max") &&
                    strcmp(a, "--alpha") && strcmp(a, "--seed") &&
                    strcmp(a, "--param")) {
-            return bad("unknown option", a);
+            sim_cli_fail("unknown option: %s", a);
         }
     }
 
     spvs_params_t p;
     spvs_params_default(&p, (spvs_method_t)method);
     if (gains && spvs_node_params_load(&p, gains, err, sizeof(err)) != 0)
-        return bad("--gains", err);
+        sim_cli_fail("--gains: %s", err);
 
     /* Pass 2: the parameter flags, in order, over the file. */
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -140,7 +116,7 @@ int main(int argc, char **argv)
         if (strcmp(a, "--param") == 0) {
             const char *eq = strchr(v, '=');
             if (!eq || (size_t)(eq - v) >= sizeof(name))
-                return bad("--param wants NAME=VALUE, not", v);
+                sim_cli_fail("--param wants NAME=VALUE, not: %s", v);
             memcpy(name, v, (size_t)(eq - v));
             name[eq - v] = '\0';
             value = eq + 1;
@@ -151,14 +127,14 @@ int main(int argc, char **argv)
             /* --k-w3 -> k_w3 */
             size_t n = strlen(a + 2);
             if (n >= sizeof(name))
-                return bad("option too long", a);
+                sim_cli_fail("option too long: %s", a);
             for (size_t k = 0; k <= n; k++)
                 name[k] = a[2 + k] == '-' ? '_' : a[2 + k];
         } else {
             continue;
         }
         if (spvs_node_param_set(&p, name, value, err, sizeof(err)) != 0)
-            return bad("bad parameter", err);
+            sim_cli_fail("bad parameter: %s", err);
     }
 
     struct sigaction sa;
@@ -181,7 +157,7 @@ int main(int argc, char **argv)
     node.log_level = (int)log_level;
     node.progress_every = (unsigned)progress;
     node.progress = stdout;
-    int st = spvs_node_init(&node, lcm, &p, watchdog_s, spvs_node_now_s());
+    int st = spvs_node_init(&node, lcm, &p, watchdog_s, sim_clock_now_s());
     if (st != SPVS_OK) {
         fprintf(stderr, "spvs-node: parameters rejected by the core: %s\n",
                 spvs_status_str(st));
@@ -189,7 +165,7 @@ int main(int argc, char **argv)
         return 2;
     }
     if (log_level >= 2)
-        fprintf(stderr, "spvs-node: method %ld, %s, watchdog %.2f s\n",
+        fprintf(stderr, "spvs-node: method %lld, %s, watchdog %.2f s\n",
                 method, url, watchdog_s);
 
     int rc = 0;
@@ -201,7 +177,7 @@ int main(int argc, char **argv)
             rc = 1;
             break;
         }
-        spvs_node_tick(&node, spvs_node_now_s());
+        spvs_node_tick(&node, sim_clock_now_s());
     }
 
     if (log_level >= 2)

@@ -5,8 +5,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
+#include "sim/clock.h"
 #include "sim/kinematics.h"
 
 #define SIM_PI 3.14159265358979323846
@@ -105,23 +105,6 @@ int sim_config_world(const sim_config_t *c, sim_world_t *w, char *err,
                           c->clip, c->seed, err, err_len);
 }
 
-/* Sleep until `k` control periods after t0 (monotonic clock). */
-static void pace(const struct timespec *t0, uint32_t k, double dt_s)
-{
-    double target = (double)k * dt_s;
-    struct timespec ts = *t0;
-    double whole = floor(target);
-    ts.tv_sec += (time_t)whole;
-    ts.tv_nsec += (long)((target - whole) * 1e9);
-    if (ts.tv_nsec >= 1000000000L) {
-        ts.tv_sec += 1;
-        ts.tv_nsec -= 1000000000L;
-    }
-    /* An interrupted sleep simply resumes: the deadline is absolute. */
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) != 0) {
-    }
-}
-
 static void finish(sim_result_t *res, const sim_pose_t *pose)
 {
     res->final_pose = *pose;
@@ -160,15 +143,15 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
     const uint16_t cap = SIM_MAX_POINTS < SPVS_MAX_MATCHES
                              ? (uint16_t)SIM_MAX_POINTS
                              : (uint16_t)SPVS_MAX_MATCHES;
-    struct timespec t0;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    /* --realtime: frame k leaves k control periods after the start. */
+    const double t0_s = sim_clock_now_s();
     int prev_step = 0;
     res->status = SIM_TIMEOUT;
 
     for (uint32_t k = 0; k < max_frames; ++k) {
         double t = (double)k * c->dt_s;
         if (c->realtime) {
-            pace(&t0, k, c->dt_s);
+            sim_clock_sleep_until(t0_s + (double)k * c->dt_s);
         }
         uint16_t n = c->observe != NULL
                          ? c->observe(c->observe_user, k, &world, &pose, obs,

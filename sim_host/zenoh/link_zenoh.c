@@ -19,9 +19,11 @@
 #include <string.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
+#include "sim/cli.h"
+#include "sim/clock.h"
+#include "sim/link_lockstep.h"
 #include "wire.h"
 
 #ifndef SPVS_SOURCE_DIR
@@ -50,11 +52,7 @@ typedef struct {
     double timeout_s;
     double resend_s;        /* 0: never resend                              */
     int64_t run_id;
-    int64_t want_seq;
-    int got_cmd;
-    int got_state;
-    spvs_cmd_t cmd;
-    spvs_state_t state;
+    sim_lockstep_t ls;      /* the frame awaited and its answer         */
     spvs_matches_t msg;
     uint8_t tx[4 + SPVS_WIRE_MATCHES_BYTES];
     unsigned tx_len;
@@ -65,13 +63,6 @@ typedef struct {
     double longest_wait_s;      /* longest wait for one answer, seconds  */
     int failed;                 /* an exchange failed: no summary line   */
 } link_zenoh_t;
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static uint32_t be32(const uint8_t *p)
 {
@@ -120,28 +111,14 @@ static int on_record(link_zenoh_t *l, uint8_t kind, const uint8_t *p,
                      uint32_t n)
 {
     switch (kind) {
-    case 'C': {
-        spvs_cmd_t cmd;
+    case 'C':
         /* The bridge checked the bytes already; the fingerprint check in
          * decode still guards against anything else on the key. */
-        if (spvs_cmd_t_decode(p, 0, (int)n, &cmd) < 0)
-            return 0;
-        if (cmd.seq == l->want_seq && !l->got_cmd) {
-            l->cmd = cmd;
-            l->got_cmd = 1;
-        }
+        (void)sim_lockstep_on_cmd(&l->ls, p, (int)n, NULL);
         return 0;
-    }
-    case 'S': {
-        spvs_state_t st;
-        if (spvs_state_t_decode(p, 0, (int)n, &st) < 0)
-            return 0;
-        if (st.seq == l->want_seq) {
-            l->state = st;
-            l->got_state = 1;
-        }
+    case 'S':
+        (void)sim_lockstep_on_state(&l->ls, p, (int)n);
         return 0;
-    }
     case 'R':
         return 0;
     case 'E':
@@ -224,6 +201,27 @@ static int pump(link_zenoh_t *l, double wait_s, uint8_t stop_kind, char *err,
     return seen;
 }
 
+/* sim_lockstep_io_t.send: the encoded frame in l->tx. */
+static int io_send(void *ctx, char *err, unsigned err_len)
+{
+    link_zenoh_t *l = (link_zenoh_t *)ctx;
+    if (send_all(l->fd, l->tx, l->tx_len) != 0) {
+        int e = errno;
+        char why[64];
+        child_status(l, why, sizeof(why));
+        snprintf(err, err_len, "Zenoh link: cannot send frame %u to the port "
+                 "(%s): %s", (unsigned)l->ls.want_seq, why, strerror(e));
+        return -1;
+    }
+    return 0;
+}
+
+/* sim_lockstep_io_t.poll: every complete record from the port. */
+static int io_poll(void *ctx, double wait_s, char *err, unsigned err_len)
+{
+    return pump((link_zenoh_t *)ctx, wait_s, 0, err, err_len) < 0 ? -1 : 0;
+}
+
 static int exchange(link_zenoh_t *l, uint32_t seq, double t_s,
                     const spvs_match_t *m, uint16_t n, spvs_output_t *out,
                     char *err, unsigned err_len)
@@ -244,57 +242,28 @@ static int exchange(link_zenoh_t *l, uint32_t seq, double t_s,
     l->tx[2] = (uint8_t)((uint32_t)len >> 8);
     l->tx[3] = (uint8_t)len;
     l->tx_len = 4u + (unsigned)len;
-    l->want_seq = seq;
-    l->got_cmd = 0;
-    l->got_state = 0;
 
-    double start = now_s();
-    double deadline = start + l->timeout_s;
-    double next_send = start;
-    int sends = 0;
-    while (!l->got_cmd) {
-        double t = now_s();
-        if (t >= next_send) {
-            if (send_all(l->fd, l->tx, l->tx_len) != 0) {
-                char why[64];
-                child_status(l, why, sizeof(why));
-                snprintf(err, err_len, "Zenoh link: cannot send frame %u to "
-                         "the port (%s): %s", (unsigned)seq, why,
-                         strerror(errno));
-                return -1;
-            }
-            if (sends == 1)
-                l->lost_frames++;
-            sends++;
-            next_send = l->resend_s > 0.0 ? t + l->resend_s : deadline + 1.0;
-        }
-        if (t >= deadline) {
-            snprintf(err, err_len,
-                     "Zenoh: no spvs/%s/cmd for frame %u within %.3g s, %d "
-                     "sends (bridge at %s? node?)", l->robot, (unsigned)seq,
-                     l->timeout_s, sends, l->endpoint);
-            return -1;
-        }
-        double wait = (next_send < deadline ? next_send : deadline) - t;
-        if (pump(l, wait, 'C', err, err_len) < 0)
-            return -1;
+    /* The telemetry travels on its own key expression and can arrive just
+     * after the command: hence the grace time. */
+    const sim_lockstep_io_t io = { l, io_send, io_poll };
+    const sim_lockstep_timing_t tm = { l->timeout_s, l->resend_s,
+                                       STATE_GRACE_S };
+    sim_lockstep_stats_t st;
+    int rc = sim_lockstep_exchange(&l->ls, seq, &io, &tm, &st, err, err_len);
+    if (st.sends > 1)
+        l->lost_frames++;
+    if (rc < 0)
+        return -1;
+    if (rc == SIM_LOCKSTEP_TIMEOUT) {
+        snprintf(err, err_len,
+                 "Zenoh: no spvs/%s/cmd for frame %u within %.3g s, %d "
+                 "sends (bridge at %s? node?)", l->robot, (unsigned)seq,
+                 l->timeout_s, st.sends, l->endpoint);
+        return -1;
     }
-    double waited = now_s() - start;
-    if (waited > l->longest_wait_s)
-        l->longest_wait_s = waited;
-    /* The node publishes the telemetry just before the command, but on
-     * another key expression; give it a moment if it is not here yet. */
-    double grace_end = now_s() + STATE_GRACE_S;
-    while (!l->got_state) {
-        double left = grace_end - now_s();
-        if (left <= 0.0)
-            break;
-        if (pump(l, left, 'S', err, err_len) < 0)
-            return -1;
-    }
-    spvs_wire_output_from_msgs(out, &l->cmd, l->got_state ? &l->state : NULL);
-    if (!l->got_state)
-        out->n_matches = n;
+    if (st.waited_s > l->longest_wait_s)
+        l->longest_wait_s = st.waited_s;
+    sim_lockstep_output(&l->ls, n, out);
     return 0;
 }
 
@@ -312,7 +281,7 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
 /* Wait up to wait_s for the port to exit; 1 if it has been reaped. */
 static int reap_within(link_zenoh_t *l, double wait_s)
 {
-    double end = now_s() + wait_s;
+    double end = sim_clock_now_s() + wait_s;
     while (!l->reaped) {
         int st;
         pid_t r = waitpid(l->pid, &st, WNOHANG);
@@ -320,7 +289,7 @@ static int reap_within(link_zenoh_t *l, double wait_s)
             l->reaped = 1;
             break;
         }
-        if (now_s() >= end)
+        if (sim_clock_now_s() >= end)
             return 0;
         usleep(10000);
     }
@@ -364,16 +333,12 @@ static int env_number(const char *name, double def, double lo, double hi,
         *out = def;
         return 0;
     }
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno || !isfinite(v) || v < lo ||
-        v > hi) {
-        snprintf(err, err_len, "Zenoh link: %s='%s' is not a number in "
-                 "[%g, %g]", name, s, lo, hi);
+    char why[200];
+    if (sim_cli_parse_real(name, s, lo, hi, SIM_CLI_CLOSED, out, why,
+                           sizeof(why)) != 0) {
+        snprintf(err, err_len, "Zenoh link: %s", why);
         return -1;
     }
-    *out = v;
     return 0;
 }
 
@@ -458,14 +423,11 @@ int sim_link_zenoh_open(const char *endpoint, double timeout_s,
     l->pid = -1;
     l->timeout_s = timeout_s;
     l->resend_s = resend_s;
-    l->want_seq = -1;
+    sim_lockstep_init(&l->ls);
     snprintf(l->robot, sizeof(l->robot), "%s", robot);
     snprintf(l->endpoint, sizeof(l->endpoint), "%s", endpoint);
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    /* A run id unlike any earlier run's, so a running node resets. */
-    l->run_id = ((int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec) ^
-                ((int64_t)getpid() << 40);
+    /* A node still running from an earlier run resets its controller. */
+    l->run_id = sim_clock_run_id();
 
     /* One socket pair serves as the port's stdin and stdout: unlike a pipe
      * it takes MSG_NOSIGNAL, and shutdown() gives the port its end of
@@ -502,9 +464,9 @@ int sim_link_zenoh_open(const char *endpoint, double timeout_s,
     }
 
     /* Ready when the port says so: its publisher then has a subscriber. */
-    double deadline = now_s() + wait_s + START_SLACK_S;
+    double deadline = sim_clock_now_s() + wait_s + START_SLACK_S;
     for (;;) {
-        double left = deadline - now_s();
+        double left = deadline - sim_clock_now_s();
         if (left <= 0.0) {
             snprintf(err, err_len, "Zenoh link: the port did not become ready "
                      "within %.3g s", wait_s + START_SLACK_S);

@@ -34,6 +34,7 @@
 #include "estimators.h"
 #include "frame_work.h"
 #include "hombench.h"
+#include "sim/cli.h"
 
 namespace {
 
@@ -46,12 +47,6 @@ const double kSigma[] = {0.0, 1.0};
 
 /* The homing run the poses are sampled from: DESIGN.md's usual start. */
 const double kStartX = -3.0, kStartZ = -10.0, kStartPhiDeg = -30.0;
-
-[[noreturn]] void usage_error(const std::string &msg)
-{
-    std::fprintf(stderr, "spvs-bench: %s (see --help)\n", msg.c_str());
-    std::exit(2);
-}
 
 struct Options {
     std::string mode;
@@ -75,24 +70,16 @@ struct Options {
     long count = 1000;
 };
 
+/* Option values through the edge's CLI helper (sim/cli.h): a bad one is a
+ * one-line error naming the option, exit status 2. */
 double parse_double(const char *opt, const char *s, double lo, double hi)
 {
-    char *end = nullptr;
-    double v = std::strtod(s, &end);
-    if (end == s || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
-        usage_error(std::string(opt) + " needs a number in [" + std::to_string(lo) + ", " +
-                    std::to_string(hi) + "], got '" + s + "'");
-    return v;
+    return sim_cli_real(opt, s, lo, hi, SIM_CLI_CLOSED);
 }
 
 long parse_long(const char *opt, const char *s, long lo, long hi)
 {
-    char *end = nullptr;
-    long v = std::strtol(s, &end, 10);
-    if (end == s || *end != '\0' || v < lo || v > hi)
-        usage_error(std::string(opt) + " needs an integer in [" + std::to_string(lo) + ", " +
-                    std::to_string(hi) + "], got '" + s + "'");
-    return v;
+    return (long)sim_cli_int(opt, s, lo, hi);
 }
 
 /* A two-way option: false for `off`, true for `on`. */
@@ -102,7 +89,7 @@ bool parse_choice(const char *opt, const char *s, const char *off, const char *o
         return false;
     if (!std::strcmp(s, on))
         return true;
-    usage_error(std::string(opt) + " takes " + off + " or " + on + ", not '" + s + "'");
+    sim_cli_fail("%s takes %s or %s, not '%s'", opt, off, on, s);
 }
 
 std::vector<std::string> split_list(const std::string &s)
@@ -154,15 +141,16 @@ void print_help()
 
 Options parse(int argc, char **argv)
 {
+    sim_cli_program("spvs-bench");
     Options o;
     auto need = [&](int &i) -> const char * {
         if (i + 1 >= argc)
-            usage_error(std::string(argv[i]) + " needs a value");
+            sim_cli_fail("%s needs a value", argv[i]);
         return argv[++i];
     };
     auto set_mode = [&](const char *m) {
         if (!o.mode.empty())
-            usage_error(std::string("only one mode per run (") + o.mode + " and " + m + ")");
+            sim_cli_fail("only one mode per run (%s and %s)", o.mode.c_str(), m);
         o.mode = m;
     };
     for (int i = 1; i < argc; i++) {
@@ -200,7 +188,7 @@ Options parse(int argc, char **argv)
         } else if (!std::strcmp(a, "--estimators")) {
             o.estimators = split_list(need(i));
             if (o.estimators.empty())
-                usage_error("--estimators needs a comma-separated list");
+                sim_cli_fail("--estimators needs a comma-separated list");
         } else if (!std::strcmp(a, "--case")) {
             o.only_case = (int)parse_long(a, need(i), 0, 23);
         } else if (!std::strcmp(a, "--instances")) {
@@ -218,15 +206,15 @@ Options parse(int argc, char **argv)
         } else if (!std::strcmp(a, "--count")) {
             o.count = parse_long(a, need(i), 0, 100000000L);
         } else {
-            usage_error(std::string("unknown option '") + a + "'");
+            sim_cli_fail("unknown option '%s'", a);
         }
     }
     if (o.mode.empty())
-        usage_error("no mode given");
+        sim_cli_fail("no mode given");
     if (o.only_case >= 0 && o.mode != "--generate" && o.mode != "--full")
-        usage_error("--case goes with --generate or --full");
+        sim_cli_fail("--case goes with --generate or --full");
     if (o.mode == "--cases" && !o.json)
-        usage_error("--cases prints JSON lines only: add --json");
+        sim_cli_fail("--cases prints JSON lines only: add --json");
     if (o.estimators.empty() || (o.estimators.size() == 1 && o.estimators[0] == "all")) {
         if (o.mode == "--cases" && o.estimators.empty())
             o.estimators = {"spvs"};
@@ -235,7 +223,7 @@ Options parse(int argc, char **argv)
     }
     for (const auto &e : o.estimators)
         if (!bench::make_estimator(e))
-            usage_error("unknown or unavailable estimator '" + e + "'");
+            sim_cli_fail("unknown or unavailable estimator '%s'", e.c_str());
     return o;
 }
 

@@ -28,18 +28,13 @@
 #include <opencv2/core.hpp>
 
 extern "C" {
+#include "sim/cli.h"
 #include "sim/link_inproc.h"
 #include "sim/sim.h"
 #include "spvs/spvs.h"
 }
 
 namespace {
-
-[[noreturn]] void usage_error(const std::string &msg)
-{
-    std::fprintf(stderr, "spvs-bench-homing: %s\n", msg.c_str());
-    std::exit(2);
-}
 
 /* The OpenCV link: H from cv::findHomography, then the core's pipeline
  * after H (spvs_update_with_h). */
@@ -112,16 +107,6 @@ int cv_method_of(const std::string &name)
     return -1;
 }
 
-double parse_num(const char *opt, const char *s, double lo, double hi)
-{
-    char *end = nullptr;
-    double v = std::strtod(s, &end);
-    if (end == s || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
-        usage_error(std::string(opt) + " needs a number in [" + std::to_string(lo) + ", " +
-                    std::to_string(hi) + "], got '" + s + "'");
-    return v;
-}
-
 struct Loop {
     std::string name;
     std::vector<double> wall_ms;
@@ -137,23 +122,24 @@ int main(int argc, char **argv)
     int runs = 5;
     bool json = false;
     std::string cv_name = "cv_usac_default";
+    sim_cli_program("spvs-bench-homing");
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         auto val = [&]() -> const char * {
             if (i + 1 >= argc)
-                usage_error(std::string(a) + " needs a value");
+                sim_cli_fail("%s needs a value", a);
             return argv[++i];
         };
         if (!std::strcmp(a, "--method"))
-            cfg.method = (int)parse_num(a, val(), 1, 3);
+            cfg.method = (int)sim_cli_int(a, val(), 1, 3);
         else if (!std::strcmp(a, "--noise"))
-            cfg.noise_px = parse_num(a, val(), 0, 100);
+            cfg.noise_px = sim_cli_real(a, val(), 0, 100, SIM_CLI_CLOSED);
         else if (!std::strcmp(a, "--outliers"))
-            cfg.outliers = parse_num(a, val(), 0, 0.9);
+            cfg.outliers = sim_cli_real(a, val(), 0, 0.9, SIM_CLI_CLOSED);
         else if (!std::strcmp(a, "--seed"))
-            cfg.seed = (uint64_t)parse_num(a, val(), 0, 4294967295.0);
+            cfg.seed = (uint64_t)sim_cli_int(a, val(), 0, 4294967295LL);
         else if (!std::strcmp(a, "--runs"))
-            runs = (int)parse_num(a, val(), 1, 1000);
+            runs = (int)sim_cli_int(a, val(), 1, 1000);
         else if (!std::strcmp(a, "--cv-method"))
             cv_name = val();
         else if (!std::strcmp(a, "--json"))
@@ -163,14 +149,14 @@ int main(int argc, char **argv)
                         "[--seed S] [--runs R] [--cv-method NAME] [--json]\n");
             return 0;
         } else
-            usage_error(std::string("unknown option '") + a + "'");
+            sim_cli_fail("unknown option '%s'", a);
     }
     const int cv_method = cv_method_of(cv_name);
     if (cv_method < 0)
-        usage_error("unknown --cv-method '" + cv_name + "'");
+        sim_cli_fail("unknown --cv-method '%s'", cv_name.c_str());
     char err[256] = "";
     if (sim_config_check(&cfg, err, sizeof err) != 0)
-        usage_error(err);
+        sim_cli_fail("%s", err);
     cv::setNumThreads(1);
 
     spvs_params_t p;

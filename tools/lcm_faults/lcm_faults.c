@@ -25,18 +25,18 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
-#include <errno.h>
 #include <math.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <lcm/lcm.h>
 
 #include "lcmtypes/spvs_matches_t.h"
+#include "sim/cli.h"
+#include "sim/clock.h"
 
 /* Frames waiting for their release time; a full queue sends at once. */
 #define QUEUE_LEN 64
@@ -79,13 +79,6 @@ static void on_signal(int sig)
 {
     (void)sig;
     g_stop = 1;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* SplitMix64: a uniform number in [0, 1). */
@@ -149,7 +142,7 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel,
 {
     (void)channel;
     relay_t *r = (relay_t *)user;
-    const double t = now_s();
+    const double t = sim_clock_now_s();
     int len = (int)rbuf->data_size;
     r->c.received++;
     if (len > MSG_MAX || spvs_matches_t_decode(rbuf->data, 0, len, &r->msg) < 0) {
@@ -221,23 +214,8 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel,
     }
 }
 
-static int bad(const char *what, const char *arg)
-{
-    fprintf(stderr, "spvs-lcm-faults: %s%s%s (see --help)\n", what,
-            arg ? ": " : "", arg ? arg : "");
-    return 2;
-}
-
-static int parse_real(const char *s, double lo, double hi, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno || !isfinite(v) || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
-}
+/* Seeds and frame numbers: integers up to 10^15. */
+#define MAX_COUNT 1000000000000000LL
 
 static const char usage_text[] =
     "usage: spvs-lcm-faults [options]\n"
@@ -269,6 +247,7 @@ int main(int argc, char **argv)
     r.pause_first = -1;
     r.pause_last = -1;
     r.rng = 1;
+    sim_cli_program("spvs-lcm-faults");
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -277,9 +256,8 @@ int main(int argc, char **argv)
             return 0;
         }
         if (i + 1 >= argc)
-            return bad("missing value for", a);
+            sim_cli_fail("missing value for: %s", a);
         const char *v = argv[++i];
-        int rc = 0;
         if (strcmp(a, "--lcm-url") == 0) {
             url = v;
         } else if (strcmp(a, "--in") == 0) {
@@ -287,38 +265,29 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--out") == 0) {
             r.out_ch = v;
         } else if (strcmp(a, "--seed") == 0) {
-            double s;
-            rc = parse_real(v, 0.0, 1e15, &s);
-            r.rng = (uint64_t)s;
+            r.rng = (uint64_t)sim_cli_int(a, v, 0, MAX_COUNT);
         } else if (strcmp(a, "--drop") == 0) {
-            rc = parse_real(v, 0.0, 1.0, &r.drop);
+            r.drop = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
         } else if (strcmp(a, "--delay-max") == 0) {
-            rc = parse_real(v, 0.0, 60.0, &r.delay_max_s);
+            r.delay_max_s = sim_cli_real(a, v, 0.0, 60.0, SIM_CLI_CLOSED);
         } else if (strcmp(a, "--dup") == 0) {
-            rc = parse_real(v, 0.0, 1.0, &r.dup);
+            r.dup = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
         } else if (strcmp(a, "--reorder") == 0) {
-            rc = parse_real(v, 0.0, 1.0, &r.reorder);
+            r.reorder = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
         } else if (strcmp(a, "--time-back") == 0) {
-            rc = parse_real(v, 0.0, 1.0, &r.time_back);
+            r.time_back = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
         } else if (strcmp(a, "--period") == 0) {
-            rc = parse_real(v, 1e-3, 60.0, &r.period_s);
+            r.period_s = sim_cli_real(a, v, 1e-3, 60.0, SIM_CLI_CLOSED);
         } else if (strcmp(a, "--pause-after") == 0) {
-            double n;
-            rc = parse_real(v, 0.0, 1e15, &n);
-            r.pause_after = (long long)n;
+            r.pause_after = sim_cli_int(a, v, 0, MAX_COUNT);
         } else if (strcmp(a, "--pause") == 0) {
-            rc = parse_real(v, 0.0, 3600.0, &r.pause_s);
+            r.pause_s = sim_cli_real(a, v, 0.0, 3600.0, SIM_CLI_CLOSED);
         } else {
-            return bad("unknown option", a);
-        }
-        if (rc != 0) {
-            fprintf(stderr, "spvs-lcm-faults: %s: '%s' is not a number in "
-                            "the range --help gives\n", a, v);
-            return 2;
+            sim_cli_fail("unknown option: %s", a);
         }
     }
     if (strcmp(in_ch, r.out_ch) == 0)
-        return bad("--in and --out must differ", in_ch);
+        sim_cli_fail("--in and --out must differ: %s", in_ch);
 
     struct sigaction sa;
     memset(&sa, 0, sizeof(sa));
@@ -339,17 +308,17 @@ int main(int argc, char **argv)
         return 1;
     }
     int rc = 0;
-    double next = now_s() + 3600.0;
+    double next = sim_clock_now_s() + 3600.0;
     while (!g_stop) {
         /* Wake for the next release or every 20 ms, whichever is first. */
-        double wait = next - now_s();
+        double wait = next - sim_clock_now_s();
         int ms = wait < 0.0 ? 0 : wait > 0.02 ? 20 : (int)ceil(wait * 1000.0);
         if (lcm_handle_timeout(r.lcm, ms) < 0 && !g_stop) {
             fprintf(stderr, "spvs-lcm-faults: LCM receive failed\n");
             rc = 1;
             break;
         }
-        next = release_due(&r, now_s());
+        next = release_due(&r, sim_clock_now_s());
     }
     printf("lcm_faults: received %lu forwarded %lu dropped %lu delayed %lu "
            "duplicated %lu reordered %lu time_back %lu paused %lu "

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Cross-build the Cortex-M4F images and run them under QEMU (mps2-an386).
 #
-#   tools/target_test.sh build  SRC CROSS_DIR [SPVS_SIM]
+#   tests/target/target_test.sh build  SRC CROSS_DIR [SPVS_SIM]
 #       configure and build the cross tree (target/crossbuild) in CROSS_DIR;
 #       with SPVS_SIM (a host float32 spvs-sim), first record the replay run
 #       with it (tools/make_replay.sh), so target and host run the same core.
-#   tools/target_test.sh run    CROSS_DIR      spvs_test.elf must exit 0
-#   tools/target_test.sh tamper CROSS_DIR      spvs_test_tamper.elf (one golden
+#   tests/target/target_test.sh run    CROSS_DIR      spvs_test.elf must exit 0
+#   tests/target/target_test.sh tamper CROSS_DIR      spvs_test_tamper.elf (one golden
 #       value perturbed) must report failed checks: exit 1..100, not a fault
 #       (120), not a timeout (124)
 #

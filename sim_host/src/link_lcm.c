@@ -9,9 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
+#include "sim/clock.h"
+#include "sim/link_lockstep.h"
 #include "wire.h"
 
 typedef struct {
@@ -19,13 +19,8 @@ typedef struct {
     char url[256];
     double timeout_s;
     int64_t run_id;
-    int64_t want_seq;
-    int got_cmd;
-    int got_state;
-    spvs_cmd_t cmd;
-    spvs_state_t state;
+    sim_lockstep_t ls;       /* the frame awaited and its answer */
     spvs_cmd_t rx_cmd;       /* decode scratch */
-    spvs_state_t rx_state;
     spvs_matches_t msg;
     /* sim_link_lcm_opts_t (keep_last mode): the command in force and the
      * newest one received while waiting. */
@@ -39,30 +34,19 @@ typedef struct {
     spvs_cmd_t newer;
     lcm_subscription_t *sub_cmd;
     lcm_subscription_t *sub_state;
-    uint32_t resends;        /* frames published again while waiting */
 } link_lcm_t;
 
 /* Wait before publishing an unanswered frame again, seconds. */
 #define RESEND_S 0.25
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void on_cmd(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 {
     (void)channel;
     link_lcm_t *l = (link_lcm_t *)user;
-    if (spvs_cmd_t_decode(rbuf->data, 0, (int)rbuf->data_size, &l->rx_cmd) < 0)
-        return;
-    if (l->rx_cmd.seq == l->want_seq && !l->got_cmd) {
-        l->cmd = l->rx_cmd;
-        l->got_cmd = 1;
-    } else if (l->keep_last &&
-               (l->rx_cmd.seq == -1 || l->rx_cmd.seq > l->applied_seq)) {
+    int kept = sim_lockstep_on_cmd(&l->ls, rbuf->data, (int)rbuf->data_size,
+                                   &l->rx_cmd);
+    if (kept == 0 && l->keep_last &&
+        (l->rx_cmd.seq == -1 || l->rx_cmd.seq > l->applied_seq)) {
         /* A watchdog stop, or a late answer to a frame newer than the one
          * whose answer is in force: the base would act on it. */
         l->newer = l->rx_cmd;
@@ -75,13 +59,7 @@ static void on_state(const lcm_recv_buf_t *rbuf, const char *channel,
 {
     (void)channel;
     link_lcm_t *l = (link_lcm_t *)user;
-    if (spvs_state_t_decode(rbuf->data, 0, (int)rbuf->data_size,
-                            &l->rx_state) < 0)
-        return;
-    if (l->rx_state.seq == l->want_seq) {
-        l->state = l->rx_state;
-        l->got_state = 1;
-    }
+    (void)sim_lockstep_on_state(&l->ls, rbuf->data, (int)rbuf->data_size);
 }
 
 /* Encode into a stack buffer and publish on the link's channel (wire.c's
@@ -114,6 +92,34 @@ static void keep_last_command(link_lcm_t *l, double t_s, spvs_output_t *out)
     spvs_wire_output_from_msgs(out, &l->applied, NULL);
 }
 
+/* sim_lockstep_io_t.send: the frame in l->msg. */
+static int io_send(void *ctx, char *err, unsigned err_len)
+{
+    link_lcm_t *l = (link_lcm_t *)ctx;
+    if (publish_frame(l) != 0) {
+        snprintf(err, err_len, "LCM link: publishing frame %u on %s failed",
+                 (unsigned)l->ls.want_seq, l->url);
+        return -1;
+    }
+    return 0;
+}
+
+/* sim_lockstep_io_t.poll: lcm_handle_timeout hands over one message per
+ * call, so after the wait take what else is queued, a bounded number. */
+static int io_poll(void *ctx, double wait_s, char *err, unsigned err_len)
+{
+    link_lcm_t *l = (link_lcm_t *)ctx;
+    int ms = wait_s > 0.0 ? (int)ceil(wait_s * 1000.0) : 0;
+    int r = lcm_handle_timeout(l->lcm, ms);
+    for (int k = 0; k < 4 && r > 0; k++)
+        r = lcm_handle_timeout(l->lcm, 0);
+    if (r < 0) {
+        snprintf(err, err_len, "LCM link: receive failed on %s", l->url);
+        return -1;
+    }
+    return 0;
+}
+
 static int link_exchange(void *ctx, uint32_t seq, double t_s,
                          const spvs_match_t *m, uint16_t n, spvs_output_t *out,
                          char *err, unsigned err_len)
@@ -123,62 +129,28 @@ static int link_exchange(void *ctx, uint32_t seq, double t_s,
                                  err, err_len) != 0) {
         return -1;
     }
-    l->want_seq = seq;
-    l->got_cmd = 0;
-    l->got_state = 0;
-    if (publish_frame(l) != 0) {
-        snprintf(err, err_len, "LCM link: publishing frame %u on %s failed",
-                 (unsigned)seq, l->url);
+
+    /* UDP may lose the frame, or the node may not have subscribed yet when
+     * a run starts: hence the resends.  The node publishes the state
+     * before the command, so it is normally here already: no grace time. */
+    const sim_lockstep_io_t io = { l, io_send, io_poll };
+    const sim_lockstep_timing_t tm = { l->timeout_s, RESEND_S, 0.0 };
+    int rc = sim_lockstep_exchange(&l->ls, seq, &io, &tm, NULL, err, err_len);
+    if (rc < 0)
+        return -1;
+    if (rc == SIM_LOCKSTEP_TIMEOUT && l->keep_last) {
+        keep_last_command(l, t_s, out);
+        return 0;
+    }
+    if (rc == SIM_LOCKSTEP_TIMEOUT) {
+        snprintf(err, err_len,
+                 "LCM link: no SPVS_CMD for frame %u within %.3g s on %s "
+                 "(is spvs-node running on that URL?)",
+                 (unsigned)seq, l->timeout_s, l->url);
         return -1;
     }
-
-    /* Wait for the answer, bounded by the timeout whatever else arrives.
-     * UDP may lose the frame, or the node may not have subscribed yet when
-     * a run starts, so the frame goes out again every RESEND_S; the node
-     * answers a repeated frame with its previous answer and never runs the
-     * core twice, so this cannot change the result. */
-    double t_sent = now_s();
-    double deadline = t_sent + l->timeout_s;
-    while (!l->got_cmd) {
-        double t = now_s();
-        if (t - t_sent >= RESEND_S) {
-            if (publish_frame(l) != 0) {
-                snprintf(err, err_len,
-                         "LCM link: publishing frame %u on %s failed",
-                         (unsigned)seq, l->url);
-                return -1;
-            }
-            l->resends++;
-            t_sent = t;
-        }
-        double left = deadline - t;
-        if (left <= 0.0 && l->keep_last) {
-            keep_last_command(l, t_s, out);
-            return 0;
-        }
-        if (left <= 0.0) {
-            snprintf(err, err_len,
-                     "LCM link: no SPVS_CMD for frame %u within %.3g s on %s "
-                     "(is spvs-node running on that URL?)",
-                     (unsigned)seq, l->timeout_s, l->url);
-            return -1;
-        }
-        double wait = left < RESEND_S ? left : RESEND_S;
-        int ms = (int)ceil(wait * 1000.0);
-        if (lcm_handle_timeout(l->lcm, ms > 0 ? ms : 1) < 0) {
-            snprintf(err, err_len, "LCM link: receive failed on %s", l->url);
-            return -1;
-        }
-    }
-    /* The node publishes the state before the command, so it is normally
-     * here already; take whatever else is queued without waiting. */
-    for (int k = 0; k < 4 && !l->got_state; k++)
-        if (lcm_handle_timeout(l->lcm, 0) <= 0)
-            break;
-    spvs_wire_output_from_msgs(out, &l->cmd, l->got_state ? &l->state : NULL);
-    if (!l->got_state)
-        out->n_matches = n;
-    l->applied = l->cmd;
+    sim_lockstep_output(&l->ls, n, out);
+    l->applied = l->ls.cmd;
     l->applied_seq = (int64_t)seq;
     l->applied_t_s = t_s;
     l->got_newer = 0;
@@ -219,7 +191,7 @@ int sim_link_lcm_open_opts(const char *url, double timeout_s,
     }
     snprintf(l->url, sizeof(l->url), "%s", url ? url : "(LCM default URL)");
     l->timeout_s = timeout_s;
-    l->want_seq = -1;
+    sim_lockstep_init(&l->ls);
     const char *ch = opts && opts->matches_channel ? opts->matches_channel
                                                    : SPVS_CH_MATCHES;
     if (strlen(ch) == 0 || strlen(ch) >= sizeof(l->channel)) {
@@ -239,12 +211,8 @@ int sim_link_lcm_open_opts(const char *url, double timeout_s,
     /* Before the first answer the base stands still. */
     l->applied_seq = -2;
     l->applied.seq = -2;
-    /* A run id that differs from any earlier run's, so that a node still
-     * running from one resets its controller. */
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    l->run_id = ((int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec) ^
-                ((int64_t)getpid() << 40);
+    /* A node still running from an earlier run resets its controller. */
+    l->run_id = sim_clock_run_id();
     l->lcm = lcm_create(url);
     if (!l->lcm) {
         snprintf(err, err_len, "LCM link: cannot open '%s' (no multicast "
