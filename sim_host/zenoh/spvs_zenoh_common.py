@@ -65,6 +65,10 @@ def zenoh_config(zenoh, mode, listen, connect, scouting):
     cfg = zenoh.Config()
     cfg.insert_json5("mode", json.dumps(mode))
     cfg.insert_json5("scouting/multicast/enabled", json.dumps(bool(scouting)))
+    # Shared memory off: a payload is 5 KB at most, and a process in another
+    # network or user namespace (spvs-fleet's robots) that negotiates shared
+    # memory with the router gets only the first large sample, then none.
+    cfg.insert_json5("transport/shared_memory/enabled", "false")
     if mode == "peer" and not listen and connect:
         listen = ["tcp/127.0.0.1:0"]
     if mode == "peer" or listen:
