@@ -306,7 +306,9 @@ class Robot:
         self.failure = None
         self.t_failed = None
         self.frames = 0
-        self.cmd_file = open(os.path.join(self.dir, "cmd.csv"), "w")
+        # Line-buffered: tests and tools follow it while the robot runs.
+        self.cmd_file = open(os.path.join(self.dir, "cmd.csv"), "w",
+                             buffering=1)
         self.cmd_file.write("t_mono_s,seq,v,w,step,status\n")
         self.lcm = None
 
@@ -371,14 +373,16 @@ class Robot:
         self.cmd_file.write("%.6f,%d,%.9g,%.9g,%d,%d\n"
                             % (time.monotonic(), seq, v, w, step, status))
 
-    def fail(self, why):
+    def fail(self, why, linger=True):
         """End this robot: its spvs-sim now (the vehicle stops), its node and
         bridge after the watchdog (so the node's own stop is recorded)."""
+        now = time.monotonic()
         if self.failure is None:
             self.failure = why
-            self.t_failed = time.monotonic()
+            self.t_failed = now
+        self.t_linger = now + (self.cfg["watchdog"] + 0.5 if linger else 0.0)
         if self.sim is not None:
-            self.sim.stop()
+            self.sim.signal(signal.SIGTERM)
         self.state = "failing"
 
     def base_result(self):
@@ -388,8 +392,22 @@ class Robot:
                 "start": {"x_m": x, "z_m": z, "phi_deg": phi},
                 "transport": "zenoh"}
 
-    def finish(self):
-        """Collect the result and stop the controller side."""
+    def drain(self):
+        """Record the commands still waiting on this robot's LCM socket
+        (its last answers arrive just before its spvs-sim ends)."""
+        if self.lcm is None:
+            return
+        fd = self.lcm.fileno()
+        for _ in range(10000):
+            if not select.select([fd], [], [], 0.02)[0]:
+                return
+            self.lcm.handle()
+
+    def begin_stop(self):
+        """Collect the result; ask the node and bridge to end.  Nothing here
+        waits: the supervisor keeps reading every other robot's LCM socket
+        meanwhile, or their commands would overflow its buffers."""
+        self.drain()
         res = None
         if self.failure is None:
             rc = self.sim.poll()
@@ -409,29 +427,52 @@ class Robot:
                     or "no result")
         if res is None:
             res = self.base_result()
-            res.update(status="failed", reason=self.failure)
+            res.update(status="failed", reason=self.failure,
+                       frames=self.frames)
+        self.result = res
         for ch in (self.bridge, self.node):
             if ch is not None:
-                ch.stop()
+                ch.signal(signal.SIGTERM)
+        self.t_stop_sent = time.monotonic()
+        self.state = "stopping"
+
+    def complete(self):
+        res = self.result
+        if self.t_failed is not None:
+            # When the fleet saw the failure and when the robot (its
+            # spvs-sim) had stopped, CLOCK_MONOTONIC seconds.
+            res["ended"] = {"t_failed_s": round(self.t_failed, 6),
+                            "t_stopped_s": round(self.sim.t_end, 6)
+                            if self.sim is not None and self.sim.t_end
+                            else None}
         res["cpu_s"] = {ch.name: ch.cpu_s for ch in
                         (self.node, self.bridge, self.sim)
                         if ch is not None and ch.cpu_s is not None}
-        self.result = res
         self.state = "done"
         self.cmd_file.close()
-        if self.lcm is not None:
-            self.lcm = None
+        self.lcm = None
         with open(os.path.join(self.dir, "result.json"), "w") as f:
             f.write(json.dumps(res) + "\n")
 
     def tick(self, now):
-        """Advance this robot's state; returns True once it is done."""
+        """Advance this robot's state without waiting; True once done."""
         if self.state == "done":
             return True
-        if self.state == "failing":
-            if now - self.t_failed >= self.cfg["watchdog"] + 0.5:
-                self.finish()
+        if self.state == "stopping":
+            kids = [ch for ch in (self.bridge, self.node) if ch is not None]
+            for ch in kids:
+                if ch.poll() is None and now - self.t_stop_sent > 3.0:
+                    ch.signal(signal.SIGKILL)
+            if all(ch.poll() is not None for ch in kids):
+                self.complete()
             return self.state == "done"
+        if self.state == "failing":
+            sim_over = self.sim is None or self.sim.poll() is not None
+            if not sim_over and now - self.t_failed > 3.0:
+                self.sim.signal(signal.SIGKILL)
+            if sim_over and now >= self.t_linger:
+                self.begin_stop()
+            return False
         for ch, what in ((self.node, "spvs-node"), (self.bridge, "bridge")):
             if ch.poll() is not None:
                 self.fail("%s exited (%s)%s" % (
@@ -440,8 +481,8 @@ class Robot:
                     if self.frames else ""))
                 return False
         if self.state == "running" and self.sim.poll() is not None:
-            self.finish()
-        return self.state == "done"
+            self.begin_stop()
+        return False
 
 
 def pump(fds, timeout):
@@ -452,10 +493,15 @@ def pump(fds, timeout):
         ready, _, _ = select.select(list(fds), [], [], timeout)
     except InterruptedError:
         ready = []
+    # All that waits on each socket: it carries the robot's frames and
+    # states too (LCM filters channels after reading), and UDP drops what
+    # overflows the socket's buffer.
     for fd in ready:
         r = fds[fd]
-        if r.lcm is not None:
+        for _ in range(1000):
             r.lcm.handle()
+            if not select.select([fd], [], [], 0)[0]:
+                break
 
 
 def setup_namespace():
@@ -522,22 +568,23 @@ def inner_main(workdir):
 
     t0 = time.monotonic()
     next_progress = t0 + 5.0
+    stopping = False
+    hard_end = None
     while True:
         now = time.monotonic()
         if stop["why"] is None and os.getppid() != parent:
             stop["why"] = "spvs-fleet itself ended"
         if stop["why"] is None and now > deadline:
             stop["why"] = "--max-time %g s reached" % cfg["max_time"]
-        if stop["why"] is not None:
+        if stop["why"] is not None and not stopping:
+            stopping = True
+            hard_end = now + 10.0
             for r in robots:
                 if r.state in ("starting", "running"):
                     r.failure = stop["why"]
                     r.t_failed = now
-                    if r.sim is not None:
-                        r.sim.stop()
-                    r.state = "failing"
-                if r.state == "failing":
-                    r.finish()
+                    r.fail(stop["why"], linger=False)
+        if stopping and now > hard_end:
             break
         pump(fds, TICK_S)
         if all([r.tick(now) for r in robots]):
