@@ -72,8 +72,11 @@ def parse_robot(text):
     """NAME:METHOD:X,Z,PHI_DEG:SEED -> dict, or UsageError saying why."""
     parts = text.split(":")
     if len(parts) != 4:
-        raise UsageError("--robot '%s': want NAME:METHOD:X,Z,PHI_DEG:SEED"
-                         % text)
+        fields = ("name", "method", "pose", "seed")
+        why = ("no %s" % " and no ".join(fields[len(parts):])) \
+            if len(parts) < 4 else "%d fields" % len(parts)
+        raise UsageError("--robot '%s': want NAME:METHOD:X,Z,PHI_DEG:SEED "
+                         "(%s)" % (text, why))
     name, method, pose, seed = parts
     if not NAME_RE.match(name):
         raise UsageError("--robot '%s': name '%s' must be 1..64 characters "

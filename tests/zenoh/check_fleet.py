@@ -57,12 +57,14 @@ def free_port():
 
 
 def port_free(port):
+    """Nobody listens on 127.0.0.1:port (connections refused)."""
     with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.settimeout(2.0)
         try:
-            s.bind(("127.0.0.1", port))
-            return True
-        except OSError:
+            s.connect(("127.0.0.1", port))
             return False
+        except OSError:
+            return True
 
 
 class Env:
@@ -343,7 +345,8 @@ def check_isolation(env, a):
         if what == "bridge":
             # The node outlives its bridge by a watchdog: its own stop is
             # on record.
-            t_last, seq, delay, _ = stop_after(cmds, t_kill[i] - 1.0, name)
+            t_run = min(c[0] for c in cmds if c[1] >= 0)
+            t_last, seq, delay, _ = stop_after(cmds, t_run, name)
             extra = "; its node's stop %.3f s after frame %d" % (delay, seq)
         report.append("%s (%s killed after frame %d): stopped %.3f s later%s"
                       % (name, what, r["frames"] - 1, stopped, extra))
