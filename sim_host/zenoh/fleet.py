@@ -633,6 +633,7 @@ class Router:
         self.listen = [tcp, "unixsock-stream/" + sock]
         self.child = None
         self.restarts = 0
+        self.cpu_s = 0.0  # of the routers that have ended
 
     def start(self, wait_s=20.0):
         rd, wr = os.pipe()
@@ -734,6 +735,7 @@ def outer_main(a):
                     continue
                 log(a, "router exited (%s); restarting it"
                     % describe_exit(router.child.rc))
+                router.cpu_s += router.child.cpu_s or 0.0
                 router.restarts += 1
                 try:
                     router.start()
@@ -745,6 +747,7 @@ def outer_main(a):
             inner.stop(5.0)
         if router.child is not None:
             router.child.stop()
+            router.cpu_s += router.child.cpu_s or 0.0
     wall = time.monotonic() - t0
 
     results = []
@@ -769,6 +772,9 @@ def outer_main(a):
                "frames": sum(res.get("frames", 0) for res in results),
                "wall_s": round(wall, 3), "router": tcp,
                "router_restarts": router.restarts,
+               "cpu_s": {"router": round(router.cpu_s, 3),
+                         "supervisor_and_robots": round(inner.cpu_s, 3)
+                         if inner is not None and inner.cpu_s else None},
                "workdir": None if own_tmp else workdir}
     if a.json:
         for res in results:
