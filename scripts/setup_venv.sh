@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Creates .venv/ at the top of the repository with the Python packages of the
-# Zenoh side (tools/zenoh/requirements.txt) and checks that they import.
+# Zenoh side (sim_host/zenoh/requirements.txt) and checks that they import.
 # Idempotent: when the venv already holds what the requirements file asks for
 # (a stamp file records its hash), it only re-checks the imports and exits.
 # Needs /usr/bin/python3 with venv (Debian: python3-venv) and, the first time,
@@ -9,7 +9,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
-req="$root/tools/zenoh/requirements.txt"
+req="$root/sim_host/zenoh/requirements.txt"
 stamp="$venv/.spvs-requirements.sha256"
 py="$venv/bin/python"
 

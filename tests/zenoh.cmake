@@ -47,3 +47,35 @@ foreach(case IN LISTS zenoh_cases)
                        LABELS "${zenoh_variant};zenoh" TIMEOUT ${seconds}
                        SKIP_RETURN_CODE 77)
 endforeach()
+
+# spvs-fleet and spvs-station (docs/ZENOH.md, "A fleet"): robots through one
+# Zenoh router, each fleet with its own free port, work folder and LCM
+# namespace (tests/zenoh/check_fleet.py).
+set(fleet_check ${zenoh_root}/.venv/bin/python
+    ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/check_fleet.py)
+# name | seconds | check and its options
+set(fleet_cases
+  "fleet_equal_4|120|equal --robots 4 --noise 0.5"
+  "fleet_equal_8|150|equal --robots 8 --noise 0.5 --outliers 0.1"
+  "fleet_isolation|150|isolation"
+  "fleet_router_restart|150|router"
+  "fleet_station|150|station"
+  "fleet_cleanup|120|cleanup"
+  "fleet_bad_method|60|usage --case method"
+  "fleet_bad_pose|60|usage --case pose"
+  "fleet_bad_seed|60|usage --case seed"
+  "fleet_bad_name|60|usage --case name"
+  "fleet_name_twice|60|usage --case twice"
+  "fleet_help|60|usage --case help")
+foreach(case IN LISTS fleet_cases)
+  string(REPLACE "|" ";" parts "${case}")
+  list(GET parts 0 name)
+  list(GET parts 1 seconds)
+  list(GET parts 2 args)
+  separate_arguments(args UNIX_COMMAND "${args}")
+  add_test(NAME ${name}
+           COMMAND ${zenoh_run} ${seconds} ${fleet_check} ${args} ${zenoh_dirs})
+  set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED zenoh_venv
+                       LABELS "${zenoh_variant};zenoh;fleet" TIMEOUT ${seconds}
+                       SKIP_RETURN_CODE 77)
+endforeach()

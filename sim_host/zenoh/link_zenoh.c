@@ -1,7 +1,7 @@
 /*
  * link_zenoh.c - the simulator's Zenoh link; see sim/link_zenoh.h.
  *
- * Record format from the port (tools/zenoh/sim_port.py): u8 kind, u32
+ * Record format from the port (sim_host/zenoh/sim_port.py): u8 kind, u32
  * big-endian length, payload.  Frames to the port: u32 big-endian length,
  * payload.
  */
@@ -401,7 +401,7 @@ int sim_link_zenoh_open(const char *endpoint, double timeout_s,
     if (s && *s)
         snprintf(port, sizeof(port), "%s", s);
     else
-        snprintf(port, sizeof(port), "%s/tools/zenoh/" SPVS_ZENOH_PORT_NAME,
+        snprintf(port, sizeof(port), "%s/sim_host/zenoh/" SPVS_ZENOH_PORT_NAME,
                  SPVS_SOURCE_DIR);
     if (access(python, X_OK) != 0) {
         snprintf(err, err_len, "Zenoh link: no Python at %.150s: run "

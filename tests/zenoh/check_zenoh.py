@@ -60,7 +60,7 @@ class Env:
         self.root = os.path.abspath(a.root)
         self.sim = os.path.join(self.build, "sim_host", "spvs-sim")
         self.node = os.path.join(self.build, "sim_host", "node", "spvs-node")
-        self.bridge = os.path.join(self.root, "tools", "zenoh",
+        self.bridge = os.path.join(self.root, "sim_host", "zenoh",
                                    "spvs-zenoh-bridge")
         self.types = os.path.join(self.build, "lcm_types", "python")
         self.tmp = tempfile.mkdtemp(prefix="spvs-zenoh-test-")
@@ -68,7 +68,7 @@ class Env:
         for f in (self.sim, self.node, self.bridge):
             expect(os.access(f, os.X_OK), "%s is not built" % f)
         sys.path.insert(0, self.types)
-        sys.path.insert(0, os.path.join(self.root, "tools", "zenoh"))
+        sys.path.insert(0, os.path.join(self.root, "sim_host", "zenoh"))
 
     def start(self, name, argv, env=None):
         """Start argv under timeout -k, stderr (and stdout) to files."""
@@ -248,7 +248,7 @@ def check_loop(env, a):
     # The documented example subscriber watches the commands on Zenoh.
     example = env.start("example", [
         os.path.join(env.root, ".venv", "bin", "python"),
-        os.path.join(env.root, "tools", "zenoh", "example_subscriber.py"),
+        os.path.join(env.root, "sim_host", "zenoh", "example_subscriber.py"),
         "--connect", "tcp/127.0.0.1:%d" % port])
     # It is on the network once the node's idle watchdog stops reach it.
     end = time.monotonic() + 15

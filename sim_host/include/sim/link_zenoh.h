@@ -6,7 +6,7 @@
  * LCM.
  *
  * There is no C Zenoh library to link, so the link starts a small Python
- * process (tools/zenoh/sim_port.py, in the project's venv) and exchanges
+ * process (sim_host/zenoh/sim_port.py, in the project's venv) and exchanges
  * length-prefixed frames with it over a socket pair on its stdin/stdout.
  * Every wait is bounded with poll(); the process is reaped on close.
  *
@@ -22,7 +22,7 @@
  *   SPVS_ZENOH_RESEND_S  resend interval, seconds, 0 = never (0.5)
  *   SPVS_ZENOH_MODE      peer or client (peer)
  *   SPVS_PYTHON          interpreter (<source>/.venv/bin/python)
- *   SPVS_ZENOH_PORT      the port script (<source>/tools/zenoh/sim_port.py)
+ *   SPVS_ZENOH_PORT      the port script (<source>/sim_host/zenoh/sim_port.py)
  */
 #ifndef SIM_LINK_ZENOH_H
 #define SIM_LINK_ZENOH_H

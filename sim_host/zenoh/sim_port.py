@@ -17,6 +17,9 @@ with the same wire code as the LCM link, and the bridge checks them.
 It is ready once its publisher has a matching subscriber (normally the
 bridge): samples put before that would be lost.  It exits when its input
 closes, on SIGINT/SIGTERM, or when spvs-sim stops reading.
+With $SPVS_ZENOH_TIMING set to a file name, it writes there one line per
+frame put ("M SEQ T") and per command received ("C SEQ T"), T in seconds of
+CLOCK_MONOTONIC: the fleet's load figures come from them (docs/ZENOH.md).
 Exit status: 0 on end of input or a signal, 1 on a Zenoh failure, 2 on bad
 options.
 """
@@ -70,6 +73,35 @@ def read_exact(n):
     return b"".join(chunks)
 
 
+class Timing:
+    """Put and receive times by seq, written to $SPVS_ZENOH_TIMING; a no-op
+    without it.  Zenoh calls back on its own threads, hence the lock."""
+
+    def __init__(self, path):
+        self.lock = threading.Lock()
+        self.lines = [] if path else None
+        self.path = path
+
+    def note(self, kind, payload):
+        if self.lines is None or len(payload) < 16:
+            return
+        # seq is the int64 after the 8-byte fingerprint in matches_t and
+        # cmd_t alike.
+        seq = struct.unpack(">q", payload[8:16])[0]
+        with self.lock:
+            self.lines.append("%s %d %.6f\n" % (kind, seq, time.monotonic()))
+
+    def write(self):
+        if self.lines is None:
+            return
+        with self.lock:
+            try:
+                with open(self.path, "w") as f:
+                    f.writelines(self.lines)
+            except OSError:
+                pass
+
+
 class Stop(Exception):
     pass
 
@@ -100,6 +132,7 @@ def main(argv):
         return 2
 
     out = Out()
+    timing = Timing(os.environ.get("SPVS_ZENOH_TIMING"))
     signal.signal(signal.SIGTERM, on_signal)
     signal.signal(signal.SIGINT, on_signal)
     # A broken pipe is handled where it happens (Out.record).
@@ -121,10 +154,13 @@ def main(argv):
             remote = zenoh.Locality.REMOTE
             key_m = common.key_expr(a.robot, "matches")
             pub = session.declare_publisher(key_m, allowed_destination=remote)
-            session.declare_subscriber(
-                common.key_expr(a.robot, "cmd"),
-                lambda s: out.record(b"C", bytes(s.payload.to_bytes())),
-                allowed_origin=remote)
+
+            def on_cmd(sample):
+                data = bytes(sample.payload.to_bytes())
+                timing.note("C", data)
+                out.record(b"C", data)
+            session.declare_subscriber(common.key_expr(a.robot, "cmd"),
+                                       on_cmd, allowed_origin=remote)
             session.declare_subscriber(
                 common.key_expr(a.robot, "state"),
                 lambda s: out.record(b"S", bytes(s.payload.to_bytes())),
@@ -160,10 +196,12 @@ def main(argv):
             payload = read_exact(n)
             if payload is None:
                 return 0
+            timing.note("M", payload)
             pub.put(payload)
     except Stop:
         return 0
     finally:
+        timing.write()
         # Always close the session: an open one keeps Zenoh's threads
         # running and the process would not exit.
         if session is not None:

@@ -5,7 +5,7 @@ is an LCM-encoded spvs.cmd_t (lcm_types/cmd_t.lcm): an 8-byte type
 fingerprint, then big-endian int64 seq, int64 utime (us), double v (m/s),
 double w (rad/s), int8 step, int16 status -- 43 bytes in all.
 
-  .venv/bin/python tools/zenoh/example_subscriber.py \
+  .venv/bin/python sim_host/zenoh/example_subscriber.py \
       --connect tcp/127.0.0.1:7447
 
 Stops after --count commands (0: never), on Ctrl-C or SIGTERM.
