@@ -49,6 +49,12 @@ set_property(TARGET spvs_core PROPERTY INTERFACE_INCLUDE_DIRECTORIES
   $<BUILD_INTERFACE:${spvs_gen_include}>
   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 set_target_properties(spvs_core PROPERTIES EXPORT_NAME core)
+# The core calls sqrtf and logf.  The cross build links libm in the image
+# (target/), not through the core; an installed core carries it for every
+# consumer.
+if(CMAKE_CROSSCOMPILING)
+  set_property(TARGET spvs_core APPEND PROPERTY INTERFACE_LINK_LIBRARIES $<INSTALL_INTERFACE:m>)
+endif()
 
 if(NOT SPVS_INSTALL)
   return()
@@ -106,11 +112,7 @@ foreach(kind LIBDIR INCLUDEDIR)
     set(SPVS_PC_${kind} "\${prefix}/${CMAKE_INSTALL_${kind}}")
   endif()
 endforeach()
-if(CMAKE_CROSSCOMPILING)
-  set(SPVS_PC_LIBM "")
-else()
-  set(SPVS_PC_LIBM " -lm")
-endif()
+set(SPVS_PC_LIBM " -lm")
 configure_file(${CMAKE_CURRENT_LIST_DIR}/spvs.pc.in ${PROJECT_BINARY_DIR}/generated/spvs.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/generated/spvs.pc DESTINATION ${spvs_pcdir} COMPONENT core)
 
