@@ -37,3 +37,11 @@ set_tests_properties(install_stage install_consumer_cmake install_consumer_pkgco
                      install_consumer_fetchcontent install_abi_mismatch_scalar install_cortex_m4f
                      PROPERTIES LABELS "${install_scalar};install" TIMEOUT 300
                      ENVIRONMENT "${install_env}")
+
+# Python: the documented lcm-gen -p and examples/python/decode_log.py.
+if(TARGET spvs-node AND TARGET spvs-sim)
+  add_test(NAME install_python_decode
+           COMMAND ${install_dir}/python_decode.sh $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>)
+  set_tests_properties(install_python_decode PROPERTIES LABELS "${install_scalar};install;lcm;process"
+                       TIMEOUT 120 ENVIRONMENT "${install_env}")
+endif()

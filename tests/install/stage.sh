@@ -26,6 +26,12 @@ for f in "$libdir/cmake/spvs/spvsConfig.cmake" "$libdir/cmake/spvs/spvsConfigVer
   [ -f "$p" ] || fail "not installed: ${p#"$prefix"/}"
 done
 
+# The message types for Python and, where the build made it, for Java.
+[ -f "$prefix/share/spvs/python/spvs/state_t.py" ] || fail "not installed: share/spvs/python/spvs/"
+if [ -f "$SPVS_BUILD/tools/lcm_spy/spvs_lcm_types.jar" ]; then
+  [ -f "$prefix/share/spvs/java/spvs_lcm_types.jar" ] || fail "not installed: share/spvs/java/spvs_lcm_types.jar"
+fi
+
 # Every public header of the source tree, and nothing from src/.
 n_src=0
 for h in "$SPVS_SOURCE"/firmware/include/spvs/*.h; do

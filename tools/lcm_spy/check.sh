@@ -33,22 +33,8 @@ tmp=$(mktemp -d "${TMPDIR:-/tmp}/spvs-spycheck.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
 
 # 1. The run and its log.
-. "$here/../../tests/lcm/netns.sh"
-url=$(spvs_lcm_url)
-export NODE=$node SIM=$sim URL=$url LOG=$tmp/run.lcmlog TMPD=$tmp
-spvs_in_netns '
-  lcm-logger -q -f --lcm-url="$URL" "$LOG" 2>"$TMPD/logger.err" &
-  logger=$!
-  "$NODE" --lcm-url "$URL" 2>"$TMPD/node.err" &
-  node=$!
-  sleep 0.5
-  "$SIM" --transport lcm --lcm-url "$URL" --timeout 5 --json >"$TMPD/sim.json"
-  rc=$?
-  sleep 0.3
-  kill -INT $node $logger
-  wait $node $logger
-  exit $rc
-' || { cat "$tmp/node.err" "$tmp/logger.err" >&2; fail "the LCM run failed"; }
+"$here/../../tests/install/record_run.sh" "$node" "$sim" "$tmp/run.lcmlog" "$tmp/sim.json" ||
+  fail "the LCM run failed"
 frames=$(python3 -c 'import json,sys; print(json.loads(open(sys.argv[1]).read().splitlines()[-1])["frames"])' "$tmp/sim.json")
 [ "$frames" -gt 100 ] || fail "the run has $frames frames"
 

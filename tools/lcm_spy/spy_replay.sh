@@ -8,18 +8,21 @@
 # saves the screen with ImageMagick's import $SPY_WAIT seconds (default 4)
 # after the replay started, while it runs or after it ended.  $SPY_SPEED is
 # the replay speed (default 1: as recorded).  SHOT.before.png is the screen
-# before the replay started.
+# before the replay started.  With SPY_CLICK=X,Y and SPY_CLASSES (the
+# folder of Click.class, BUILD/tools/lcm_spy/check_classes) it then
+# double-clicks there, e.g. on a channel's row to open its viewer, and saves
+# the screen again 2 s later as SHOT.viewer.png.
 # Needs java, Xvfb, import, lcm-logplayer, unshare (docs/INSTALL.md).
 # Exit 0 with the screenshot written, 1 on a failure (the reason on stderr),
 # 2 on bad arguments.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-[ $# -ge 2 ] && [ $# -le 3 ] || { sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+[ $# -ge 2 ] && [ $# -le 3 ] || { sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 log=$(readlink -f "$1")
 shot=$(readlink -m "$2")
 [ -f "$log" ] || { echo "spy_replay: no log $log" >&2; exit 2; }
 export SPY_LOG=$log SPY_SHOT=$shot SPY_LAUNCHER=$here/spvs-lcm-spy
-export SPY_SPEED=${SPY_SPEED:-1} SPY_WAIT=${SPY_WAIT:-4}
+export SPY_SPEED=${SPY_SPEED:-1} SPY_WAIT=${SPY_WAIT:-4} SPY_CLICK=${SPY_CLICK:-} SPY_CLASSES=${SPY_CLASSES:-}
 export SPY_TYPES=${3:-${SPVS_LCM_TYPES_JAR:-}}
 export SPY_URL="udpm://239.255.76.67:$((20000 + $$ % 20000))?ttl=0"
 work=$(mktemp -d "${TMPDIR:-/tmp}/spvs-spy.XXXXXX")
@@ -54,6 +57,12 @@ unshare -r -n bash -c '
   sleep "$SPY_WAIT"
   kill -0 $spy 2>/dev/null || { echo "spy_replay: lcm-spy exited during the replay:" >&2; cat "$SPY_WORK/spy.out" >&2; exit 1; }
   import -window root "$SPY_SHOT" || exit 1
+  if [ -n "$SPY_CLICK" ]; then
+    java -cp "$SPY_CLASSES" Click "${SPY_CLICK%,*}" "${SPY_CLICK#*,}" ||
+      { echo "spy_replay: the click at $SPY_CLICK failed" >&2; exit 1; }
+    sleep 2
+    import -window root "${SPY_SHOT%.png}.viewer.png" || exit 1
+  fi
   wait $player || { echo "spy_replay: lcm-logplayer failed:" >&2; cat "$SPY_WORK/player.out" >&2; exit 1; }
   exit 0
 '
