@@ -8,7 +8,8 @@ PKGS=(cmake ninja-build gcc g++ make pkg-config libcmocka-dev
       python3 python3-numpy python3-matplotlib python3-venv iproute2
       libopencv-dev
       gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
-      valgrind clang libclang-rt-14-dev)
+      valgrind clang libclang-rt-14-dev
+      liblcm-java libjchart2d-java default-jdk-headless default-jre xvfb imagemagick)
 
 missing=()
 for p in "${PKGS[@]}"; do

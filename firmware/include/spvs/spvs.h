@@ -16,6 +16,7 @@
 #ifndef SPVS_SPVS_H
 #define SPVS_SPVS_H
 
+#include "spvs/abi.h"
 #include "spvs/common.h"
 #include "spvs/control.h"
 #include "spvs/epipole.h"
