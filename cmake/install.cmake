@@ -14,7 +14,7 @@
 #   share/spvs/lcm_types/            the .lcm message types
 #   share/spvs/python/spvs/          their Python modules (lcm-gen -p)
 #   share/spvs/java/spvs_lcm_types.jar  their Java classes, for lcm-spy
-#   share/spvs/tools/zenoh/          the Zenoh bridge's Python program
+#   share/spvs/sim_host/zenoh/       the Zenoh bridge's Python program
 #   share/doc/spvs/                  README.md and docs/
 #
 # Components: core (headers, library, package, pkg-config, toolchain
@@ -35,7 +35,7 @@ option(SPVS_INSTALL "Generate the install rules of spvs" ${spvs_install_default}
 # Where the Zenoh bridge's Python files are in the source tree.  Installed
 # under share/spvs/ at the same relative path, so that the bridge finds
 # share/spvs/lcm_types/ as it finds lcm_types/ in a checkout.
-set(SPVS_ZENOH_BRIDGE_DIR ${PROJECT_SOURCE_DIR}/tools/zenoh)
+set(SPVS_ZENOH_BRIDGE_DIR ${PROJECT_SOURCE_DIR}/sim_host/zenoh)
 
 # ---- version header (used by the build tree too) ------------------------
 set(spvs_gen_include ${PROJECT_BINARY_DIR}/generated/include)

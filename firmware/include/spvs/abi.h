@@ -13,9 +13,9 @@
  *   spvs_init__<float|double>_matches<SPVS_MAX_MATCHES>
  *       _features<SPVS_MAX_FEATURES>_offplane<SPVS_MAX_OFFPLANE>
  *       _lo<SPVS_LO_POINTS>_median<SPVS_EPIPOLE_MEDIAN>
- *       _columns<SPVS_SIMD_COLUMNS>
  *
- * e.g. spvs_init__float_matches256_features512_offplane64_lo96_median5_columns1.
+ * e.g. spvs_init__float_matches256_features512_offplane64_lo96_median5.
+ * (The point layout is not part of it: spvs_t is the same size in both.)
  * The library defines the name of its own configuration (spvs.c includes this
  * header through spvs.h); a consumer compiled otherwise references another
  * name and the link fails with "undefined reference to spvs_init__double_..."
@@ -41,15 +41,14 @@
 #endif
 
 /* Two levels, so that the settings are expanded before they are pasted. */
-#define SPVS_ABI_NAME_(sc, m, f, o, lo, med, col)                                  \
-    spvs_init__##sc##_matches##m##_features##f##_offplane##o##_lo##lo##_median##med \
-        ##_columns##col
-#define SPVS_ABI_NAME(sc, m, f, o, lo, med, col) SPVS_ABI_NAME_(sc, m, f, o, lo, med, col)
+#define SPVS_ABI_NAME_(sc, m, f, o, lo, med)                                       \
+    spvs_init__##sc##_matches##m##_features##f##_offplane##o##_lo##lo##_median##med
+#define SPVS_ABI_NAME(sc, m, f, o, lo, med) SPVS_ABI_NAME_(sc, m, f, o, lo, med)
 
 /* The link name of spvs_init() for the configuration in force. */
 #define SPVS_ABI_INIT                                                                \
     SPVS_ABI_NAME(SPVS_ABI_SCALAR, SPVS_MAX_MATCHES, SPVS_MAX_FEATURES, SPVS_MAX_OFFPLANE, \
-                  SPVS_LO_POINTS, SPVS_EPIPOLE_MEDIAN, SPVS_SIMD_COLUMNS)
+                  SPVS_LO_POINTS, SPVS_EPIPOLE_MEDIAN)
 
 #define spvs_init SPVS_ABI_INIT
 
