@@ -298,6 +298,15 @@ float spvs_serial_s_from_ms(uint32_t t_ms)
     return (float)t_ms / 1000.0f;
 }
 
+int spvs_serial_ms_from_utime(int64_t utime, uint32_t *t_ms)
+{
+    if (utime < 0 || utime > (int64_t)UINT32_MAX * 1000 + 499) {
+        return SPVS_SERIAL_E_RANGE;
+    }
+    *t_ms = (uint32_t)((utime + 500) / 1000);
+    return SPVS_SERIAL_OK;
+}
+
 int spvs_serial_quantize_match(const spvs_match_t *in, spvs_match_t *out)
 {
     int16_t q[4];

@@ -219,6 +219,11 @@ spvs_real spvs_serial_px_from_q(int16_t q);
  * float32 on both ends. */
 float spvs_serial_s_from_ms(uint32_t t_ms);
 
+/* An LCM frame time (microseconds, spvs-sim's llround(t * 1e6)) -> the
+ * wire's milliseconds, rounded half up.  Returns SPVS_SERIAL_E_RANGE for a
+ * negative time or one past 2^32 - 1 ms. */
+int spvs_serial_ms_from_utime(int64_t utime, uint32_t *t_ms);
+
 /* A match as it arrives on the MCU: coordinates through the wire's units.
  * Returns SPVS_SERIAL_OK or SPVS_SERIAL_E_RANGE. */
 int spvs_serial_quantize_match(const spvs_match_t *in, spvs_match_t *out);
