@@ -36,9 +36,15 @@ static void unexpected_handler(void) { fault("unexpected exception"); }
 
 typedef void (*vector_t)(void);
 
-/* The first 16 entries of the Cortex-M4 vector table; the image enables no
- * external interrupt.  Entry 0 is the initial stack pointer. */
-__attribute__((section(".vectors"), used)) static const vector_t vectors[16] = {
+/* External interrupt 8 of mps2-an386 is the CMSDK timer 0.  An image that
+ * enables it defines board_timer0_irq (the application's watchdog clock);
+ * in the others it is never enabled and lands on the fault report. */
+void board_timer0_irq(void) __attribute__((weak, alias("unexpected_handler")));
+
+/* The 16 system entries of the Cortex-M4 vector table and the external
+ * interrupts up to timer 0 (IRQ 8); no image enables any other.  Entry 0 is
+ * the initial stack pointer. */
+__attribute__((section(".vectors"), used)) static const vector_t vectors[16 + 9] = {
     (vector_t)(uintptr_t)__stack_top,
     spvs_reset_handler,
     nmi_handler,
@@ -52,6 +58,10 @@ __attribute__((section(".vectors"), used)) static const vector_t vectors[16] = {
     0,
     unexpected_handler, /* PendSV   */
     board_systick_handler,
+    /* IRQ 0..7: UARTs and GPIO, never enabled. */
+    unexpected_handler, unexpected_handler, unexpected_handler, unexpected_handler,
+    unexpected_handler, unexpected_handler, unexpected_handler, unexpected_handler,
+    board_timer0_irq, /* IRQ 8: CMSDK timer 0 */
 };
 
 void spvs_reset_handler(void)

@@ -10,8 +10,9 @@ build=${1:-$root/build/m4f-measure}
 shift_n=8
 
 echo "== cross build (MinSizeRel, -fstack-usage -fcallgraph-info=su) in $build"
-cmake -S "$root/target/crossbuild" -B "$build" -G Ninja \
+cmake -S "$root" -B "$build" -G Ninja \
   -DCMAKE_TOOLCHAIN_FILE="$root/cmake/toolchain-arm-none-eabi.cmake" \
+  -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_CPU=cortex-m4f \
   -DCMAKE_BUILD_TYPE=MinSizeRel \
   -DSPVS_EXTRA_C_FLAGS="-fstack-usage -fcallgraph-info=su" >/dev/null
 cmake --build "$build" >/dev/null
@@ -58,3 +59,27 @@ echo "== instructions per call under QEMU (-icount shift=$shift_n; instructions 
 timeout 300 qemu-system-arm -M mps2-an386 -nographic \
   -semihosting-config enable=on,target=native \
   -icount shift=$shift_n,align=off,sleep=off -kernel "$img"
+
+echo
+echo "== the controller application (target/app/, docs/SERIAL.md): flash and RAM"
+arm-none-eabi-size "$build/target/spvs_app.elf"
+/usr/bin/python3 - "$build/target/spvs_app.map" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+parts = {"core": "libspvs_core.a", "codec": "libspvs_serial.a"}
+for name, lib in parts.items():
+    flash = ram = 0
+    for m in re.finditer(r"^ (\.(?:text|rodata|data|bss)\S*)\s+0x[0-9a-f]+\s+(0x[0-9a-f]+)\s+(\S+)", text, re.M):
+        if lib in m.group(3):
+            if m.group(1).startswith((".text", ".rodata")):
+                flash += int(m.group(2), 16)
+            else:
+                ram += int(m.group(2), 16)
+    print("%-6s in spvs_app.elf: flash %d B, static RAM %d B" % (name, flash, ram))
+PY
+
+echo
+echo "== instructions per frame of the application: decode, update, encode (-icount shift=$shift_n)"
+timeout 300 qemu-system-arm -M mps2-an386 -nographic \
+  -semihosting-config enable=on,target=native \
+  -icount shift=$shift_n,align=off,sleep=off -kernel "$build/target/spvs_link_measure.elf"

@@ -28,6 +28,9 @@
 #ifdef SPVS_HAVE_FRONTEND
 #include "sim/frontend.h"
 #endif
+#ifdef SPVS_HAVE_MCU
+#include "sim/link_mcu.h"
+#endif
 
 #define PI 3.14159265358979323846
 #define EXIT_LINK 1
@@ -51,6 +54,8 @@ typedef struct {
     const char *save_frames_dir;
     uint32_t save_every;        /* frames between saved PNGs              */
     long save_matches_frame;    /* -1: none                               */
+    const char *mcu_image;      /* --mcu-image (NULL: the build's)        */
+    int quantize_serial;        /* --quantize-serial                      */
 } options_t;
 
 static const char *const usage_text =
@@ -73,7 +78,11 @@ static const char *const usage_text =
     "  --clip                match only points inside the 640x480 frame\n"
     "  --trace FILE.csv      write one CSV row per frame\n"
     "  --record FILE         write a binary recording (docs/RECORDING.md)\n"
-    "  --transport T         inproc (default), lcm or zenoh\n"
+    "  --transport T         inproc (default), lcm, zenoh or mcu (QEMU,\n"
+    "                        docs/SERIAL.md)\n"
+    "  --mcu-image FILE      mcu: the application image (the build's)\n"
+    "  --quantize-serial     round frames as the serial link does (1/16 px,\n"
+    "                        ms) before any transport\n"
     "  --lcm-url URL         LCM provider (udpm://239.255.76.67:7667?ttl=0)\n"
     "  --zenoh-endpoint E    Zenoh endpoint (tcp/127.0.0.1:7447)\n"
     "  --timeout S           transport wait for each command, seconds (2)\n"
@@ -130,7 +139,8 @@ static void parse_options(int argc, char **argv, options_t *o)
 
         /* Flags first: they take no value. */
         static const char *const flags[] = { "--help", "--json", "--quiet",
-                                             "--clip", "--realtime" };
+                                             "--clip", "--realtime",
+                                             "--quantize-serial" };
         int is_flag = 0;
         for (size_t k = 0; k < sizeof(flags) / sizeof(flags[0]); ++k) {
             if (strcmp(name, flags[k]) == 0) {
@@ -150,6 +160,8 @@ static void parse_options(int argc, char **argv, options_t *o)
                 o->quiet = 1;
             } else if (strcmp(name, "--clip") == 0) {
                 o->cfg.clip = 1;
+            } else if (strcmp(name, "--quantize-serial") == 0) {
+                o->quantize_serial = 1;
             } else {
                 o->cfg.realtime = 1;
             }
@@ -162,7 +174,7 @@ static void parse_options(int argc, char **argv, options_t *o)
             "--dt", "--max-time", "--trace", "--record", "--transport",
             "--lcm-url", "--zenoh-endpoint", "--timeout",
             "--lcm-matches-channel", "--keep-last", "--frontend",
-            "--save-frames", "--save-every", "--save-matches" };
+            "--save-frames", "--save-every", "--save-matches", "--mcu-image" };
         int known = 0;
         for (size_t k = 0; k < sizeof(valued) / sizeof(valued[0]); ++k) {
             if (strcmp(name, valued[k]) == 0) {
@@ -226,13 +238,14 @@ static void parse_options(int argc, char **argv, options_t *o)
             o->record_path = val;
         } else if (strcmp(name, "--transport") == 0) {
             if (strcmp(val, "inproc") != 0 && strcmp(val, "lcm") != 0 &&
-                strcmp(val, "zenoh") != 0) {
-                sim_cli_fail("--transport: '%s' is not inproc, lcm or zenoh",
-                            val);
+                strcmp(val, "zenoh") != 0 && strcmp(val, "mcu") != 0) {
+                sim_cli_fail("--transport: '%s' is not inproc, lcm, zenoh or mcu", val);
             }
             o->transport = val;
         } else if (strcmp(name, "--lcm-url") == 0) {
             o->lcm_url = val;
+        } else if (strcmp(name, "--mcu-image") == 0) {
+            o->mcu_image = val;
         } else if (strcmp(name, "--zenoh-endpoint") == 0) {
             o->zenoh_endpoint = val;
         } else if (strcmp(name, "--frontend") == 0) {
@@ -462,8 +475,42 @@ static uint16_t observe_images(void *user, uint32_t seq, const sim_world_t *w,
 /* ---- transports ---------------------------------------------------------- */
 
 static int open_link(const options_t *o, sim_link_t *link, char *err,
+                     unsigned err_len);
+
+/* The transport, then the serial link's rounding around it when asked. */
+static int open_link_q(const options_t *o, sim_link_t *link, char *err,
+                       unsigned err_len)
+{
+    if (open_link(o, link, err, err_len) != 0) {
+        return -1;
+    }
+#ifdef SPVS_HAVE_MCU
+    if (o->quantize_serial && sim_link_quantize_wrap(link, err, err_len) != 0) {
+        link->close(link->ctx);
+        return -1;
+    }
+#else
+    if (o->quantize_serial) {
+        sim_cli_fail("--quantize-serial: this build has no serial link");
+    }
+#endif
+    return 0;
+}
+
+static int open_link(const options_t *o, sim_link_t *link, char *err,
                      unsigned err_len)
 {
+    if (strcmp(o->transport, "mcu") == 0) {
+#ifdef SPVS_HAVE_MCU
+        sim_link_mcu_opts_t mo = { o->mcu_image, o->lcm_url, o->timeout_s,
+                                   o->cfg.method, o->seed32,
+                                   o->cfg.focal_assumed_mm / o->cfg.pixel_mm,
+                                   o->quiet };
+        return sim_link_mcu_open(&mo, link, err, err_len);
+#else
+        sim_cli_fail("--transport mcu: this build has no MCU link");
+#endif
+    }
     if (strcmp(o->transport, "inproc") == 0) {
         spvs_params_t p;
         sim_inproc_params(&p, o->cfg.method,
@@ -555,7 +602,7 @@ int main(int argc, char **argv)
 
     char err[200] = "";
     sim_link_t link;
-    if (open_link(&o, &link, err, sizeof(err)) != 0) {
+    if (open_link_q(&o, &link, err, sizeof(err)) != 0) {
         fprintf(stderr, "spvs-sim: cannot open the %s link: %s\n",
                 o.transport, err);
         return EXIT_LINK;

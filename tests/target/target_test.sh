@@ -2,7 +2,9 @@
 # Cross-build the Cortex-M4F images and run them under QEMU (mps2-an386).
 #
 #   tests/target/target_test.sh build  SRC CROSS_DIR [SPVS_SIM]
-#       configure and build the cross tree (target/crossbuild) in CROSS_DIR;
+#       configure and build the cross tree in CROSS_DIR: the root project
+#       with the cortex-m4f preset's settings (SPVS_HOST=OFF), which adds
+#       target/ (images) and serial/ (the serial link's codec);
 #       with SPVS_SIM (a host float32 spvs-sim), first record the replay run
 #       with it (tools/make_replay.sh), so target and host run the same core.
 #   tests/target/target_test.sh run    CROSS_DIR      spvs_test.elf must exit 0
@@ -35,8 +37,9 @@ case "$mode" in
       "$src/tools/make_replay.sh" "$(dirname "$(dirname "$sim")")" "$cross/replay"
       extra=(-DSPVS_REPLAY_DIR="$cross/replay")
     fi
-    cmake -S "$src/target/crossbuild" -B "$cross" -G Ninja \
+    cmake -S "$src" -B "$cross" -G Ninja \
       -DCMAKE_TOOLCHAIN_FILE="$src/cmake/toolchain-arm-none-eabi.cmake" \
+      -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_CPU=cortex-m4f \
       -DCMAKE_BUILD_TYPE=MinSizeRel "${extra[@]}" >/dev/null
     cmake --build "$cross"
     # The post-build step already refuses double helpers; say it here too.

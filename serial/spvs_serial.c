@@ -1,0 +1,600 @@
+/*
+ * spvs_serial.c - COBS, CRC-32 and the frames of the serial link; see
+ * spvs_serial.h and docs/SERIAL.md.
+ */
+#include "spvs_serial.h"
+
+#include <string.h>
+
+_Static_assert(SPVS_SERIAL_MAX_WIRE < 65536u, "rx length must fit uint16_t");
+_Static_assert(SPVS_SERIAL_MATCHES_BODY(SPVS_SERIAL_MAX_MATCHES) < 65536u,
+               "body length must fit its 16-bit field");
+
+const char *spvs_serial_status_str(int st)
+{
+    switch (st) {
+    case SPVS_SERIAL_OK: return "ok";
+    case SPVS_SERIAL_E_COBS: return "cobs";
+    case SPVS_SERIAL_E_SHORT: return "short";
+    case SPVS_SERIAL_E_CRC: return "crc";
+    case SPVS_SERIAL_E_VERSION: return "version";
+    case SPVS_SERIAL_E_LENGTH: return "length";
+    case SPVS_SERIAL_E_TYPE: return "type";
+    case SPVS_SERIAL_E_COUNT: return "count";
+    case SPVS_SERIAL_E_RANGE: return "range";
+    case SPVS_SERIAL_E_OVERSIZE: return "oversize";
+    case SPVS_SERIAL_E_ROOM: return "room";
+    default: return "unknown";
+    }
+}
+
+/* ---- CRC-32 -------------------------------------------------------------- */
+
+/* Half-byte table of the reflected polynomial 0xEDB88320: two lookups per
+ * byte, 64 bytes of flash instead of the 1 KiB byte table. */
+static const uint32_t crc_nibble[16] = {
+    0x00000000u, 0x1DB71064u, 0x3B6E20C8u, 0x26D930ACu,
+    0x76DC4190u, 0x6B6B51F4u, 0x4DB26158u, 0x5005713Cu,
+    0xEDB88320u, 0xF00F9344u, 0xD6D6A3E8u, 0xCB61B38Cu,
+    0x9B64C2B0u, 0x86D3D2D4u, 0xA00AE278u, 0xBDBDF21Cu,
+};
+
+static uint32_t crc_update(uint32_t crc, const uint8_t *p, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) {
+        crc ^= p[i];
+        crc = (crc >> 4) ^ crc_nibble[crc & 0xFu];
+        crc = (crc >> 4) ^ crc_nibble[crc & 0xFu];
+    }
+    return crc;
+}
+
+uint32_t spvs_serial_crc32(const uint8_t *p, size_t n)
+{
+    return crc_update(0xFFFFFFFFu, p, n) ^ 0xFFFFFFFFu;
+}
+
+/* ---- COBS ------------------------------------------------------------------ */
+
+/* A streaming COBS encoder: bytes go in one at a time, so a frame is
+ * encoded straight from its fields without a payload buffer. */
+typedef struct {
+    uint8_t *out;
+    size_t cap;
+    size_t pos;      /* next free byte                          */
+    size_t code_pos; /* where the current block's code goes      */
+    uint8_t code;    /* 1 + data bytes in the current block      */
+    uint8_t full;    /* ran out of room                          */
+    uint32_t crc;    /* running CRC of the payload bytes so far  */
+} cobs_enc_t;
+
+static void enc_start(cobs_enc_t *e, uint8_t *out, size_t cap)
+{
+    e->out = out;
+    e->cap = cap;
+    e->code_pos = 0u;
+    e->pos = 1u;
+    e->code = 1u;
+    e->full = cap < 2u;
+    e->crc = 0xFFFFFFFFu;
+}
+
+static void enc_raw(cobs_enc_t *e, uint8_t b)
+{
+    /* pos stays below cap, so the delimiter always has its byte. */
+    if (e->full || e->pos + 1u >= e->cap) {
+        e->full = 1u;
+        return;
+    }
+    if (b == 0u) {
+        e->out[e->code_pos] = e->code;
+        e->code_pos = e->pos++;
+        e->code = 1u;
+        return;
+    }
+    e->out[e->pos++] = b;
+    if (++e->code == 0xFFu) {
+        if (e->pos + 1u >= e->cap) {
+            e->full = 1u;
+            return;
+        }
+        e->out[e->code_pos] = e->code;
+        e->code_pos = e->pos++;
+        e->code = 1u;
+    }
+}
+
+static void enc_u8(cobs_enc_t *e, uint8_t b)
+{
+    e->crc = crc_update(e->crc, &b, 1u);
+    enc_raw(e, b);
+}
+
+static void enc_u16(cobs_enc_t *e, uint16_t v)
+{
+    enc_u8(e, (uint8_t)(v & 0xFFu));
+    enc_u8(e, (uint8_t)(v >> 8));
+}
+
+static void enc_u32(cobs_enc_t *e, uint32_t v)
+{
+    for (int k = 0; k < 4; ++k) {
+        enc_u8(e, (uint8_t)((v >> (8 * k)) & 0xFFu));
+    }
+}
+
+static void enc_f32(cobs_enc_t *e, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof(u));
+    enc_u32(e, u);
+}
+
+static void enc_header(cobs_enc_t *e, uint8_t type, uint16_t len)
+{
+    enc_u8(e, (uint8_t)SPVS_SERIAL_VERSION);
+    enc_u8(e, type);
+    enc_u16(e, len);
+}
+
+/* Append the CRC (not itself checksummed), close the last block and add
+ * the delimiter.  Returns the frame's byte count or SPVS_SERIAL_E_ROOM. */
+static int enc_finish(cobs_enc_t *e)
+{
+    uint32_t crc = e->crc ^ 0xFFFFFFFFu;
+    for (int k = 0; k < 4; ++k) {
+        enc_raw(e, (uint8_t)((crc >> (8 * k)) & 0xFFu));
+    }
+    if (e->full) {
+        return SPVS_SERIAL_E_ROOM;
+    }
+    e->out[e->code_pos] = e->code;
+    e->out[e->pos++] = 0u;
+    return (int)e->pos;
+}
+
+size_t spvs_serial_cobs_encode(const uint8_t *in, size_t n, uint8_t *out,
+                               size_t cap)
+{
+    cobs_enc_t e;
+    enc_start(&e, out, cap + 1u); /* no delimiter: its byte is not needed */
+    for (size_t i = 0; i < n; ++i) {
+        enc_raw(&e, in[i]);
+    }
+    if (e.full) {
+        return 0u;
+    }
+    e.out[e.code_pos] = e.code;
+    return e.pos;
+}
+
+int spvs_serial_cobs_decode(const uint8_t *in, size_t n, uint8_t *out,
+                            size_t cap)
+{
+    size_t i = 0u, o = 0u;
+    /* Each pass consumes a code byte and the data bytes it names, so the
+     * loop runs at most n times. */
+    while (i < n) {
+        uint8_t code = in[i++];
+        if (code == 0u) {
+            return SPVS_SERIAL_E_COBS;
+        }
+        size_t k = (size_t)code - 1u;
+        if (k > n - i || o + k > cap) {
+            return SPVS_SERIAL_E_COBS;
+        }
+        for (size_t j = 0; j < k; ++j) {
+            uint8_t b = in[i++];
+            if (b == 0u) {
+                return SPVS_SERIAL_E_COBS;
+            }
+            out[o++] = b;
+        }
+        /* A block shorter than 254 bytes stood for a zero, except the
+         * last block of the frame. */
+        if (code != 0xFFu && i < n) {
+            if (o >= cap) {
+                return SPVS_SERIAL_E_COBS;
+            }
+            out[o++] = 0u;
+        }
+    }
+    return (int)o;
+}
+
+/* ---- reading fields -------------------------------------------------------- */
+
+static uint16_t rd_u16(const uint8_t *p)
+{
+    return (uint16_t)(p[0] | (p[1] << 8));
+}
+
+static uint32_t rd_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) |
+           ((uint32_t)p[3] << 24);
+}
+
+static int16_t rd_i16(const uint8_t *p)
+{
+    uint16_t u = rd_u16(p);
+    int16_t v;
+    memcpy(&v, &u, sizeof(v));
+    return v;
+}
+
+static float rd_f32(const uint8_t *p)
+{
+    uint32_t u = rd_u32(p);
+    float f;
+    memcpy(&f, &u, sizeof(f));
+    return f;
+}
+
+int spvs_serial_unpack(uint8_t *enc, size_t n, spvs_serial_frame_t *f)
+{
+    if (n > SPVS_SERIAL_MAX_WIRE) {
+        return SPVS_SERIAL_E_OVERSIZE;
+    }
+    int len = spvs_serial_cobs_decode(enc, n, enc, n);
+    if (len < 0) {
+        return len;
+    }
+    size_t m = (size_t)len;
+    if (m < SPVS_SERIAL_HDR_BYTES + SPVS_SERIAL_CRC_BYTES) {
+        return SPVS_SERIAL_E_SHORT;
+    }
+    /* The CRC first: a damaged header says nothing reliable. */
+    uint32_t crc = spvs_serial_crc32(enc, m - SPVS_SERIAL_CRC_BYTES);
+    if (crc != rd_u32(enc + m - SPVS_SERIAL_CRC_BYTES)) {
+        return SPVS_SERIAL_E_CRC;
+    }
+    if (enc[0] != SPVS_SERIAL_VERSION) {
+        return SPVS_SERIAL_E_VERSION;
+    }
+    uint16_t body = rd_u16(enc + 2);
+    if ((size_t)body != m - SPVS_SERIAL_HDR_BYTES - SPVS_SERIAL_CRC_BYTES) {
+        return SPVS_SERIAL_E_LENGTH;
+    }
+    f->type = enc[1];
+    f->body = enc + SPVS_SERIAL_HDR_BYTES;
+    f->len = body;
+    return SPVS_SERIAL_OK;
+}
+
+/* ---- quantisation ---------------------------------------------------------- */
+
+int spvs_serial_q_from_px(spvs_real px, int16_t *q)
+{
+    const spvs_real lim = (spvs_real)SPVS_SERIAL_Q_MAX / (spvs_real)SPVS_SERIAL_PX_SCALE;
+    /* The negated test is false for NaN too. */
+    if (!(px >= -lim && px <= lim)) {
+        return SPVS_SERIAL_E_RANGE;
+    }
+    /* s is exact (a power-of-two scale), its integer part too, and so is
+     * the fraction below 2^15: the rounding is exact, halves away from 0. */
+    spvs_real s = px * (spvs_real)SPVS_SERIAL_PX_SCALE;
+    int32_t t = (int32_t)s;
+    spvs_real frac = s - (spvs_real)t;
+    if (frac >= SPVS_R(0.5)) {
+        ++t;
+    } else if (frac <= SPVS_R(-0.5)) {
+        --t;
+    }
+    if (t > SPVS_SERIAL_Q_MAX || t < -SPVS_SERIAL_Q_MAX) {
+        return SPVS_SERIAL_E_RANGE;
+    }
+    *q = (int16_t)t;
+    return SPVS_SERIAL_OK;
+}
+
+spvs_real spvs_serial_px_from_q(int16_t q)
+{
+    return (spvs_real)q * (SPVS_R(1.0) / (spvs_real)SPVS_SERIAL_PX_SCALE);
+}
+
+float spvs_serial_s_from_ms(uint32_t t_ms)
+{
+    return (float)t_ms / 1000.0f;
+}
+
+int spvs_serial_ms_from_utime(int64_t utime, uint32_t *t_ms)
+{
+    if (utime < 0 || utime > (int64_t)UINT32_MAX * 1000 + 499) {
+        return SPVS_SERIAL_E_RANGE;
+    }
+    *t_ms = (uint32_t)((utime + 500) / 1000);
+    return SPVS_SERIAL_OK;
+}
+
+int spvs_serial_quantize_match(const spvs_match_t *in, spvs_match_t *out)
+{
+    int16_t q[4];
+    if (in->feature >= SPVS_MAX_FEATURES ||
+        spvs_serial_q_from_px(in->x_tgt, &q[0]) != SPVS_SERIAL_OK ||
+        spvs_serial_q_from_px(in->y_tgt, &q[1]) != SPVS_SERIAL_OK ||
+        spvs_serial_q_from_px(in->x_cur, &q[2]) != SPVS_SERIAL_OK ||
+        spvs_serial_q_from_px(in->y_cur, &q[3]) != SPVS_SERIAL_OK) {
+        return SPVS_SERIAL_E_RANGE;
+    }
+    out->feature = in->feature;
+    out->x_tgt = spvs_serial_px_from_q(q[0]);
+    out->y_tgt = spvs_serial_px_from_q(q[1]);
+    out->x_cur = spvs_serial_px_from_q(q[2]);
+    out->y_cur = spvs_serial_px_from_q(q[3]);
+    return SPVS_SERIAL_OK;
+}
+
+/* ---- matches ----------------------------------------------------------------- */
+
+int spvs_serial_encode_matches(const spvs_serial_matches_hdr_t *h,
+                               const spvs_match_t *m, uint8_t *out,
+                               size_t cap)
+{
+    if (h->count > SPVS_SERIAL_MAX_MATCHES) {
+        return SPVS_SERIAL_E_COUNT;
+    }
+    cobs_enc_t e;
+    enc_start(&e, out, cap);
+    enc_header(&e, (uint8_t)SPVS_SERIAL_T_MATCHES,
+               (uint16_t)SPVS_SERIAL_MATCHES_BODY(h->count));
+    enc_u32(&e, h->run);
+    enc_u32(&e, h->seq);
+    enc_u32(&e, h->t_ms);
+    enc_u16(&e, h->count);
+    for (uint16_t i = 0; i < h->count; ++i) {
+        int16_t q[4];
+        if (m[i].feature >= SPVS_MAX_FEATURES ||
+            spvs_serial_q_from_px(m[i].x_tgt, &q[0]) != SPVS_SERIAL_OK ||
+            spvs_serial_q_from_px(m[i].y_tgt, &q[1]) != SPVS_SERIAL_OK ||
+            spvs_serial_q_from_px(m[i].x_cur, &q[2]) != SPVS_SERIAL_OK ||
+            spvs_serial_q_from_px(m[i].y_cur, &q[3]) != SPVS_SERIAL_OK) {
+            return SPVS_SERIAL_E_RANGE;
+        }
+        enc_u16(&e, m[i].feature);
+        for (int k = 0; k < 4; ++k) {
+            enc_u16(&e, (uint16_t)q[k]);
+        }
+    }
+    return enc_finish(&e);
+}
+
+int spvs_serial_parse_matches(const spvs_serial_frame_t *f,
+                              spvs_serial_matches_hdr_t *h, spvs_match_t *m,
+                              uint16_t cap)
+{
+    if (f->type != SPVS_SERIAL_T_MATCHES) {
+        return SPVS_SERIAL_E_TYPE;
+    }
+    if (f->len < SPVS_SERIAL_MATCHES_FIXED) {
+        return SPVS_SERIAL_E_LENGTH;
+    }
+    const uint8_t *p = f->body;
+    h->run = rd_u32(p);
+    h->seq = rd_u32(p + 4);
+    h->t_ms = rd_u32(p + 8);
+    h->count = rd_u16(p + 12);
+    if (h->count > SPVS_SERIAL_MAX_MATCHES || h->count > cap) {
+        return SPVS_SERIAL_E_COUNT;
+    }
+    if (f->len != SPVS_SERIAL_MATCHES_BODY(h->count)) {
+        return SPVS_SERIAL_E_LENGTH;
+    }
+    p += SPVS_SERIAL_MATCHES_FIXED;
+    for (uint16_t i = 0; i < h->count; ++i, p += SPVS_SERIAL_MATCH_BYTES) {
+        uint16_t feature = rd_u16(p);
+        int16_t q[4];
+        for (int k = 0; k < 4; ++k) {
+            q[k] = rd_i16(p + 2 + 2 * k);
+            if (q[k] > SPVS_SERIAL_Q_MAX || q[k] < -SPVS_SERIAL_Q_MAX) {
+                return SPVS_SERIAL_E_RANGE;
+            }
+        }
+        if (feature >= SPVS_MAX_FEATURES) {
+            return SPVS_SERIAL_E_RANGE;
+        }
+        m[i].feature = feature;
+        m[i].x_tgt = spvs_serial_px_from_q(q[0]);
+        m[i].y_tgt = spvs_serial_px_from_q(q[1]);
+        m[i].x_cur = spvs_serial_px_from_q(q[2]);
+        m[i].y_cur = spvs_serial_px_from_q(q[3]);
+    }
+    return SPVS_SERIAL_OK;
+}
+
+/* ---- result -------------------------------------------------------------------- */
+
+int spvs_serial_encode_result(const spvs_serial_result_t *r, uint8_t *out,
+                              size_t cap)
+{
+    const spvs_output_t *o = &r->out;
+    cobs_enc_t e;
+    enc_start(&e, out, cap);
+    enc_header(&e, (uint8_t)SPVS_SERIAL_T_RESULT, (uint16_t)SPVS_SERIAL_RESULT_BODY);
+    enc_u32(&e, r->run);
+    enc_u32(&e, r->seq);
+    enc_u32(&e, r->t_ms);
+    enc_f32(&e, (float)o->v);
+    enc_f32(&e, (float)o->w);
+    enc_u16(&e, (uint16_t)o->status);
+    enc_u8(&e, o->step);
+    enc_u8(&e, r->flags);
+    enc_u16(&e, o->n_matches);
+    enc_u16(&e, o->n_inliers);
+    enc_u16(&e, o->n_offplane);
+    enc_u16(&e, o->ransac_iters);
+    enc_f32(&e, (float)o->e_x_px);
+    enc_f32(&e, (float)o->parallax_px);
+    for (int k = 0; k < 9; ++k) {
+        enc_f32(&e, (float)o->H[k]);
+    }
+    return enc_finish(&e);
+}
+
+int spvs_serial_parse_result(const spvs_serial_frame_t *f,
+                             spvs_serial_result_t *r)
+{
+    if (f->type != SPVS_SERIAL_T_RESULT) {
+        return SPVS_SERIAL_E_TYPE;
+    }
+    if (f->len != SPVS_SERIAL_RESULT_BODY) {
+        return SPVS_SERIAL_E_LENGTH;
+    }
+    const uint8_t *p = f->body;
+    spvs_output_t *o = &r->out;
+    memset(o, 0, sizeof(*o));
+    r->run = rd_u32(p);
+    r->seq = rd_u32(p + 4);
+    r->t_ms = rd_u32(p + 8);
+    o->v = (spvs_real)rd_f32(p + 12);
+    o->w = (spvs_real)rd_f32(p + 16);
+    o->status = rd_i16(p + 20);
+    o->step = p[22];
+    r->flags = p[23];
+    o->n_matches = rd_u16(p + 24);
+    o->n_inliers = rd_u16(p + 26);
+    o->n_offplane = rd_u16(p + 28);
+    o->ransac_iters = rd_u16(p + 30);
+    o->e_x_px = (spvs_real)rd_f32(p + 32);
+    o->parallax_px = (spvs_real)rd_f32(p + 36);
+    for (int k = 0; k < 9; ++k) {
+        o->H[k] = (spvs_real)rd_f32(p + 40 + 4 * k);
+    }
+    o->h_valid = (r->flags & SPVS_SERIAL_F_H_VALID) ? 1u : 0u;
+    o->e_valid = (r->flags & SPVS_SERIAL_F_E_VALID) ? 1u : 0u;
+    o->eq11 = (r->flags & SPVS_SERIAL_F_EQ11) ? 1u : 0u;
+    return SPVS_SERIAL_OK;
+}
+
+/* ---- status ---------------------------------------------------------------------- */
+
+int spvs_serial_encode_status(const spvs_serial_status_frame_t *s,
+                              uint8_t *out, size_t cap)
+{
+    cobs_enc_t e;
+    enc_start(&e, out, cap);
+    enc_header(&e, (uint8_t)SPVS_SERIAL_T_STATUS, (uint16_t)SPVS_SERIAL_STATUS_BODY);
+    enc_u8(&e, s->reason);
+    enc_u8(&e, s->step);
+    enc_u16(&e, (uint16_t)s->status);
+    enc_u8(&e, s->method);
+    enc_u8(&e, 0u);
+    enc_u16(&e, 0u);
+    enc_u32(&e, s->seed);
+    enc_f32(&e, s->alpha_px);
+    const uint32_t w[13] = { s->run, s->last_seq, s->age_ms, s->uptime_ms,
+                             s->watchdog_ms, s->updates, s->repeats, s->stale,
+                             s->rejected, s->crc_errors, s->framing_errors,
+                             s->overruns, s->watchdog_stops };
+    for (int k = 0; k < 13; ++k) {
+        enc_u32(&e, w[k]);
+    }
+    return enc_finish(&e);
+}
+
+int spvs_serial_parse_status(const spvs_serial_frame_t *f,
+                             spvs_serial_status_frame_t *s)
+{
+    if (f->type != SPVS_SERIAL_T_STATUS) {
+        return SPVS_SERIAL_E_TYPE;
+    }
+    if (f->len != SPVS_SERIAL_STATUS_BODY) {
+        return SPVS_SERIAL_E_LENGTH;
+    }
+    const uint8_t *p = f->body;
+    s->reason = p[0];
+    s->step = p[1];
+    s->status = rd_i16(p + 2);
+    s->method = p[4];
+    s->seed = rd_u32(p + 8);
+    s->alpha_px = rd_f32(p + 12);
+    p += 12;
+    uint32_t *w[13] = { &s->run, &s->last_seq, &s->age_ms, &s->uptime_ms,
+                        &s->watchdog_ms, &s->updates, &s->repeats, &s->stale,
+                        &s->rejected, &s->crc_errors, &s->framing_errors,
+                        &s->overruns, &s->watchdog_stops };
+    for (int k = 0; k < 13; ++k) {
+        *w[k] = rd_u32(p + 4 + 4 * k);
+    }
+    return SPVS_SERIAL_OK;
+}
+
+/* ---- config ---------------------------------------------------------------------- */
+
+int spvs_serial_encode_config(const spvs_serial_config_t *c, uint8_t *out,
+                              size_t cap)
+{
+    cobs_enc_t e;
+    enc_start(&e, out, cap);
+    enc_header(&e, (uint8_t)SPVS_SERIAL_T_CONFIG, (uint16_t)SPVS_SERIAL_CONFIG_BODY);
+    enc_u8(&e, c->method);
+    enc_u8(&e, 0u);
+    enc_u16(&e, 0u);
+    enc_u32(&e, c->seed);
+    enc_f32(&e, c->alpha_px);
+    enc_f32(&e, c->alpha_px);
+    return enc_finish(&e);
+}
+
+int spvs_serial_parse_config(const spvs_serial_frame_t *f,
+                             spvs_serial_config_t *c)
+{
+    if (f->type != SPVS_SERIAL_T_CONFIG) {
+        return SPVS_SERIAL_E_TYPE;
+    }
+    if (f->len != SPVS_SERIAL_CONFIG_BODY) {
+        return SPVS_SERIAL_E_LENGTH;
+    }
+    const uint8_t *p = f->body;
+    c->method = p[0];
+    c->seed = rd_u32(p + 4);
+    c->alpha_px = rd_f32(p + 8);
+    /* x and y focal lengths travel apart for a later non-square camera;
+     * this version takes square pixels only. */
+    float alpha_y = rd_f32(p + 12);
+    if (c->method < 1u || c->method > 3u || !(c->alpha_px >= 1.0f && c->alpha_px <= 1.0e5f) ||
+        !(alpha_y == c->alpha_px)) {
+        return SPVS_SERIAL_E_RANGE;
+    }
+    return SPVS_SERIAL_OK;
+}
+
+/* ---- byte stream ----------------------------------------------------------------- */
+
+void spvs_serial_rx_init(spvs_serial_rx_t *rx)
+{
+    rx->n = 0u;
+    rx->overflow = 0u;
+    rx->done = 0u;
+}
+
+int spvs_serial_rx_push(spvs_serial_rx_t *rx, uint8_t byte)
+{
+    if (rx->done) {
+        /* The frame handed out by the last call is finished with. */
+        rx->n = 0u;
+        rx->done = 0u;
+    }
+    if (byte == 0u) {
+        int over = rx->overflow;
+        rx->overflow = 0u;
+        if (over) {
+            rx->n = 0u;
+            return SPVS_SERIAL_E_OVERSIZE;
+        }
+        if (rx->n == 0u) {
+            return 0;
+        }
+        rx->done = 1u;
+        return 1;
+    }
+    if (rx->overflow) {
+        return 0;
+    }
+    if (rx->n >= sizeof(rx->buf)) {
+        rx->overflow = 1u;
+        return 0;
+    }
+    rx->buf[rx->n++] = byte;
+    return 0;
+}

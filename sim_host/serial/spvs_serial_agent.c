@@ -1,0 +1,709 @@
+/*
+ * spvs-serial-agent - bridges the controller on a microcontroller (the
+ * serial link of docs/SERIAL.md) to LCM: SPVS_MATCHES in, SPVS_CMD and
+ * SPVS_STATE out, the same messages as spvs-node, so spvs-sim, the Zenoh
+ * bridge and the LCM tools work unchanged with the controller on the MCU.
+ *
+ * The device is a serial port or pty (a path, opened raw at --baud), a TCP
+ * socket (tcp:HOST:PORT, e.g. QEMU's -serial tcp:127.0.0.1:PORT,server) or
+ * a Unix socket (unix:PATH).  A lost connection is reopened every 100 ms
+ * for --reconnect seconds.
+ *
+ * Per SPVS_MATCHES message: checked as spvs-node checks it (count, finite
+ * values, feature index), then the wire's limits (seq 0..2^32-1, time
+ * 0..2^32-1 ms, coordinates within +-2000 px); a refused message is
+ * answered with a stop for its seq (SPVS_E_CAPACITY, SPVS_E_NONFINITE or
+ * SPVS_E_RANGE) and never reaches the MCU.  Per frame from the MCU: a
+ * RESULT becomes SPVS_STATE then SPVS_CMD (a REJECTED one a stop command
+ * only), a WATCHDOG status a stop with seq -1 and SPVS_E_STALE, a BOOT
+ * status (the MCU started or was reset) makes the agent send the
+ * controller's set-up (CONFIG) again.  Frames that fail COBS, CRC, version
+ * or length are counted and logged, never acted on.
+ *
+ * Exit status: 0 after SIGINT/SIGTERM, 1 when the device or LCM fails for
+ * good, 2 on bad options.
+ */
+#define _DEFAULT_SOURCE
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <netdb.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <termios.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "spvs_serial.h"
+#include "wire.h"
+
+#define DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+
+static volatile sig_atomic_t g_stop = 0;
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+typedef struct {
+    uint32_t to_mcu;          /* matches frames written                      */
+    uint32_t refused;         /* LCM messages refused before the wire        */
+    uint32_t undecodable;     /* LCM messages that did not decode            */
+    uint32_t dropped_offline; /* frames with no device to go to              */
+    uint32_t results;         /* RESULT frames published                     */
+    uint32_t rejected;        /* of them, REJECTED by the MCU                */
+    uint32_t repeats;         /* of them, REPEAT answers                     */
+    uint32_t watchdog;        /* WATCHDOG statuses (stops published)         */
+    uint32_t boots;           /* BOOT statuses                               */
+    uint32_t configs;         /* CONFIG frames sent                          */
+    uint32_t bad_crc;         /* frames from the MCU failing the CRC         */
+    uint32_t bad_framing;     /* failing COBS, size, version, length, type   */
+    uint32_t connects;        /* device (re)opened                           */
+} agent_stats_t;
+
+typedef struct {
+    const char *device;
+    long baud;
+    const char *url;
+    spvs_serial_config_t cfg;
+    double reconnect_s;
+    int log_level;
+    const char *summary_path;
+    const char *ready_path;
+    int ready_done;
+
+    int fd;
+    lcm_t *lcm;
+    spvs_serial_rx_t rx;
+    agent_stats_t st;
+    spvs_serial_status_frame_t mcu; /* last status from the MCU */
+    int have_mcu;
+    int last_step;
+    int64_t fwd_seq, fwd_utime;     /* last frame forwarded           */
+    double last_config_s;
+    spvs_matches_t msg;
+    spvs_match_t m[SPVS_MAX_MATCHES];
+    uint8_t wire[SPVS_SERIAL_MAX_WIRE];
+} agent_t;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void logf_(agent_t *a, int level, const char *fmt, ...)
+{
+    if (a->log_level < level)
+        return;
+    va_list ap;
+    fputs("spvs-serial-agent: ", stderr);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+}
+
+/* ---- the device ------------------------------------------------------------ */
+
+static speed_t baud_const(long b)
+{
+    switch (b) {
+    case 9600: return B9600;
+    case 19200: return B19200;
+    case 38400: return B38400;
+    case 57600: return B57600;
+    case 115200: return B115200;
+    case 230400: return B230400;
+    case 460800: return B460800;
+    case 921600: return B921600;
+    case 1000000: return B1000000;
+    case 2000000: return B2000000;
+    case 3000000: return B3000000;
+    case 4000000: return B4000000;
+    default: return B0;
+    }
+}
+
+static int open_tcp(const char *spec, char *err, size_t err_len)
+{
+    char host[256];
+    const char *colon = strrchr(spec, ':');
+    if (!colon || colon == spec || (size_t)(colon - spec) >= sizeof(host)) {
+        snprintf(err, err_len, "tcp device '%s' is not tcp:HOST:PORT", spec);
+        return -2;
+    }
+    memcpy(host, spec, (size_t)(colon - spec));
+    host[colon - spec] = '\0';
+    struct addrinfo hints, *res = NULL;
+    memset(&hints, 0, sizeof(hints));
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    int rc = getaddrinfo(host, colon + 1, &hints, &res);
+    if (rc != 0) {
+        snprintf(err, err_len, "tcp:%s: %s", spec, gai_strerror(rc));
+        return -2;
+    }
+    int fd = -1;
+    for (struct addrinfo *p = res; p; p = p->ai_next) {
+        fd = socket(p->ai_family, p->ai_socktype, p->ai_protocol);
+        if (fd < 0)
+            continue;
+        if (connect(fd, p->ai_addr, p->ai_addrlen) == 0)
+            break;
+        close(fd);
+        fd = -1;
+    }
+    freeaddrinfo(res);
+    if (fd < 0)
+        snprintf(err, err_len, "tcp:%s: %s", spec, strerror(errno));
+    return fd;
+}
+
+static int open_unix(const char *path, char *err, size_t err_len)
+{
+    struct sockaddr_un sa;
+    memset(&sa, 0, sizeof(sa));
+    sa.sun_family = AF_UNIX;
+    if (strlen(path) >= sizeof(sa.sun_path)) {
+        snprintf(err, err_len, "unix:%s: path too long", path);
+        return -2;
+    }
+    strcpy(sa.sun_path, path);
+    int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+    if (fd < 0 || connect(fd, (struct sockaddr *)&sa, sizeof(sa)) != 0) {
+        snprintf(err, err_len, "unix:%s: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+static int open_tty(const char *path, long baud, char *err, size_t err_len)
+{
+    int fd = open(path, O_RDWR | O_NOCTTY);
+    if (fd < 0) {
+        snprintf(err, err_len, "%s: %s", path, strerror(errno));
+        return -1;
+    }
+    struct termios t;
+    if (tcgetattr(fd, &t) != 0) {
+        snprintf(err, err_len, "%s: not a terminal: %s", path, strerror(errno));
+        close(fd);
+        return -2;
+    }
+    cfmakeraw(&t);
+    t.c_cflag |= CLOCAL | CREAD;
+    t.c_cc[VMIN] = 0;
+    t.c_cc[VTIME] = 0;
+    speed_t sp = baud_const(baud);
+    if (cfsetispeed(&t, sp) != 0 || cfsetospeed(&t, sp) != 0 ||
+        tcsetattr(fd, TCSANOW, &t) != 0) {
+        snprintf(err, err_len, "%s: cannot set %ld baud: %s", path, baud,
+                 strerror(errno));
+        close(fd);
+        return -2;
+    }
+    return fd;
+}
+
+/* Returns an fd, -1 when the device is not there yet (retry), -2 for a
+ * device that can never work. */
+static int open_device(agent_t *a, char *err, size_t err_len)
+{
+    int fd;
+    if (strncmp(a->device, "tcp:", 4) == 0)
+        fd = open_tcp(a->device + 4, err, err_len);
+    else if (strncmp(a->device, "unix:", 5) == 0)
+        fd = open_unix(a->device + 5, err, err_len);
+    else
+        fd = open_tty(a->device, a->baud, err, err_len);
+    if (fd >= 0)
+        fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+    return fd;
+}
+
+static void close_device(agent_t *a, const char *why)
+{
+    if (a->fd >= 0) {
+        logf_(a, 1, "device %s lost (%s); reconnecting", a->device, why);
+        close(a->fd);
+        a->fd = -1;
+    }
+    spvs_serial_rx_init(&a->rx);
+}
+
+/* Write all n bytes, waiting up to 1 s for room. */
+static int write_all(agent_t *a, const uint8_t *p, size_t n)
+{
+    size_t done = 0;
+    double deadline = now_s() + 1.0;
+    while (done < n && a->fd >= 0) {
+        ssize_t w = write(a->fd, p + done, n - done);
+        if (w > 0) {
+            done += (size_t)w;
+            continue;
+        }
+        if (w < 0 && (errno == EAGAIN || errno == EINTR)) {
+            if (now_s() > deadline) {
+                close_device(a, "write timed out");
+                return -1;
+            }
+            struct pollfd pf = { a->fd, POLLOUT, 0 };
+            (void)poll(&pf, 1, 50);
+            continue;
+        }
+        close_device(a, w < 0 ? strerror(errno) : "closed");
+        return -1;
+    }
+    return done == n ? 0 : -1;
+}
+
+static void send_config(agent_t *a)
+{
+    int len = spvs_serial_encode_config(&a->cfg, a->wire, sizeof(a->wire));
+    if (len > 0 && write_all(a, a->wire, (size_t)len) == 0) {
+        a->st.configs++;
+        a->last_config_s = now_s();
+        logf_(a, 2, "sent set-up: method %u, seed %u, alpha %g px",
+              (unsigned)a->cfg.method, (unsigned)a->cfg.seed,
+              (double)a->cfg.alpha_px);
+    }
+}
+
+/* ---- LCM side ------------------------------------------------------------------ */
+
+static void publish_stop(agent_t *a, int64_t seq, int64_t utime, int status)
+{
+    spvs_cmd_t cmd;
+    spvs_wire_cmd_stop(&cmd, seq, utime, status, a->last_step);
+    if (spvs_wire_publish_cmd(a->lcm, &cmd) != 0)
+        logf_(a, 1, "publishing SPVS_CMD failed");
+}
+
+static uint32_t run_tag(int64_t run_id)
+{
+    uint64_t u = (uint64_t)run_id;
+    return (uint32_t)(u ^ (u >> 32));
+}
+
+static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
+                       void *user)
+{
+    (void)channel;
+    agent_t *a = (agent_t *)user;
+    if (spvs_matches_t_decode(rbuf->data, 0, (int)rbuf->data_size, &a->msg) < 0) {
+        a->st.undecodable++;
+        logf_(a, 1, "SPVS_MATCHES: %u bytes do not decode; dropped",
+              (unsigned)rbuf->data_size);
+        return;
+    }
+    char err[160];
+    int st = spvs_wire_matches_check(&a->msg, err, sizeof(err));
+    if (st != SPVS_OK) {
+        a->st.refused++;
+        logf_(a, 1, "SPVS_MATCHES %s; answered with a stop", err);
+        publish_stop(a, a->msg.seq, a->msg.utime, st);
+        return;
+    }
+    uint16_t n = spvs_wire_matches_to_core(&a->msg, a->m);
+    uint32_t t_ms = 0;
+    if (a->msg.seq < 0 || a->msg.seq > (int64_t)UINT32_MAX ||
+        spvs_serial_ms_from_utime(a->msg.utime, &t_ms) != SPVS_SERIAL_OK) {
+        a->st.refused++;
+        logf_(a, 1, "frame %lld: seq or time %lld us outside the serial "
+              "link's range; answered with a stop", (long long)a->msg.seq,
+              (long long)a->msg.utime);
+        publish_stop(a, a->msg.seq, a->msg.utime, SPVS_E_RANGE);
+        return;
+    }
+    spvs_serial_matches_hdr_t h = { run_tag(a->msg.run_id), (uint32_t)a->msg.seq,
+                                    t_ms, n };
+    int len = spvs_serial_encode_matches(&h, a->m, a->wire, sizeof(a->wire));
+    if (len < 0) {
+        a->st.refused++;
+        logf_(a, 1, "frame %lld: a coordinate beyond +-%d px; answered with "
+              "a stop", (long long)a->msg.seq,
+              SPVS_SERIAL_Q_MAX / SPVS_SERIAL_PX_SCALE);
+        publish_stop(a, a->msg.seq, a->msg.utime, SPVS_E_RANGE);
+        return;
+    }
+    if (a->fd < 0) {
+        a->st.dropped_offline++;
+        logf_(a, 1, "frame %lld: no device; dropped", (long long)a->msg.seq);
+        return;
+    }
+    a->fwd_seq = a->msg.seq;
+    a->fwd_utime = a->msg.utime;
+    if (write_all(a, a->wire, (size_t)len) == 0) {
+        a->st.to_mcu++;
+        logf_(a, 3, "frame %lld: %u matches, %d bytes to the MCU",
+              (long long)a->msg.seq, (unsigned)n, len);
+    }
+}
+
+/* ---- MCU side ------------------------------------------------------------------- */
+
+static void on_result(agent_t *a, const spvs_serial_result_t *r)
+{
+    int64_t seq = (int64_t)r->seq;
+    int64_t utime = seq == a->fwd_seq ? a->fwd_utime : (int64_t)r->t_ms * 1000;
+    a->st.results++;
+    a->last_step = r->out.step;
+    if (r->flags & SPVS_SERIAL_F_REPEAT)
+        a->st.repeats++;
+    if (r->flags & SPVS_SERIAL_F_REJECTED) {
+        a->st.rejected++;
+        logf_(a, 1, "MCU refused frame %lld: %s; stop", (long long)seq,
+              spvs_status_str(r->out.status));
+        publish_stop(a, seq, utime, r->out.status);
+        return;
+    }
+    spvs_state_t state;
+    spvs_cmd_t cmd;
+    spvs_wire_state_from_output(&state, seq, utime, &r->out);
+    spvs_wire_cmd_from_output(&cmd, seq, utime, &r->out);
+    if (spvs_wire_publish_state(a->lcm, &state) != 0 ||
+        spvs_wire_publish_cmd(a->lcm, &cmd) != 0)
+        logf_(a, 1, "publishing frame %lld's answer failed", (long long)seq);
+    logf_(a, 3, "frame %lld: step %u v %.6g w %.6g status %s%s",
+          (long long)seq, (unsigned)r->out.step, (double)r->out.v,
+          (double)r->out.w, spvs_status_str(r->out.status),
+          (r->flags & SPVS_SERIAL_F_REPEAT) ? " (repeat)" : "");
+}
+
+static void on_status(agent_t *a, const spvs_serial_status_frame_t *s)
+{
+    a->mcu = *s;
+    a->have_mcu = 1;
+    if (s->reason == SPVS_SERIAL_S_BOOT) {
+        a->st.boots++;
+        logf_(a, 1, "MCU booted (watchdog %u ms); sending the set-up",
+              (unsigned)s->watchdog_ms);
+        send_config(a);
+        return;
+    }
+    if (s->reason == SPVS_SERIAL_S_WATCHDOG) {
+        a->st.watchdog++;
+        if (s->age_ms == 0xFFFFFFFFu)
+            logf_(a, 2, "MCU watchdog: no valid frame yet; stop");
+        else
+            logf_(a, 2, "MCU watchdog: no valid frame for %u ms; stop",
+                  (unsigned)s->age_ms);
+        a->last_step = s->step;
+        publish_stop(a, -1, 0, SPVS_E_STALE);
+    }
+    int same = s->method == a->cfg.method && s->seed == a->cfg.seed &&
+               s->alpha_px == a->cfg.alpha_px;
+    if (!same && now_s() - a->last_config_s > 0.2)
+        send_config(a);
+    if (same && a->ready_path && !a->ready_done) {
+        /* The MCU runs with the set-up: tell whoever waits for it. */
+        FILE *f = fopen(a->ready_path, "w");
+        if (f) {
+            fprintf(f, "ready\n");
+            fclose(f);
+            a->ready_done = 1;
+        }
+        logf_(a, 2, "MCU ready: method %u, seed %u", (unsigned)s->method,
+              (unsigned)s->seed);
+    }
+    logf_(a, 3, "MCU status: updates %u, repeats %u, stale %u, rejected %u, "
+          "crc errors %u, framing errors %u, overruns %u, watchdog stops %u",
+          (unsigned)s->updates, (unsigned)s->repeats, (unsigned)s->stale,
+          (unsigned)s->rejected, (unsigned)s->crc_errors,
+          (unsigned)s->framing_errors, (unsigned)s->overruns,
+          (unsigned)s->watchdog_stops);
+}
+
+static void bad_frame(agent_t *a, int st)
+{
+    if (st == SPVS_SERIAL_E_CRC)
+        a->st.bad_crc++;
+    else
+        a->st.bad_framing++;
+    uint32_t total = a->st.bad_crc + a->st.bad_framing;
+    /* Every one of the first ten, then one line per hundred. */
+    if (total <= 10 || total % 100 == 0)
+        logf_(a, 1, "bad frame from the MCU (%s); %u so far, dropped",
+              spvs_serial_status_str(st), (unsigned)total);
+}
+
+static void on_device_frame(agent_t *a)
+{
+    spvs_serial_frame_t f;
+    int st = spvs_serial_unpack(a->rx.buf, a->rx.n, &f);
+    if (st != SPVS_SERIAL_OK) {
+        bad_frame(a, st);
+        return;
+    }
+    if (f.type == SPVS_SERIAL_T_RESULT) {
+        spvs_serial_result_t r;
+        st = spvs_serial_parse_result(&f, &r);
+        if (st == SPVS_SERIAL_OK) {
+            on_result(a, &r);
+            return;
+        }
+    } else if (f.type == SPVS_SERIAL_T_STATUS) {
+        spvs_serial_status_frame_t s;
+        st = spvs_serial_parse_status(&f, &s);
+        if (st == SPVS_SERIAL_OK) {
+            on_status(a, &s);
+            return;
+        }
+    } else {
+        st = SPVS_SERIAL_E_TYPE;
+    }
+    bad_frame(a, st);
+}
+
+static void read_device(agent_t *a)
+{
+    uint8_t buf[4096];
+    /* At most 64 reads per pass, so LCM is served in between. */
+    for (int k = 0; k < 64 && a->fd >= 0; k++) {
+        ssize_t r = read(a->fd, buf, sizeof(buf));
+        if (r == 0) {
+            close_device(a, "closed by the other end");
+            return;
+        }
+        if (r < 0) {
+            if (errno != EAGAIN && errno != EINTR)
+                close_device(a, strerror(errno));
+            return;
+        }
+        for (ssize_t i = 0; i < r; i++) {
+            int got = spvs_serial_rx_push(&a->rx, buf[i]);
+            if (got == 1)
+                on_device_frame(a);
+            else if (got == SPVS_SERIAL_E_OVERSIZE)
+                bad_frame(a, got);
+        }
+    }
+}
+
+/* ---- main ---------------------------------------------------------------------- */
+
+static void write_summary(const agent_t *a)
+{
+    const agent_stats_t *s = &a->st;
+    char line[1024];
+    snprintf(line, sizeof(line),
+             "{\"to_mcu\":%u,\"refused\":%u,\"undecodable\":%u,"
+             "\"dropped_offline\":%u,\"results\":%u,\"rejected\":%u,"
+             "\"repeats\":%u,\"watchdog\":%u,\"boots\":%u,\"configs\":%u,"
+             "\"bad_crc\":%u,\"bad_framing\":%u,\"connects\":%u,\"mcu\":",
+             s->to_mcu, s->refused, s->undecodable, s->dropped_offline,
+             s->results, s->rejected, s->repeats, s->watchdog, s->boots,
+             s->configs, s->bad_crc, s->bad_framing, s->connects);
+    char mcu[512] = "null";
+    if (a->have_mcu) {
+        const spvs_serial_status_frame_t *m = &a->mcu;
+        snprintf(mcu, sizeof(mcu),
+                 "{\"updates\":%u,\"repeats\":%u,\"stale\":%u,\"rejected\":%u,"
+                 "\"crc_errors\":%u,\"framing_errors\":%u,\"overruns\":%u,"
+                 "\"watchdog_stops\":%u,\"watchdog_ms\":%u,\"age_ms\":%u,"
+                 "\"uptime_ms\":%u,\"method\":%u}",
+                 m->updates, m->repeats, m->stale, m->rejected, m->crc_errors,
+                 m->framing_errors, m->overruns, m->watchdog_stops,
+                 m->watchdog_ms, m->age_ms, m->uptime_ms, (unsigned)m->method);
+    }
+    fprintf(stderr, "spvs-serial-agent: summary %s%s}\n", line, mcu);
+    if (a->summary_path) {
+        FILE *f = fopen(a->summary_path, "w");
+        if (f) {
+            fprintf(f, "%s%s}\n", line, mcu);
+            fclose(f);
+        }
+    }
+}
+
+static void usage(FILE *f)
+{
+    fputs("usage: spvs-serial-agent --device DEV [options]\n"
+          "Bridges the controller on a microcontroller (serial link,\n"
+          "docs/SERIAL.md) to LCM: SPVS_MATCHES in, SPVS_CMD and SPVS_STATE out.\n"
+          "  --device DEV       /dev/ttyUSB0, a pty path, tcp:HOST:PORT or\n"
+          "                     unix:PATH (QEMU's -serial tcp:...,server)\n"
+          "  --baud N           serial ports: 9600 .. 4000000 (921600)\n"
+          "  --method 1|2|3     controller method sent to the MCU (3)\n"
+          "  --seed S           RANSAC seed, 0..4294967295 (0)\n"
+          "  --alpha PX         assumed focal length, pixels (800)\n"
+          "  --lcm-url URL      LCM provider ($LCM_DEFAULT_URL or\n"
+          "                     " DEFAULT_URL ")\n"
+          "  --reconnect S      keep trying to (re)open the device for S s (10)\n"
+          "  --summary FILE     write the counters as JSON at exit\n"
+          "  --ready-file FILE  create FILE once the MCU runs with the set-up\n"
+          "  --log-level L      0 quiet, 1 errors (default), 2 info, 3 every frame\n"
+          "  --help\n"
+          "Exit status: 0 after SIGINT/SIGTERM, 1 device or LCM failure,\n"
+          "2 bad options.\n", f);
+}
+
+static int bad_opt(const char *what, const char *arg)
+{
+    fprintf(stderr, "spvs-serial-agent: %s%s%s (see --help)\n", what,
+            arg ? ": " : "", arg ? arg : "");
+    return 2;
+}
+
+static int parse_num(const char *s, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || errno || !(v >= lo && v <= hi))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static agent_t a;
+    a.fd = -1;
+    a.baud = 921600;
+    a.url = getenv("LCM_DEFAULT_URL");
+    if (!a.url)
+        a.url = DEFAULT_URL;
+    a.cfg.method = 3;
+    a.cfg.seed = 0;
+    a.cfg.alpha_px = 800.0f;
+    a.reconnect_s = 10.0;
+    a.log_level = 1;
+    a.fwd_seq = -1;
+    a.last_config_s = -1e9;
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        if (strcmp(o, "--help") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        if (i + 1 >= argc)
+            return bad_opt(strncmp(o, "--", 2) == 0 ? "option needs a value"
+                                                    : "unexpected argument", o);
+        const char *v = argv[++i];
+        double d;
+        if (strcmp(o, "--device") == 0) {
+            a.device = v;
+        } else if (strcmp(o, "--baud") == 0) {
+            if (parse_num(v, 1, 4e6, &d) != 0 || baud_const((long)d) == B0 ||
+                d != floor(d))
+                return bad_opt("--baud: not a supported rate", v);
+            a.baud = (long)d;
+        } else if (strcmp(o, "--method") == 0) {
+            if (parse_num(v, 1, 3, &d) != 0 || d != floor(d))
+                return bad_opt("--method: not 1, 2 or 3", v);
+            a.cfg.method = (uint8_t)d;
+        } else if (strcmp(o, "--seed") == 0) {
+            if (parse_num(v, 0, 4294967295.0, &d) != 0 || d != floor(d))
+                return bad_opt("--seed: not an integer in 0..4294967295", v);
+            a.cfg.seed = (uint32_t)d;
+        } else if (strcmp(o, "--alpha") == 0) {
+            if (parse_num(v, 1, 1e5, &d) != 0)
+                return bad_opt("--alpha: not a focal length in 1..1e5 px", v);
+            a.cfg.alpha_px = (float)d;
+        } else if (strcmp(o, "--lcm-url") == 0) {
+            a.url = v;
+        } else if (strcmp(o, "--reconnect") == 0) {
+            if (parse_num(v, 0, 3600, &d) != 0)
+                return bad_opt("--reconnect: not 0..3600 s", v);
+            a.reconnect_s = d;
+        } else if (strcmp(o, "--summary") == 0) {
+            a.summary_path = v;
+        } else if (strcmp(o, "--ready-file") == 0) {
+            a.ready_path = v;
+        } else if (strcmp(o, "--log-level") == 0) {
+            if (parse_num(v, 0, 3, &d) != 0 || d != floor(d))
+                return bad_opt("--log-level: not 0..3", v);
+            a.log_level = (int)d;
+        } else {
+            return bad_opt("unknown option", o);
+        }
+    }
+    if (!a.device)
+        return bad_opt("--device is required", NULL);
+
+    struct sigaction sa;
+    memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    a.lcm = lcm_create(a.url);
+    if (!a.lcm) {
+        fprintf(stderr, "spvs-serial-agent: cannot open LCM '%s' (no multicast "
+                "route? see docs/LCM.md)\n", a.url);
+        return 1;
+    }
+    if (!lcm_subscribe(a.lcm, SPVS_CH_MATCHES, on_matches, &a)) {
+        fprintf(stderr, "spvs-serial-agent: subscribing to %s failed\n",
+                SPVS_CH_MATCHES);
+        return 1;
+    }
+    spvs_serial_rx_init(&a.rx);
+    int lfd = lcm_get_fileno(a.lcm);
+    double offline_since = now_s();
+    double last_try = -1e9;
+    int rc = 0;
+    while (!g_stop) {
+        if (a.fd < 0) {
+            double t = now_s();
+            if (t - last_try >= 0.1) {
+                char err[300];
+                last_try = t;
+                int fd = open_device(&a, err, sizeof(err));
+                if (fd == -2) {
+                    fprintf(stderr, "spvs-serial-agent: %s\n", err);
+                    rc = 1;
+                    break;
+                }
+                if (fd >= 0) {
+                    a.fd = fd;
+                    a.st.connects++;
+                    logf_(&a, 2, "device %s open", a.device);
+                    send_config(&a);
+                } else if (t - offline_since > a.reconnect_s) {
+                    fprintf(stderr, "spvs-serial-agent: %s (gave up after "
+                            "%.3g s)\n", err, a.reconnect_s);
+                    rc = 1;
+                    break;
+                }
+            }
+        }
+        struct pollfd pf[2] = { { lfd, POLLIN, 0 }, { a.fd, POLLIN, 0 } };
+        int np = a.fd >= 0 ? 2 : 1;
+        int pr = poll(pf, (nfds_t)np, 50);
+        if (pr < 0 && errno != EINTR) {
+            fprintf(stderr, "spvs-serial-agent: poll: %s\n", strerror(errno));
+            rc = 1;
+            break;
+        }
+        if (pr > 0 && (pf[0].revents & POLLIN) && lcm_handle(a.lcm) != 0) {
+            fprintf(stderr, "spvs-serial-agent: LCM receive failed\n");
+            rc = 1;
+            break;
+        }
+        if (np == 2 && pr > 0 && (pf[1].revents & (POLLIN | POLLHUP | POLLERR)))
+            read_device(&a);
+        if (a.fd >= 0)
+            offline_since = now_s();
+    }
+    write_summary(&a);
+    if (a.fd >= 0)
+        close(a.fd);
+    lcm_destroy(a.lcm);
+    return rc;
+}

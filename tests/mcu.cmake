@@ -1,0 +1,53 @@
+# The controller on the emulated Cortex-M4F in the closed loop (label mcu):
+# the serial codec's unit test, the closed loop through QEMU against the
+# in-process run, the link faults, and the application image check.  The
+# images come from the cross build of tests/target.cmake (fixture
+# spvs_cross).  Tests that need QEMU or the cross compiler exit 77, which
+# ctest reports as skipped with the reason, where either is missing.
+if(NOT TARGET spvs_serial)
+  return()
+endif()
+spvs_add_test(NAME test_serial SOURCES test_serial.c LIBS spvs_serial
+              LABELS "mcu;unit" TIMEOUT 60)
+
+if(NOT TARGET spvs-serial-agent OR NOT TARGET spvs-sim OR SPVS_DOUBLE OR SPVS_SANITIZE)
+  return()
+endif()
+set(spvs_mcu_image ${CMAKE_BINARY_DIR}/cortex-m4f/target/spvs_app.elf)
+find_program(SPVS_ARM_GCC_MCU arm-none-eabi-gcc)
+find_program(SPVS_QEMU_ARM_MCU qemu-system-arm)
+set(spvs_mcu_fixture "")
+if(SPVS_ARM_GCC_MCU AND SPVS_QEMU_ARM_MCU)
+  set(spvs_mcu_fixture spvs_cross)
+endif()
+
+function(spvs_mcu_test name)
+  add_test(NAME ${name} COMMAND ${ARGN})
+  set_tests_properties(${name} PROPERTIES LABELS "float;mcu;process" TIMEOUT 900
+                       SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "${spvs_mcu_fixture}")
+endfunction()
+
+# Bit for bit: each method, with noise and mismatches.
+set(spvs_mcu_cases
+  "1\;-2,-8,-20\;3"
+  "2\;2,-9,25\;4"
+  "3\;0.8,-6,-20\;5")
+foreach(c IN LISTS spvs_mcu_cases)
+  list(GET c 0 method)
+  list(GET c 1 pose)
+  list(GET c 2 seed)
+  spvs_mcu_test(mcu_closed_loop_m${method} ${CMAKE_CURRENT_SOURCE_DIR}/mcu/closed_loop.sh
+                $<TARGET_FILE:spvs-sim> ${spvs_mcu_image} --method ${method} --pose ${pose}
+                --noise 0.5 --outliers 0.1 --seed ${seed} --dt 0.2)
+endforeach()
+
+# Link faults (tests/mcu/faults.py says what each one asserts).
+foreach(fault flip drop truncate garbage count range agent_restart mcu_reset)
+  spvs_mcu_test(mcu_fault_${fault} /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/mcu/faults.py
+                ${fault} $<TARGET_FILE:spvs-sim> $<TARGET_FILE:spvs-serial-agent> ${spvs_mcu_image})
+endforeach()
+
+# The application image links no heap, no stdio, no double helper
+# (target/check_image.cmake, which the cross build also runs after linking).
+spvs_mcu_test(mcu_image_check ${CMAKE_CURRENT_SOURCE_DIR}/mcu/image_check.sh ${spvs_mcu_image}
+              ${PROJECT_SOURCE_DIR}/target/check_image.cmake)

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# closed_loop.sh SPVS_SIM IMAGE [spvs-sim options...]
+# The same run twice: in process with the serial link's rounding applied
+# (--quantize-serial), then through the controller application on the
+# emulated Cortex-M4F (--transport mcu: QEMU, spvs-serial-agent, LCM inside a
+# loopback-only network namespace).  The two --json summaries must be equal
+# field for field (the transport name aside): bit for bit the same
+# commands, so the same trajectory to the last printed digit.
+# Exit 77 (skipped) when qemu-system-arm or the image is missing.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../lcm/netns.sh"
+sim=$1 image=$2
+shift 2
+command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not installed"; exit 77; }
+[ -f "$image" ] || { echo "SKIP: no application image $image (cross build missing)"; exit 77; }
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+timeout 120 "$sim" "$@" --quantize-serial --json --quiet >"$work/inproc.out"
+tail -n 1 "$work/inproc.out" >"$work/inproc.json"
+
+export SIM="$sim" IMAGE="$image" URL="$(spvs_lcm_url)" WORK="$work" SIM_ARGS="$*"
+spvs_in_netns '
+  # $SIM_ARGS holds plain options without spaces, so word splitting is fine.
+  timeout 600 "$SIM" $SIM_ARGS --transport mcu --mcu-image "$IMAGE" \
+      --lcm-url "$URL" --timeout 10 --json --quiet >"$WORK/mcu.out" 2>"$WORK/mcu.err"
+' || { echo "MCU run failed"; cat "$work/mcu.err"; cat "$work/mcu.out"; exit 1; }
+tail -n 1 "$work/mcu.out" >"$work/mcu.json"
+
+/usr/bin/python3 - "$work/inproc.json" "$work/mcu.json" <<'PY'
+import json, sys
+a = json.load(open(sys.argv[1]))
+b = json.load(open(sys.argv[2]))
+print("in process, serial rounding:", a["status"], a["final_error"], "t", a["time_s"], "frames", a["frames"])
+print("through the emulated MCU:   ", b["status"], b["final_error"], "t", b["time_s"], "frames", b["frames"])
+assert b["transport"] == "mcu", b["transport"]
+a.pop("transport"); b.pop("transport")
+bad = [k for k in a if a[k] != b.get(k)]
+if bad:
+    print("FAIL: fields differ: " + ", ".join("%s: %r != %r" % (k, a[k], b.get(k)) for k in bad))
+    sys.exit(1)
+if a["status"] != "converged":
+    print("FAIL: the run did not converge (%s), so it shows little" % a["status"])
+    sys.exit(1)
+print("mcu closed loop: bit for bit the in-process run (%d frames)" % a["frames"])
+PY
