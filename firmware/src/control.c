@@ -104,6 +104,11 @@ int spvs_control_params_check(const spvs_control_params_t *p)
     return SPVS_OK;
 }
 
+static void fit_clear(spvs_control_t *c)
+{
+    c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
+}
+
 void spvs_control_reset(spvs_control_t *c)
 {
     SPVS_ASSERT(c != 0);
@@ -138,7 +143,7 @@ void spvs_control_reset(spvs_control_t *c)
     c->odo_s = SPVS_R(0.0);
     c->last_v = SPVS_R(0.0);
     c->last_t = SPVS_R(-1.0);
-    c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
+    fit_clear(c);
 }
 
 static int fail(spvs_control_t *c, int status)
@@ -169,7 +174,7 @@ static int step_done(spvs_control_t *c, const spvs_control_params_t *p,
 {
     int8_t s = sgn(signal);
     if (s != 0 && s == c->run_sign) {
-        if (c->run_len < 65535u) {
+        if (c->run_len < UINT16_MAX) {
             c->run_len++;
         }
     } else {
@@ -310,8 +315,9 @@ static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
         SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
         return;
     }
-    /* Running mean, then an exponential one after 50 frames. */
-    if (c->n_phit < 50u) {
+    /* A running mean at first, then an exponential one of the same length:
+     * the learnt value can still follow odometry drift along the line. */
+    if (c->n_phit < (uint32_t)SPVS_CTL_PHIT_FRAMES) {
         c->n_phit++;
     }
     spvs_real a = SPVS_R(1.0) / (spvs_real)c->n_phit;
@@ -328,11 +334,11 @@ static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
  * against the distance driven averages the per-frame noise of H away; its
  * value at the current distance replaces the raw D in v = -k_v D and in the
  * step-end test.  Until the fit has fit_min_frames frames over at least
- * fit_min_span_m metres the raw signal is used. */
+ * fit_min_span_m metres the raw signal is used, and so it is while the
+ * distances driven are too close together to fix a slope. */
 static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p,
-                               spvs_real t_s, spvs_real D)
+                               spvs_real D)
 {
-    (void)t_s;
     spvs_real s = c->odo_s;
     c->fit_n += SPVS_R(1.0);
     c->fit_s += s;
@@ -342,13 +348,220 @@ static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p
     if (c->fit_n < (spvs_real)p->fit_min_frames || s < p->fit_min_span_m) {
         return D;
     }
+    /* den = n^2 var(s). */
+    const spvs_real min_spread_m = (spvs_real)SPVS_CTL_FIT_MIN_SPREAD_UM * SPVS_R(1.0e-6);
     spvs_real den = c->fit_n * c->fit_ss - c->fit_s * c->fit_s;
-    if (!(den > SPVS_R(1.0e-9) * c->fit_n * c->fit_n)) {
+    if (!(den > min_spread_m * min_spread_m * c->fit_n * c->fit_n)) {
         return D;
     }
     spvs_real b = (c->fit_n * c->fit_sd - c->fit_s * c->fit_d) / den;
     spvs_real a = (c->fit_d - b * c->fit_s) / c->fit_n;
     return a + b * s;
+}
+
+/* Odometry from the commands: the last command held since the last frame (a
+ * stop wherever spvs_control_step returns early, so last_v is cleared here
+ * and set again only when a command goes out). */
+static void odometry(spvs_control_t *c, spvs_real t_s)
+{
+    if (c->last_t >= SPVS_R(0.0) && t_s > c->last_t) {
+        c->odo_s += SPVS_FABS(c->last_v) * (t_s - c->last_t);
+    }
+    c->last_v = SPVS_R(0.0);
+    c->last_t = t_s;
+}
+
+/* No parallax at the start.  If H shows no translation either (both kinds of
+ * step-2 signal and det H - 1 under their tolerances, for hold_frames
+ * frames) the robot is at the target up to a rotation, eq. (9): only step 3
+ * is left.  Otherwise the signs cannot be chosen: stop. */
+static int start_without_parallax(spvs_control_t *c, const spvs_control_params_t *p,
+                                  const spvs_control_input_t *in)
+{
+    const spvs_real *H = in->H;
+    spvs_real D = H[SPVS_H11] - H[SPVS_H33];
+    spvs_real Dy = p->alpha_y * H[SPVS_H32];
+    spvs_real det = H[SPVS_H11] * H[SPVS_H33] - H[SPVS_H13] * H[SPVS_H31];
+    int still = SPVS_FABS(D) < p->tol_translate && SPVS_FABS(Dy) < p->tol_translate &&
+                SPVS_FABS(det - SPVS_R(1.0)) < p->tol_det;
+    c->at_target = still ? (uint16_t)(c->at_target + 1u) : 0u;
+    if (c->at_target < p->hold_frames) {
+        return still ? SPVS_OK : SPVS_E_NO_PARALLAX;
+    }
+    next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
+    next_step(c, SPVS_STEP_ALIGN, in->t_s);
+    c->checked_plane = 1;
+    return SPVS_OK;
+}
+
+/* The signs of the rotation gain, from the start frames' sums (paper, end of
+ * section 3.3; docs/CONTROL.md derives each).  sign(k_v) is chosen when step 2
+ * starts. */
+static void choose_rotation_sign(spvs_control_t *c, const spvs_control_params_t *p,
+                                 const spvs_control_input_t *in)
+{
+    switch (p->method) {
+    case SPVS_METHOD_I: {
+        /* Turn towards the target: sign(f) sign(e_x). */
+        spvs_real f = align_signal(p, in);
+        c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
+        if (c->sign_w == 0) {
+            c->sign_w = 1;
+        }
+        break;
+    }
+    case SPVS_METHOD_II:
+        /* sign(k_w) = -sign(n_y) sign(e_z) = sign(h32). */
+        c->sign_w = sgn(c->h32_sum);
+        break;
+    case SPVS_METHOD_III:
+    default:
+        /* e_x = alpha_x tan(phi - phi_t): always positive. */
+        c->sign_w = 1;
+        break;
+    }
+}
+
+/* The start takes hold_frames frames with an epipole, standing still: their
+ * sums decide the plane check and the signs, so that one frame with few
+ * matches cannot latch a failure or a wrong sign. */
+static int start_with_parallax(spvs_control_t *c, const spvs_control_params_t *p,
+                               const spvs_control_input_t *in)
+{
+    c->at_target = 0;
+    plane_accumulate(c, p, in);
+    c->h32_sum += in->H[SPVS_H32];
+    c->ahead_votes = (int16_t)(c->ahead_votes + sgn(in->e_dir_z));
+    c->n_start++;
+    if (c->n_start < p->hold_frames) {
+        return SPVS_OK;
+    }
+    c->ahead = c->ahead_votes >= 0 ? 1 : -1;
+    int rc = plane_check(c, p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    choose_rotation_sign(c, p, in);
+    c->checked_plane = 1;
+    return SPVS_OK;
+}
+
+/* Method III needs the epipole until it has switched to eq. (11), which it
+ * does once the parallax has stayed under switch_parallax_px for hold_frames
+ * frames of step 2 (one frame with few off-plane points in view must not
+ * latch the switch). */
+static int eq11_switch(spvs_control_t *c, const spvs_control_params_t *p,
+                       const spvs_control_input_t *in)
+{
+    if (p->method != SPVS_METHOD_III || c->use_eq11 || c->step == SPVS_STEP_ALIGN) {
+        return SPVS_OK;
+    }
+    int low = c->step == SPVS_STEP_TRANSLATE && in->parallax_px >= SPVS_R(0.0) &&
+              in->parallax_px < p->switch_parallax_px;
+    c->low_parallax = low ? (uint16_t)(c->low_parallax + 1u) : 0u;
+    if (c->low_parallax >= p->hold_frames) {
+        c->use_eq11 = 1;
+        if (c->n_phit == 0u) {
+            c->cos_phit = in->H[SPVS_H11];
+            c->sign_sin_phit = sgn(in->H[SPVS_H13]);
+        }
+    } else if (!in->e_valid) {
+        return SPVS_E_NO_PARALLAX;
+    }
+    return SPVS_OK;
+}
+
+/* Step 1: turn to face the target, v = 0. */
+static void step_rotate(spvs_control_t *c, const spvs_control_params_t *p,
+                        const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
+{
+    learn_phit(c, p, in);
+    *vc = SPVS_R(0.0);
+    *wc = rotation(c, p, in);
+    spvs_real a = align_signal(p, in);
+    int done = step_done(c, p, a, p->tol_align);
+    /* Method I: a zero of eq. (19) away from the target line is false. */
+    if (p->method == SPVS_METHOD_I && in->e_valid && SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
+        done = 0;
+        /* The sign change at a false zero is spent here: only a change
+         * after it counts. */
+        c->held_sign = sgn(a);
+        c->hold = 0;
+    }
+    if (done) {
+        next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
+        c->trans_sign0 = 0;
+        c->odo_s = SPVS_R(0.0);
+        fit_clear(c);
+    }
+}
+
+/* The first frame of step 2: the sign of k_v, with the side read again facing
+ * the line, where e_z is largest (at the start it can be near zero when the
+ * target is side-on). */
+static void translate_begin(spvs_control_t *c, const spvs_control_params_t *p,
+                            const spvs_control_input_t *in, spvs_real D)
+{
+    c->trans_sign0 = sgn(D);
+    c->trans_d0 = SPVS_FABS(D);
+    if (in->e_valid && sgn(in->e_dir_z) != 0) {
+        c->ahead = sgn(in->e_dir_z);
+    }
+    if (p->method == SPVS_METHOD_II) {
+        /* sign(k_v) = sign(n_y) = -sign(h32) sign(e_z), with the sign of h32
+         * at the start (sign_w). */
+        c->sign_v = (int8_t)(-c->sign_w * c->ahead);
+    } else {
+        /* Eqs. (20), (22): v = -k_v (h11 - h33) = k_v z n_z / (d cos phi_t)
+         * on the line, so sign(k_v) = -sign(D) sign(e_z) makes v drive
+         * towards the target. */
+        c->sign_v = (int8_t)(-c->trans_sign0 * c->ahead);
+    }
+}
+
+/* Step 2: drive straight to the target on the fitted signal. */
+static void step_translate(spvs_control_t *c, const spvs_control_params_t *p,
+                           const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
+{
+    learn_phit(c, p, in);
+    spvs_real D = translate_signal(p, in);
+    if (c->trans_sign0 == 0) {
+        translate_begin(c, p, in, D);
+    }
+    spvs_real Df = fitted_signal(c, p, D);
+    /* det H = 1 + n^T c / d whatever the heading and the calibration
+     * (eq. 2): a step-2 signal that crossed zero while det H says the robot
+     * is still away from the target crossed through a turn. */
+    spvs_real det = in->H[SPVS_H11] * in->H[SPVS_H33] - in->H[SPVS_H13] * in->H[SPVS_H31];
+    int det_ok = SPVS_FABS(det - SPVS_R(1.0)) < p->tol_det;
+    *vc = -(spvs_real)c->sign_v * p->k_v * Df;
+    *wc = rotation(c, p, in);
+    /* Near the target the rotation signals of eqs. (20)-(22) vanish with the
+     * distance while their noise does not: in the last part of the line the
+     * heading is held (beyond the paper; Method III's eq. (11) does not
+     * vanish and stays on). */
+    if (SPVS_FABS(Df) < p->hold_heading_ratio * c->trans_d0 &&
+        !(p->method == SPVS_METHOD_III && c->use_eq11)) {
+        *wc = SPVS_R(0.0);
+    }
+    if (step_done(c, p, Df, p->tol_translate) && det_ok) {
+        next_step(c, SPVS_STEP_ALIGN, in->t_s);
+        *vc = SPVS_R(0.0);
+        *wc = SPVS_R(0.0);
+    }
+}
+
+/* Step 3: turn to the target heading, eq. (17)/(18) as chosen by the paper:
+ * w = -k_w3 h13. */
+static void step_align(spvs_control_t *c, const spvs_control_params_t *p,
+                       const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
+{
+    *vc = SPVS_R(0.0);
+    *wc = -p->k_w3 * in->H[SPVS_H13];
+    if (step_done(c, p, in->H[SPVS_H13], p->tol_h13_px)) {
+        next_step(c, SPVS_STEP_DONE, in->t_s);
+        *wc = SPVS_R(0.0);
+    }
 }
 
 int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
@@ -359,13 +572,7 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
     }
     *v = SPVS_R(0.0);
     *w = SPVS_R(0.0);
-    /* Odometry from the commands: the last command held since the last
-     * frame (a stop wherever this call returns early). */
-    if (c->last_t >= SPVS_R(0.0) && in->t_s > c->last_t) {
-        c->odo_s += SPVS_FABS(c->last_v) * (in->t_s - c->last_t);
-    }
-    c->last_v = SPVS_R(0.0);
-    c->last_t = in->t_s;
+    odometry(c, in->t_s);
     if (c->step == SPVS_STEP_DONE) {
         return SPVS_OK;
     }
@@ -378,166 +585,31 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
     if (in->t_s - c->step_t0 > p->step_timeout_s) {
         return fail(c, SPVS_E_STEP_TIMEOUT);
     }
-
-    /* Start: the signs of the gains come from the parallax (paper, end of
+    /* The start: the signs of the gains come from the parallax (paper, end of
      * section 3.3), and the plane must give this method a signal. */
     if (!c->checked_plane) {
-        const spvs_real *H = in->H;
-        spvs_real D = H[SPVS_H11] - H[SPVS_H33];
-        spvs_real Dy = p->alpha_y * H[SPVS_H32];
-        spvs_real det = H[SPVS_H11] * H[SPVS_H33] - H[SPVS_H13] * H[SPVS_H31];
-        int still = SPVS_FABS(D) < p->tol_translate && SPVS_FABS(Dy) < p->tol_translate &&
-                    SPVS_FABS(det - SPVS_R(1.0)) < p->tol_det;
-        if (!in->e_valid || sgn(in->e_dir_z) == 0) {
-            /* No parallax at the start.  If H shows no translation either
-             * (both kinds of step-2 signal and det H - 1 under their
-             * tolerances, for hold_frames frames) the robot is at the
-             * target up to a rotation, eq. (9): only step 3 is left.
-             * Otherwise the signs cannot be chosen: stop. */
-            c->at_target = still ? (uint16_t)(c->at_target + 1u) : 0u;
-            if (c->at_target < p->hold_frames) {
-                return still ? SPVS_OK : SPVS_E_NO_PARALLAX;
-            }
-            next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
-            next_step(c, SPVS_STEP_ALIGN, in->t_s);
-            c->checked_plane = 1;
-        } else {
-            /* The start takes hold_frames frames with an epipole, standing
-             * still: their sums decide the plane check and the signs. */
-            c->at_target = 0;
-            plane_accumulate(c, p, in);
-            c->h32_sum += H[SPVS_H32];
-            c->ahead_votes = (int16_t)(c->ahead_votes + sgn(in->e_dir_z));
-            c->n_start++;
-            if (c->n_start < p->hold_frames) {
-                return SPVS_OK;
-            }
-            c->ahead = c->ahead_votes >= 0 ? 1 : -1;
-            int rc = plane_check(c, p);
-            if (rc != SPVS_OK) {
-                return rc;
-            }
-            switch (p->method) {
-            case SPVS_METHOD_I: {
-                spvs_real f = align_signal(p, in);
-                c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
-                if (c->sign_w == 0) {
-                    c->sign_w = 1;
-                }
-                break;
-            }
-            case SPVS_METHOD_II:
-                /* sign(k_w) = -sign(n_y) sign(e_z) = sign(h32); sign(k_v) is
-                 * chosen when step 2 starts. */
-                c->sign_w = sgn(c->h32_sum);
-                break;
-            case SPVS_METHOD_III:
-            default:
-                c->sign_w = 1;
-                break;
-            }
-            c->checked_plane = 1;
+        int rc = (!in->e_valid || sgn(in->e_dir_z) == 0) ? start_without_parallax(c, p, in)
+                                                         : start_with_parallax(c, p, in);
+        if (rc != SPVS_OK || !c->checked_plane) {
+            return rc;
         }
     }
-
-    /* Method III needs the epipole until it has switched to eq. (11). */
-    if (p->method == SPVS_METHOD_III && !c->use_eq11 && c->step != SPVS_STEP_ALIGN) {
-        int low = c->step == SPVS_STEP_TRANSLATE && in->parallax_px >= SPVS_R(0.0) &&
-                  in->parallax_px < p->switch_parallax_px;
-        c->low_parallax = low ? (uint16_t)(c->low_parallax + 1u) : 0u;
-        /* The parallax must stay low for hold_frames frames: one frame with
-         * few off-plane points in view must not latch the switch. */
-        if (c->low_parallax >= p->hold_frames) {
-            c->use_eq11 = 1;
-            if (c->n_phit == 0u) {
-                c->cos_phit = in->H[SPVS_H11];
-                c->sign_sin_phit = sgn(in->H[SPVS_H13]);
-            }
-        } else if (!in->e_valid) {
-            return SPVS_E_NO_PARALLAX;
-        }
+    int rc = eq11_switch(c, p, in);
+    if (rc != SPVS_OK) {
+        return rc;
     }
-
     spvs_real vc = SPVS_R(0.0);
     spvs_real wc = SPVS_R(0.0);
     switch (c->step) {
-    case SPVS_STEP_ROTATE: {
-        learn_phit(c, p, in);
-        wc = rotation(c, p, in);
-        spvs_real a = align_signal(p, in);
-        int done = step_done(c, p, a, p->tol_align);
-        /* Method I: a zero of eq. (19) away from the target line is false. */
-        if (p->method == SPVS_METHOD_I && in->e_valid &&
-            SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
-            done = 0;
-            /* The sign change at a false zero is spent here: only a change
-             * after it counts. */
-            c->held_sign = sgn(a);
-            c->hold = 0;
-        }
-        if (done) {
-            next_step(c, SPVS_STEP_TRANSLATE, in->t_s);
-            c->trans_sign0 = 0;
-            c->odo_s = SPVS_R(0.0);
-            c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
-        }
+    case SPVS_STEP_ROTATE:
+        step_rotate(c, p, in, &vc, &wc);
         break;
-    }
-    case SPVS_STEP_TRANSLATE: {
-        learn_phit(c, p, in);
-        spvs_real D = translate_signal(p, in);
-        if (c->trans_sign0 == 0) {
-            c->trans_sign0 = sgn(D);
-            c->trans_d0 = SPVS_FABS(D);
-            /* Whether the target is ahead is read again here, facing the
-             * line, where e_z is largest (at the start it can be near zero
-             * when the target is side-on). */
-            if (in->e_valid && sgn(in->e_dir_z) != 0) {
-                c->ahead = sgn(in->e_dir_z);
-            }
-            if (p->method == SPVS_METHOD_II) {
-                /* sign(k_v) = sign(n_y) = -sign(h32) sign(e_z), with the
-                 * sign of h32 at the start (sign_w). */
-                c->sign_v = (int8_t)(-c->sign_w * c->ahead);
-            } else {
-                /* Eqs. (20), (22): v = -k_v (h11 - h33) = k_v z n_z / (d cos
-                 * phi_t) on the line, so sign(k_v) = -sign(D) sign(e_z) makes
-                 * v drive towards the target. */
-                c->sign_v = (int8_t)(-c->trans_sign0 * c->ahead);
-            }
-        }
-        spvs_real Df = fitted_signal(c, p, in->t_s, D);
-        /* det H = 1 + n^T c / d whatever the heading and the calibration
-         * (eq. 2): a step-2 signal that crossed zero while det H says the
-         * robot is still away from the target crossed through a turn. */
-        spvs_real det = in->H[SPVS_H11] * in->H[SPVS_H33] - in->H[SPVS_H13] * in->H[SPVS_H31];
-        int det_ok = SPVS_FABS(det - SPVS_R(1.0)) < p->tol_det;
-        vc = -(spvs_real)c->sign_v * p->k_v * Df;
-        wc = rotation(c, p, in);
-        /* Near the target the rotation signals of eqs. (20)-(22) vanish with
-         * the distance while their noise does not: in the last tenth of the
-         * line the heading is held (beyond the paper; Method III's eq. (11)
-         * does not vanish and stays on). */
-        if (SPVS_FABS(Df) < p->hold_heading_ratio * c->trans_d0 &&
-            !(p->method == SPVS_METHOD_III && c->use_eq11)) {
-            wc = SPVS_R(0.0);
-        }
-        if (step_done(c, p, Df, p->tol_translate) && det_ok) {
-            next_step(c, SPVS_STEP_ALIGN, in->t_s);
-            vc = SPVS_R(0.0);
-            wc = SPVS_R(0.0);
-        }
+    case SPVS_STEP_TRANSLATE:
+        step_translate(c, p, in, &vc, &wc);
         break;
-    }
-    case SPVS_STEP_ALIGN: {
-        /* Eq. (17)/(18) as chosen by the paper: w = -k_w3 h13. */
-        wc = -p->k_w3 * in->H[SPVS_H13];
-        if (step_done(c, p, in->H[SPVS_H13], p->tol_h13_px)) {
-            next_step(c, SPVS_STEP_DONE, in->t_s);
-            wc = SPVS_R(0.0);
-        }
+    case SPVS_STEP_ALIGN:
+        step_align(c, p, in, &vc, &wc);
         break;
-    }
     default:
         break;
     }

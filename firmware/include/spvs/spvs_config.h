@@ -229,4 +229,28 @@
 #error "SPVS_MAX_COORD_PX must be in 64..1000000"
 #endif
 
+/* ---- controller (control.c) -------------------------------------------- */
+
+/* Method III learns cos phi_t (eq. 8) as a running mean of h11 over the
+ * first SPVS_CTL_PHIT_FRAMES frames facing the line, then as an exponential
+ * mean of that length, so that it can follow odometry drift. */
+#ifndef SPVS_CTL_PHIT_FRAMES
+#define SPVS_CTL_PHIT_FRAMES 50
+#endif
+
+/* Step 2's least-squares line of the signal against the distance driven is
+ * used only while the distances spread by more than this (standard
+ * deviation, micrometres): a fit whose distances are all but equal fixes no
+ * slope. */
+#ifndef SPVS_CTL_FIT_MIN_SPREAD_UM
+#define SPVS_CTL_FIT_MIN_SPREAD_UM 32
+#endif
+
+#if (SPVS_CTL_PHIT_FRAMES < 1) || (SPVS_CTL_PHIT_FRAMES > 100000)
+#error "SPVS_CTL_PHIT_FRAMES must be in 1..100000"
+#endif
+#if (SPVS_CTL_FIT_MIN_SPREAD_UM < 1) || (SPVS_CTL_FIT_MIN_SPREAD_UM > 100000)
+#error "SPVS_CTL_FIT_MIN_SPREAD_UM must be in 1..100000"
+#endif
+
 #endif /* SPVS_CONFIG_H */
