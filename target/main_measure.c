@@ -217,7 +217,7 @@ int main(void)
             uint32_t it_e = out.ransac_iters;
 
             /* RANSAC at its cap. */
-            p.inlier_px = 0.02f;
+            p.noise_px = 0.0066f; /* a Sampson threshold of 0.02 px */
             p.offplane_px = 6.0f;
             if (spvs_init(&core, &p) != SPVS_OK) {
                 return 1;

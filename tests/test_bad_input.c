@@ -377,7 +377,7 @@ static void test_bad_config(void **state)
     (void)state;
     spvs_params_t p;
     spvs_params_default(&p, SPVS_METHOD_II);
-    p.inlier_px = SPVS_R(0.0) / (spvs_real)g_zero; /* NaN */
+    p.noise_px = SPVS_R(0.0) / (spvs_real)g_zero; /* NaN */
     assert_int_equal(spvs_init(&g_s, &p), SPVS_E_CONFIG);
     spvs_params_default(&p, SPVS_METHOD_II);
     p.max_iters = SPVS_RANSAC_MAX_ITERS + 1u;

@@ -22,10 +22,12 @@
  * uses, so the solver's float bounds are looser. */
 #if SPVS_USE_DOUBLE
 #define TOL_EXACT_PX 1e-6
+#define TOL_FOLLOW_PX 1e-6
 #define TOL_SOLVE_PX 1e-6
 #define TOL_SAMPLE_PX 1e-8
 #else
 #define TOL_EXACT_PX 2e-2
+#define TOL_FOLLOW_PX 0.1
 #define TOL_SOLVE_PX 0.25
 #define TOL_SAMPLE_PX 0.05
 #endif
@@ -70,13 +72,6 @@ static int lin_sums_rows(const spvs_real (*pts)[4], const uint8_t *use, uint16_t
 {
     const spvs_pts_in_t in = {pts, 0};
     return spvs_hf_lin_sums(&in, use, n, Hw, sums);
-}
-
-static int refit_lin_rows(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                          uint16_t steps, const spvs_real sums[SPVS_H_LIN_SUMS], spvs_real H[9])
-{
-    const spvs_pts_in_t in = {pts, 0};
-    return spvs_hf_refit(&in, use, n, steps, sums, H);
 }
 
 /* Eq. (2) built by matrix products equals the closed form of eq. (5). */
@@ -253,6 +248,68 @@ static void test_refit(void **state)
     assert_true(sum_noisy / n_cases < 0.5);
 }
 
+/* Median of v[0..n) (sorts v). */
+static double median_of(double *v, int n)
+{
+    for (int i = 1; i < n; i++) {
+        for (int k = i; k > 0 && v[k - 1] > v[k]; k--) {
+            const double x = v[k];
+            v[k] = v[k - 1];
+            v[k - 1] = x;
+        }
+    }
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* The Sampson error's sum over the flagged points (h_fit.h's source). */
+static double sampson_sum(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
+                          const spvs_real H[9])
+{
+    const spvs_pts_in_t in = {pts, 0};
+    spvs_real c = 0;
+    assert_true(spvs_pts_sum(SPVS_T_SAMPSON, H, &in, use, n, &c) >= 0);
+    return (double)c;
+}
+
+/* The Sampson error of one match, in double, straight from its definition:
+ * eps^T (J J^T)^-1 eps with J the Jacobian of the algebraic residuals in
+ * (x_tgt, y_tgt, x_cur, y_cur), the Jacobian taken by central differences. */
+static double sampson_ref(const spvs_real H[9], const spvs_real pt[4])
+{
+    double h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = (double)H[k];
+    }
+    double p[4] = {pt[0], pt[1], pt[2], pt[3]};
+    double eps[2] = {0, 0}, J[2][4];
+    for (int k = -1; k < 4; k++) {
+        double r[2][2];
+        for (int sgn = 0; sgn < 2; sgn++) {
+            double q[4] = {p[0], p[1], p[2], p[3]};
+            if (k >= 0) {
+                q[k] += (sgn ? 1e-6 : -1e-6);
+            }
+            const double w = h[6] * q[0] + h[7] * q[1] + h[8];
+            r[sgn][0] = q[2] * w - (h[0] * q[0] + h[1] * q[1] + h[2]);
+            r[sgn][1] = q[3] * w - q[1];
+        }
+        if (k < 0) {
+            eps[0] = r[0][0];
+            eps[1] = r[0][1];
+        } else {
+            J[0][k] = (r[1][0] - r[0][0]) / 2e-6;
+            J[1][k] = (r[1][1] - r[0][1]) / 2e-6;
+        }
+    }
+    double a = 0, b = 0, c = 0;
+    for (int k = 0; k < 4; k++) {
+        a += J[0][k] * J[0][k];
+        b += J[1][k] * J[1][k];
+        c += J[0][k] * J[1][k];
+    }
+    return (b * eps[0] * eps[0] - 2 * c * eps[0] * eps[1] + a * eps[1] * eps[1]) / (a * b - c * c);
+}
+
 /* The estimator's point store (points.c, in this build's layout: columns
  * on SIMD lanes where SPVS_SIMD_COLUMNS is 1, rows elsewhere) gives the
  * same bits as rows held by the caller, for the linear fit, the refit, the
@@ -268,6 +325,7 @@ static void test_store_matches_rows(void **state)
     int n_cases = 0;
     int n_solved = 0;
     int n_lin = 0;
+    int n_checked = 0;
     for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
         for (int t = 0; t < 4; t++) {
             synth_pose_t p;
@@ -319,39 +377,37 @@ static void test_store_matches_rows(void **state)
                 Hb[k] = H0[k];
             }
             ra = spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, Ha);
-            rb = spvs_hf_refit(&st, use, n, SPVS_REFIT_MAX_ITERS, NULL, Hb);
+            rb = spvs_hf_refit(&st, use, n, SPVS_REFIT_MAX_ITERS, Hb);
             assert_int_equal(ra, rb);
             assert_memory_equal(Ha, Hb, sizeof Ha);
             n_cases += ra == SPVS_OK;
-            /* The joint linear fit's sums, and the refit that starts from
-             * them. */
+            /* The joint linear fit's Sampson-weighted sums, and the
+             * Sampson error. */
             spvs_real sa[SPVS_H_LIN_SUMS] = {0}, sb[SPVS_H_LIN_SUMS] = {0};
             ra = spvs_hf_lin_sums(&rows, use, n, H0, sa);
             rb = spvs_hf_lin_sums(&st, use, n, H0, sb);
             assert_int_equal(ra, rb);
             assert_memory_equal(sa, sb, sizeof sa);
             if (ra == SPVS_OK) {
-                for (int k = 0; k < 9; k++) {
-                    Ha[k] = H0[k];
-                    Hb[k] = H0[k];
-                }
-                ra = spvs_hf_refit(&rows, use, n, 1, sa, Ha);
-                rb = spvs_hf_refit(&st, use, n, 1, sb, Hb);
-                assert_int_equal(ra, rb);
-                assert_memory_equal(Ha, Hb, sizeof Ha);
-                n_lin += ra == SPVS_OK;
+                spvs_real ca = 0, cb = 0;
+                assert_int_equal(spvs_pts_sum(SPVS_T_SAMPSON, H0, &rows, use, n, &ca),
+                                 spvs_pts_sum(SPVS_T_SAMPSON, H0, &st, use, n, &cb));
+                assert_memory_equal(&ca, &cb, sizeof ca);
+                n_lin += 1;
             }
-            /* The inlier count at 3 px (no bail-out: need 0) against a
-             * count made here point by point, and the cost twice. */
+            /* The inlier count at 3 px on the Sampson error (no bail-out:
+             * need 0) against the error's definition point by point. */
             const spvs_real t3 = SPVS_R(3.0) / (spvs_real)SPVS_COORD_SCALE;
             uint8_t mask[256];
             const uint16_t cnt = spvs_pts_score(&store, n, Ha, t3 * t3, 0, mask);
             uint16_t expect = 0;
             for (uint16_t i = 0; i < n; i++) {
-                const spvs_real e2 = spvs_h_transfer_err2(Ha, pts[i]);
-                /* Away from the threshold the division makes no difference. */
-                if (e2 >= SPVS_R(0.0) && fabs(sqrt((double)e2) * S - 3.0) > 1e-3) {
-                    assert_int_equal(mask[i], e2 <= t3 * t3);
+                const double w = (double)Ha[6] * pts[i][0] + (double)Ha[7] * pts[i][1] + (double)Ha[8];
+                const double es = sqrt(sampson_ref(Ha, pts[i])) * S;
+                /* Away from the threshold rounding makes no difference. */
+                if (w > 0 && fabs(es - 3.0) > 1e-2) {
+                    assert_int_equal(mask[i], es <= 3.0);
+                    n_checked++;
                 }
                 expect = (uint16_t)(expect + mask[i]);
             }
@@ -399,6 +455,7 @@ static void test_store_matches_rows(void **state)
     assert_true(n_cases >= 30);
     assert_true(n_lin >= 30);
     assert_true(n_solved >= 200);
+    assert_true(n_checked >= 2000);
 }
 
 /* Corner error (px) of H in scaled units against the true H in pixels. */
@@ -409,17 +466,22 @@ static double corner_err_sc(const spvs_real Hs[9], const double Ht[9])
     return synth_corner_err(He, Ht);
 }
 
-/* The joint linear fit at fixed weights: exact on exact data whatever the
- * weight model, within the noise on noisy data; one refit step from its
- * normal matrix (refit_lin_rows) reaches the transfer-error minimum that
- * the full refit reaches; and sums moved point by point to another set
- * solve to the H of sums made afresh on that set. */
+/* The joint linear fit at fixed Sampson weights: exact on exact data
+ * whatever the weight model; with 1 px noise on both images its step taken
+ * again at the fitted H (the estimator's final refit) lowers the Sampson
+ * error and lands closer to the true H than the forward transfer error's
+ * full Gauss-Newton refit, whose model leaves the target image's noise out;
+ * the Sampson error summed by the core equals its definition; and sums
+ * moved point by point to another set solve to the H of sums made afresh on
+ * that set. */
 static void test_lin_fit(void **state)
 {
     (void)state;
     uint64_t rng = 23;
-    double worst_exact = 0, sum_lin = 0, sum_step = 0, worst_step_vs_gn = 0, worst_follow = 0;
-    int n_noisy = 0, n_moved = 0;
+    double worst_exact = 0, sum_lin = 0, worst_follow = 0;
+    double worst_def = 0;
+    double e_step[40], e_fwd[40];
+    int n_noisy = 0, n_moved = 0, n_lower = 0;
     for (int t = 0; t < 40; t++) {
         synth_pose_t p;
         synth_plane_t pl;
@@ -434,6 +496,11 @@ static void test_lin_fit(void **state)
             double Ht[9];
             synth_H(&p, &pl, 800, Ht);
             for (int i = 0; i < n; i++) {
+                if (noisy) {
+                    /* The goal image is a camera image too. */
+                    m[i].x_tgt = (spvs_real)(m[i].x_tgt + synth_gauss(&rng));
+                    m[i].y_tgt = (spvs_real)(m[i].y_tgt + synth_gauss(&rng));
+                }
                 load_pt(pts[i], &m[i]);
                 use[i] = on_plane[i];
             }
@@ -461,27 +528,31 @@ static void test_lin_fit(void **state)
             }
             n_noisy++;
             sum_lin += e_lin;
-            /* One step from the linear fit with its normal matrix, against
-             * the full refit from the same start. */
-            spvs_real Hs[9], Hg[9];
-            for (int k = 0; k < 9; k++) {
-                Hs[k] = g.H[k];
-                Hg[k] = g.H[k];
-            }
-            assert_int_equal(refit_lin_rows((const spvs_real(*)[4])pts, use, n, 1, sums, Hs), SPVS_OK);
-            assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, Hg), SPVS_OK);
-            double c_step = 0, c_gn = 0, c_lin = 0;
-            for (int i = 0; i < n; i++) {
-                if (use[i]) {
-                    c_step += (double)spvs_h_transfer_err2(Hs, pts[i]);
-                    c_gn += (double)spvs_h_transfer_err2(Hg, pts[i]);
-                    c_lin += (double)spvs_h_transfer_err2(g.H, pts[i]);
+            /* The Sampson error against its definition. */
+            for (int i = 0; i < n; i += 7) {
+                uint8_t one[120] = {0};
+                one[i] = 1;
+                const double got = sampson_sum((const spvs_real(*)[4])pts, one, n, g.H);
+                const double want = sampson_ref(g.H, pts[i]);
+                const double rel = fabs(got - want) / (want + 1e-12);
+                if (want > 1e-9) {
+                    worst_def = rel > worst_def ? rel : worst_def;
                 }
             }
-            assert_true(c_step <= c_lin);
-            const double rel = (c_step - c_gn) / c_gn;
-            worst_step_vs_gn = rel > worst_step_vs_gn ? rel : worst_step_vs_gn;
-            sum_step += corner_err_sc(Hs, Ht);
+            /* The step taken again at the fitted H, against the forward
+             * transfer error's full refit from the same start. */
+            spvs_real s2[SPVS_H_LIN_SUMS], Hs[9], Hg[9];
+            assert_int_equal(lin_sums_rows((const spvs_real(*)[4])pts, use, n, g.H, s2), SPVS_OK);
+            assert_int_equal(spvs_hf_lin_solve(s2, g.H, Hs), SPVS_OK);
+            for (int k = 0; k < 9; k++) {
+                Hg[k] = g.H[k];
+            }
+            assert_int_equal(spvs_h_refit((const spvs_real(*)[4])pts, use, n, SPVS_REFIT_MAX_ITERS, Hg), SPVS_OK);
+            const double c_lin = sampson_sum((const spvs_real(*)[4])pts, use, n, g.H);
+            const double c_step = sampson_sum((const spvs_real(*)[4])pts, use, n, Hs);
+            n_lower += c_step <= c_lin * (1 + 1e-6);
+            e_step[n_noisy - 1] = corner_err_sc(c_step < c_lin ? Hs : g.H, Ht);
+            e_fwd[n_noisy - 1] = corner_err_sc(Hg, Ht);
             /* Move the sums to another set: a tenth of the plane points
              * left out, a tenth of the others taken in (as a re-selection
              * round moves the points near the threshold). */
@@ -508,15 +579,27 @@ static void test_lin_fit(void **state)
             worst_follow = d > worst_follow ? d : worst_follow;
         }
     }
-    print_message("lin fit: exact worst %.3g px; 1 px noise: linear %.3f px, after one step %.3f px "
-                  "(cost %.2g above the full refit at worst); moved sums vs fresh %.3g px\n",
-                  worst_exact, sum_lin / n_noisy, sum_step / n_noisy, worst_step_vs_gn, worst_follow);
+    /* Medians over the cases (random views, some grazing, where a corner's
+     * transfer extrapolates far). */
+    int better = 0;
+    for (int i = 0; i < n_noisy; i++) {
+        better += e_step[i] <= e_fwd[i];
+    }
+    const double med_step = median_of(e_step, n_noisy);
+    const double med_fwd = median_of(e_fwd, n_noisy);
+    print_message("lin fit: exact worst %.3g px; 1 px noise on both images: Sampson fit %.3f px "
+                  "mean, median corner error %.3f px after the kept reweighted step (lower "
+                  "Sampson error in %d of %d), forward transfer refit %.3f px, Sampson at "
+                  "least as good in %d of %d; Sampson error vs definition %.2g; moved sums vs "
+                  "fresh %.3g px\n",
+                  worst_exact, sum_lin / n_noisy, med_step, n_lower, n_noisy, med_fwd, better,
+                  n_noisy, worst_def, worst_follow);
     assert_true(worst_exact < TOL_EXACT_PX);
-    assert_true(sum_lin / n_noisy < 1.0);
-    assert_true(sum_step / n_noisy <= sum_lin / n_noisy);
-    assert_true(worst_step_vs_gn < 1e-3);
+    assert_true(med_step < med_fwd);
+    assert_true(better * 2 > n_noisy);
+    assert_true(worst_def < 1e-2);
     assert_true(n_moved > 200);
-    assert_true(worst_follow < TOL_EXACT_PX);
+    assert_true(worst_follow < TOL_FOLLOW_PX);
 }
 
 /* Errors of the joint linear fit leave their outputs as they were. */

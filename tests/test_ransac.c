@@ -297,7 +297,7 @@ static void test_planar_half_outliers(void **state)
         spvs_rng_seed(&r2, (uint32_t)t);
         uint32_t it1 = 0, it2 = 0;
         assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
-        assert_int_equal(spvs_plane_h_estimate(&e, prm.inlier_px, prm.confidence, prm.max_iters,
+        assert_int_equal(spvs_plane_h_estimate(&e, spvs_inlier_px(&prm), prm.confidence, prm.max_iters,
                                                &r1, &it1), SPVS_OK);
         assert_int_equal(e.n_inliers, 100);
         for (int i = 0; i < n; i++) {
@@ -316,7 +316,7 @@ static void test_planar_half_outliers(void **state)
         assert_true(synth_corner_err(He, Ht) < 0.05);
         /* Determinism: same seed, same hypotheses, same H. */
         assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
-        assert_int_equal(spvs_plane_h_estimate(&e, prm.inlier_px, prm.confidence, prm.max_iters,
+        assert_int_equal(spvs_plane_h_estimate(&e, spvs_inlier_px(&prm), prm.confidence, prm.max_iters,
                                                &r2, &it2), SPVS_OK);
         assert_int_equal(it1, it2);
         spvs_real H2[9];
@@ -357,7 +357,7 @@ static void test_lo_lifts_share(void **state)
         n = add_mismatches(m, n, 40, &rng);
         spvs_params_t prm;
         spvs_params_default(&prm, SPVS_METHOD_III);
-        prm.inlier_px = 3;
+        prm.noise_px = 1;
         prm.confidence = SPVS_R(0.999);
         prm.seed = (uint32_t)(100 + t);
         assert_int_equal(spvs_init(&s, &prm), SPVS_OK);

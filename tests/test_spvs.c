@@ -180,7 +180,7 @@ static void test_every_status_stops(void **state)
     /* Bad parameters and NULL arguments. */
     spvs_params_t bad;
     spvs_params_default(&bad, SPVS_METHOD_III);
-    bad.inlier_px = -1;
+    bad.noise_px = -1;
     assert_int_equal(spvs_init(&s, &bad), SPVS_E_CONFIG);
     seen[-SPVS_E_CONFIG] = 1;
     init(SPVS_METHOD_III);

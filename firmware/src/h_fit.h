@@ -15,29 +15,25 @@ SPVS_NODISCARD int spvs_h_solve3_strided(const spvs_real *const pc[4], const uin
 
 /* ---- the fits, on either point source (homography.c) ------------------- */
 
-/* spvs_h_fit_linear and spvs_h_refit (homography.h) on a point source.
- * With lin (SPVS_H_LIN_SUMS sums of the joint linear fit on the same
- * flagged points), the refit's first Gauss-Newton step takes its normal
- * matrix from them and sums only the gradient and the cost. */
+/* spvs_h_fit_linear and spvs_h_refit (homography.h) on a point source. */
 SPVS_NODISCARD int spvs_hf_fit_linear(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
                                       spvs_real H[9]);
 SPVS_NODISCARD int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
-                                 uint16_t max_iters, const spvs_real *lin, spvs_real H[9]);
+                                 uint16_t max_iters, spvs_real H[9]);
 
 /* Joint linear fit at fixed weights, kept as sums that follow the set.
  *
- * Rows 1 and 3 of H at once by least squares on the x- and y-equations,
- * each divided by w0 = h3w . p_tgt, the third coordinate under a fixed
- * weight model Hw (near the solution w / w0 is near 1, so the residuals
- * are close to the transfer errors).  The fit is solved as a step from Hw,
+ * Rows 1 and 3 of H at once by least squares on the algebraic residuals
+ * eps = (x_cur h3 . p - h1 . p, y_cur h3 . p - y_tgt), which are linear in
+ * them, each match weighted by (J J^T)^-1 at a fixed weight model Hw, J
+ * the residuals' Jacobian in the match's four coordinates (h_point.inc):
+ * near Hw, eps^T (J J^T)^-1 eps is the match's squared Sampson error, so
+ * the fit minimises the Sampson error about Hw.  The fit is solved as a step from Hw,
  * whose residuals the sums hold, so that rounding in the sums only scales
  * the step.  Its normal equations are SPVS_H_LIN_SUMS sums of per-point
  * terms that depend only on the point and Hw: when the flagged set changes
  * by a few points they are moved by adding and removing those points'
- * terms (spvs_pts_lin_move).  Their normal matrix is the Gauss-Newton one
- * of the refit with the measured (x_cur, y_cur) in place of the predicted
- * and w0 in place of w, which spvs_hf_refit's `lin` uses near the
- * solution.
+ * terms (spvs_pts_lin_move).
  *
  * spvs_hf_lin_sums: the sums over the flagged points.  Returns SPVS_OK,
  *   SPVS_E_TOO_FEW (fewer than 3) or SPVS_E_DEGENERATE (a flagged point

@@ -321,7 +321,7 @@ static void add_step(spvs_real H[9], const spvs_real d[6])
 }
 
 int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t max_iters,
-                  const spvs_real *lin, spvs_real H[9])
+                  spvs_real H[9])
 {
     if (max_iters < 1u) {
         max_iters = 1u;
@@ -360,12 +360,9 @@ int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n, uint1
         spvs_real cost;
         if (it == max_iters) {
             cost = refit_cost(in, use, n, Hc);
-        } else if (it == 0 && lin == 0) {
+        } else if (it == 0) {
             cost = refit_pass(in, use, n, Hc, N, g);
         } else {
-            if (it == 0) {
-                unpack_normal(lin, N);
-            }
             cost = refit_grad(in, use, n, Hc, g);
         }
         if (!(cost <= prev)) {
@@ -416,7 +413,7 @@ int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
                  uint16_t max_iters, spvs_real H[9])
 {
     const spvs_pts_in_t in = {pts, 0};
-    return spvs_hf_refit(&in, use, n, max_iters, 0, H);
+    return spvs_hf_refit(&in, use, n, max_iters, H);
 }
 
 /* ---- the joint linear fit at fixed weights ------------------------------ */

@@ -204,15 +204,50 @@ static int lin_follow(const spvs_plane_h_t *e, const spvs_real hw[9], const uint
     return moved;
 }
 
+/* The summed squared Sampson error of the inliers in e->mask under H;
+ * SPVS_REAL_MAX when one is behind the camera. */
+static spvs_real sampson_cost(const spvs_plane_h_t *e, const spvs_real H[9])
+{
+    const spvs_pts_in_t in = source(e);
+    spvs_real c;
+    return spvs_pts_sum(SPVS_T_SAMPSON, H, &in, e->mask, e->n_plane, &c) < 0 ? SPVS_REAL_MAX : c;
+}
+
+/* The final refit on the inliers in e->mask: SPVS_FINAL_STEPS steps, each
+ * the joint linear fit with the Sampson weights of the current model
+ * (which minimises the Sampson error to first order about it), each kept
+ * only where it lowers the summed Sampson error.  The re-selection's
+ * weights were the RANSAC model's; this takes them at the re-selected
+ * model, so that the result is the Sampson fit of the final set. */
+static void final_refit(spvs_plane_h_t *e, spvs_real model[9])
+{
+    const spvs_pts_in_t in = source(e);
+    spvs_real cost = sampson_cost(e, model);
+    for (int step = 0; step < SPVS_FINAL_STEPS; step++) {
+        spvs_real Hn[9];
+        if (spvs_hf_lin_sums(&in, e->mask, e->n_plane, model, e->lin_sums) != SPVS_OK ||
+            spvs_hf_lin_solve(e->lin_sums, model, Hn) != SPVS_OK) {
+            break;
+        }
+        const spvs_real c = sampson_cost(e, Hn);
+        if (!(c < cost)) {
+            break;
+        }
+        for (int k = 0; k < 9; k++) {
+            model[k] = Hn[k];
+        }
+        cost = c;
+    }
+}
+
 /* Re-selects the inliers of `model` until the set stops changing (bound:
  * SPVS_REFIT_ROUNDS rounds): each round solves the joint linear fit on the
  * set in use and takes the inliers of its H as the next set, kept while
  * the count does not fall.  The fit's weights stay those of the RANSAC
  * model, so its sums follow the set by the points that enter or leave it
- * (lin_follow) instead of another pass.  On return e->mask holds the set,
- * *n_inl its count, and the result is 1 when e->lin_sums are the sums over
- * it (for the final refit), 0 when they could not be kept. */
-static int reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
+ * (lin_follow) instead of another pass.  On return e->mask holds the set
+ * and *n_inl its count. */
+static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
 {
     const spvs_pts_in_t in = source(e);
     /* The set in use and the next one, swapped each round. */
@@ -253,7 +288,6 @@ static int reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
     if (cur != e->mask) {
         memcpy(e->mask, cur, e->n_plane);
     }
-    return lin;
 }
 
 int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px, spvs_real confidence,
@@ -272,21 +306,8 @@ int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px, spvs_real conf
         return rc;
     }
     uint16_t n_inl = st.n_inliers;
-    const int lin = reselect(e, model, &n_inl);
-    /* The final refit on the final set, its first normal matrix taken from
-     * the re-selection's sums where they are kept; its steps are kept only
-     * where they lower the transfer error (homography.h). */
-    const spvs_pts_in_t in = source(e);
-    spvs_real Hr[9];
-    for (int k = 0; k < 9; k++) {
-        Hr[k] = model[k];
-    }
-    if (spvs_hf_refit(&in, e->mask, e->n_plane, SPVS_FINAL_GN_STEPS, lin ? e->lin_sums : 0, Hr) ==
-        SPVS_OK) {
-        for (int k = 0; k < 9; k++) {
-            model[k] = Hr[k];
-        }
-    }
+    reselect(e, model, &n_inl);
+    final_refit(e, model);
     for (int k = 0; k < 9; k++) {
         e->H_sc[k] = model[k];
     }

@@ -23,7 +23,10 @@ _Static_assert(SPVS_SCORE_BLOCK % SUM_LANES == 0, "a score block is whole rows o
 #define HP_R spvs_real
 #define HP_M int32_t
 #define HP_SUFFIX
+#define HP_SCALAR 1
+#define HP_ANY(m) (m)
 #include "h_point.inc"
+#undef HP_ANY
 
 /* Adds the lanes pairwise into out[0..nt). */
 static SPVS_ALWAYS_INLINE void lanes_fold(int nt, spvs_real acc[][SUM_LANES], spvs_real *out)
@@ -119,12 +122,28 @@ static SPVS_ALWAYS_INLINE int bails(spvs_real p, spvs_real bail_var, size_t m, i
     return d > SPVS_R(0.0) && d * d > bail_var * m_pts;
 }
 
+/* c2 of hp_inlier for H on the frame of st: t2 times a bound of
+ * |P|_F^2 = (u h31 - h11)^2 + (u h32 - h12)^2 + (v h31)^2 + (v h32 - 1)^2
+ * over the frame's points, from their largest |u| and |v|; raised by 1e-3
+ * so that rounding cannot make it fall below the true bound. */
+static spvs_real band_c2(const spvs_point_store_t *st, const spvs_real H[9], spvs_real t2)
+{
+    const spvs_real um = st->cur_max[0];
+    const spvs_real vm = st->cur_max[1];
+    const spvs_real a31 = SPVS_FABS(H[6]), a32 = SPVS_FABS(H[7]);
+    const spvs_real p = um * a31 + SPVS_FABS(H[0]);
+    const spvs_real q = um * a32 + SPVS_FABS(H[1]);
+    const spvs_real r = vm * a31;
+    const spvs_real s = vm * a32 + SPVS_R(1.0);
+    return t2 * (((p * p + q * q) + (r * r + s * s)) * SPVS_R(1.001));
+}
+
 /* Coordinate k of point i of the store (each layout defines it), and the
  * inlier count point by point (defined below, once for both layouts). */
 static SPVS_ALWAYS_INLINE spvs_real at(const spvs_point_store_t *st, size_t i, int k);
 static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const spvs_real *h,
-                                           size_t i, size_t end, spvs_real t2, int32_t max_out,
-                                           uint8_t *mask, int32_t *inl);
+                                           size_t i, size_t end, spvs_real t2, spvs_real c2,
+                                           int32_t max_out, uint8_t *mask, int32_t *inl);
 
 #if SPVS_SIMD_COLUMNS
 /* ======================================================================
@@ -136,7 +155,10 @@ static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const s
 #define HP_R spvs_v4
 #define HP_M spvs_v4i
 #define HP_SUFFIX _v
+#define HP_SCALAR 0
+#define HP_ANY(m) spvs_v4_any(m)
 #include "h_point.inc"
+#undef HP_ANY
 _Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
 /* The loader reads a match's four coordinates as one vector. */
 _Static_assert(offsetof(spvs_match_t, x_tgt) == 0 &&
@@ -254,8 +276,10 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     uint16_t pos = 0;
     int32_t bad = 0;
     uint16_t k = 0;
-    /* -1 in a lane while every coordinate it has seen is in range. */
+    /* -1 in a lane while every coordinate it has seen is in range, and
+     * each coordinate's largest magnitude so far. */
     spvs_v4i in_range = (spvs_v4i){0} - 1;
+    spvs_v4 amax = {0};
     /* Four slots at a time: the four coordinates of a match are one vector,
      * transposed with the three others into columns.  Bound: n /
      * SPVS_VLANES groups. */
@@ -267,7 +291,10 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
             bad |= f >= SPVS_MAX_FEATURES;
             feat[k + j] = f;
             const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
-            in_range &= spvs_v4_abs(c) <= lim;
+            const spvs_v4 ac = spvs_v4_abs(c);
+            in_range &= ac <= lim;
+            const spvs_v4i gt = ac > amax;
+            amax = (spvs_v4)(((spvs_v4i)ac & gt) | ((spvs_v4i)amax & ~gt));
             r[j] = c * inv;
         }
         /* (x y u v) rows to (x0 x1 x2 x3) ... columns. */
@@ -281,6 +308,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
         *(spvs_v4u *)&c3[k] = SPVS_V4_SHUFFLE2(t1, t3, 2, 3, 6, 7);
     }
     bad |= (in_range[0] & in_range[1] & in_range[2] & in_range[3]) == 0;
+    spvs_real um = amax[2], vm = amax[3];
     /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
     for (; k < n; k++) {
         const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
@@ -292,14 +320,18 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
             bad |= !(SPVS_FABS(c[j]) <= lim);
             COL(st, j)[k] = c[j] * inv;
         }
+        um = SPVS_FABS(c[2]) > um ? SPVS_FABS(c[2]) : um;
+        vm = SPVS_FABS(c[3]) > vm ? SPVS_FABS(c[3]) : vm;
     }
+    st->cur_max[0] = um * inv;
+    st->cur_max[1] = vm * inv;
     return bad;
 }
 
 /* The inliers of H among points i..i + SPVS_SCORE_BLOCK, marked in
  * mask[i..] when with_mask; returns their count. */
 static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_point_store_t *st,
-                                              size_t i, spvs_real t2, uint8_t *mask,
+                                              size_t i, spvs_real t2, spvs_real c2, uint8_t *mask,
                                               int with_mask)
 {
     spvs_v4i cnt = {0};
@@ -308,7 +340,8 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
         spvs_v4 e;
         const spvs_v4i in =
             hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
-                        spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, &e);
+                        spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2,
+                        &e);
         cnt -= in;
         if (with_mask) {
             spvs_v4_store_flags(in, mask + r);
@@ -323,16 +356,18 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
 /* One block of spvs_pts_score, the whole block counted on SIMD lanes;
  * returns 0 when `need` can no longer be reached (tested once per block). */
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
-                                              size_t i, spvs_real t2, int32_t max_out,
-                                              uint8_t *mask, int32_t *inl)
+                                              size_t i, spvs_real t2, spvs_real c2,
+                                              int32_t max_out, uint8_t *mask, int32_t *inl)
 {
-    *inl += mask ? score_block(h, st, i, t2, mask, 1) : score_block(h, st, i, t2, mask, 0);
+    *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
+                 : score_block(h, st, i, t2, c2, mask, 0);
     return (int32_t)(i + SPVS_SCORE_BLOCK) - *inl <= max_out;
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
                         spvs_real t2)
 {
+    const spvs_real c2 = band_c2(st, H, t2);
     spvs_real lane[SUM_LANES] = {SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0)};
     /* An outlier adds +0, which leaves a lane's sum (never -0) as it was. */
     spvs_v4 acc = {0};
@@ -342,7 +377,8 @@ spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_rea
         spvs_v4 e;
         const spvs_v4i in =
             hp_inlier_v(H, spvs_v4_load(&COL(st, 0)[i0]), spvs_v4_load(&COL(st, 1)[i0]),
-                        spvs_v4_load(&COL(st, 2)[i0]), spvs_v4_load(&COL(st, 3)[i0]), t2, &e);
+                        spvs_v4_load(&COL(st, 2)[i0]), spvs_v4_load(&COL(st, 3)[i0]), t2, c2,
+                        &e);
         acc += (spvs_v4)((spvs_v4i)e & in);
     }
     for (int j = 0; j < SUM_LANES; j++) {
@@ -352,7 +388,8 @@ spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_rea
     for (uint16_t j = 0; j < SUM_LANES; j++) {
         for (uint16_t i = (uint16_t)(i0 + j); i < n; i = (uint16_t)(i + SUM_LANES)) {
             spvs_real e;
-            if (hp_inlier(H, at(st, i, 0), at(st, i, 1), at(st, i, 2), at(st, i, 3), t2, &e)) {
+            if (hp_inlier(H, at(st, i, 0), at(st, i, 1), at(st, i, 2), at(st, i, 3), t2, c2,
+                          &e)) {
                 lane[j] += e;
             }
         }
@@ -394,6 +431,8 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     spvs_real(*const rows)[4] = (spvs_real(*)[4])st->v;
     uint16_t pos = 0;
     int32_t bad = 0;
+    /* The largest |x_cur| and |y_cur| so far. */
+    spvs_real um = SPVS_R(0.0), vm = SPVS_R(0.0);
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
         const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
@@ -405,29 +444,34 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
             bad |= !(SPVS_FABS(c[j]) <= lim);
             rows[k][j] = c[j] * inv;
         }
+        um = SPVS_FABS(c[2]) > um ? SPVS_FABS(c[2]) : um;
+        vm = SPVS_FABS(c[3]) > vm ? SPVS_FABS(c[3]) : vm;
     }
+    st->cur_max[0] = um * inv;
+    st->cur_max[1] = vm * inv;
     return bad;
 }
 
 /* One block of spvs_pts_score point by point, so `need` is tested at every
  * point. */
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
-                                              size_t i, spvs_real t2, int32_t max_out,
-                                              uint8_t *mask, int32_t *inl)
+                                              size_t i, spvs_real t2, spvs_real c2,
+                                              int32_t max_out, uint8_t *mask, int32_t *inl)
 {
-    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, max_out, mask, inl);
+    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, max_out, mask, inl);
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
                         spvs_real t2)
 {
+    const spvs_real c2 = band_c2(st, H, t2);
     spvs_real lane[SUM_LANES] = {SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0)};
     /* Each lane in point order.  Bound: n points. */
     for (uint16_t j = 0; j < SUM_LANES; j++) {
         for (uint16_t i = j; i < n; i = (uint16_t)(i + SUM_LANES)) {
             spvs_real e;
             const spvs_real *p = ROWS(st)[i];
-            if (hp_inlier(H, p[0], p[1], p[2], p[3], t2, &e)) {
+            if (hp_inlier(H, p[0], p[1], p[2], p[3], t2, c2, &e)) {
                 lane[j] += e;
             }
         }
@@ -444,13 +488,13 @@ spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_rea
  * that leaves more than max_out outliers so far (the count can no longer
  * reach `need`), 1 otherwise. */
 static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const spvs_real *h,
-                                           size_t i, size_t end, spvs_real t2, int32_t max_out,
-                                           uint8_t *mask, int32_t *inl)
+                                           size_t i, size_t end, spvs_real t2, spvs_real c2,
+                                           int32_t max_out, uint8_t *mask, int32_t *inl)
 {
     for (size_t r = i; r < end; r++) {
         spvs_real e;
         const int32_t ok =
-            hp_inlier(h, at(st, r, 0), at(st, r, 1), at(st, r, 2), at(st, r, 3), t2, &e);
+            hp_inlier(h, at(st, r, 0), at(st, r, 1), at(st, r, 2), at(st, r, 3), t2, c2, &e);
         *inl += ok;
         if (mask) {
             mask[r] = (uint8_t)ok;
@@ -496,6 +540,8 @@ int32_t spvs_pts_sum(spvs_terms_t kind, const spvs_real H[9], const spvs_pts_in_
         return sum_kind(SPVS_T_COST, SPVS_NT_COST, 0, H, in, use, n, out);
     case SPVS_T_GRAD:
         return sum_kind(SPVS_T_GRAD, SPVS_NT_GRAD, 0, H, in, use, n, out);
+    case SPVS_T_SAMPSON:
+        return sum_kind(SPVS_T_SAMPSON, SPVS_NT_COST, 0, H, in, use, n, out);
     }
     SPVS_ASSERT(0);
     return -1;
@@ -515,6 +561,7 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     const spvs_real p = need <= n ? (spvs_real)need / (spvs_real)n : SPVS_R(1.0);
     const spvs_real bail_var =
         (spvs_real)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * p * (SPVS_R(1.0) - p);
+    const spvs_real c2 = band_c2(st, H, t2);
     /* A local copy: the mask stores cannot then alias the model. */
     spvs_real h[9];
     for (int k = 0; k < 9; k++) {
@@ -525,11 +572,11 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
      * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        if (!score_blockwise(st, h, i, t2, max_out, mask, &inl) ||
+        if (!score_blockwise(st, h, i, t2, c2, max_out, mask, &inl) ||
             bails(p, bail_var, i + SPVS_SCORE_BLOCK, inl)) {
             return (uint16_t)inl;
         }
     }
-    (void)score_points(st, h, i, n, t2, max_out, mask, &inl);
+    (void)score_points(st, h, i, n, t2, c2, max_out, mask, &inl);
     return (uint16_t)inl;
 }

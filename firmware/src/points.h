@@ -35,17 +35,20 @@ typedef struct {
  * h_point.inc, which only points.c includes):
  *   SPVS_T_FIT_Y  linear fit, row 3 at the weights of H (9 terms);
  *   SPVS_T_FIT_X  linear fit, row 1 given row 3 (9 terms);
- *   SPVS_T_LIN    joint linear fit at the weights of H (SPVS_H_LIN_SUMS);
+ *   SPVS_T_LIN    joint linear fit at the Sampson weights of H
+ *                 (SPVS_H_LIN_SUMS);
  *   SPVS_T_GN     Gauss-Newton normal equations, gradient and cost (25);
  *   SPVS_T_COST   the squared transfer error (1);
- *   SPVS_T_GRAD   SPVS_T_GN's gradient and cost alone (7). */
+ *   SPVS_T_GRAD   SPVS_T_GN's gradient and cost alone (7);
+ *   SPVS_T_SAMPSON  the squared Sampson error (1). */
 typedef enum {
     SPVS_T_FIT_Y,
     SPVS_T_FIT_X,
     SPVS_T_LIN,
     SPVS_T_GN,
     SPVS_T_COST,
-    SPVS_T_GRAD
+    SPVS_T_GRAD,
+    SPVS_T_SAMPSON
 } spvs_terms_t;
 
 #define SPVS_NT_FIT 9
@@ -73,7 +76,8 @@ int spvs_pts_lin_move(const spvs_real H[9], const spvs_real pt[4], int add,
  * src(k), where src(k) for k < n_plane is the k-th of the sequence
  * p_0 = 0, p_{k+1} = (p_k + stride) mod n_plane mapped through order[] (or
  * itself when order is NULL), and for k >= n_plane it is order[k].  The
- * features go to feat[k].  Returns nonzero when a coordinate is not finite
+ * features go to feat[k], the largest |x_cur|, |y_cur| to st->cur_max.
+ * Returns nonzero when a coordinate is not finite
  * or above SPVS_MAX_COORD_PX in magnitude, or a feature index is
  * SPVS_MAX_FEATURES or more (the store is then meaningless).  The checks
  * are made without branches.  Bound: n slots. */
@@ -89,8 +93,8 @@ SPVS_NODISCARD int spvs_pts_solve3(const spvs_point_store_t *st, const uint16_t 
                                    spvs_real H_out[9]);
 
 /* Counts the inliers of H among the first n points, marking them in
- * mask[] when it is not NULL: w > 0 and |p_cur w - H p_tgt|^2 <= t2 w^2
- * (the transfer error test without the division).  Stops early with a
+ * mask[] when it is not NULL: w > 0 and the squared Sampson error at most
+ * t2 (h_point.inc, hp_inlier).  Stops early with a
  * count below `need` once `need` cannot be reached, or at the bail-out
  * test: after every SPVS_SCORE_BLOCK points, a count more than
  * SPVS_BAIL_SIGMAS binomial standard deviations below the share need / n
@@ -100,7 +104,8 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
                         spvs_real t2, uint16_t need, uint8_t *mask);
 
 /* The summed squared algebraic residual |p_cur w - H p_tgt|^2 of H's
- * inliers (spvs_pts_score's test) among the first n points.  Bound: n. */
+ * inliers (spvs_pts_score's test) among the first n points: RANSAC's
+ * tie-break.  Bound: n. */
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
                         spvs_real t2);
 

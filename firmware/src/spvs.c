@@ -4,6 +4,8 @@
  * the off-plane points, the epipole and the parallax (offplane.h,
  * epipole.h), and run the controller (control.h).
  */
+#include <math.h>
+
 #include "core_util.h"
 #include "spvs/spvs.h"
 
@@ -11,7 +13,7 @@ void spvs_params_default(spvs_params_t *p, spvs_method_t method)
 {
     SPVS_ASSERT(p != 0);
     spvs_control_params_default(&p->ctl, method);
-    p->inlier_px = SPVS_R(3.0);
+    p->noise_px = SPVS_R(1.0);
     p->confidence = SPVS_R(0.99);
     p->max_iters = SPVS_RANSAC_MAX_ITERS;
     p->offplane_px = SPVS_R(8.0);
@@ -21,16 +23,21 @@ void spvs_params_default(spvs_params_t *p, spvs_method_t method)
     p->seed = 0;
 }
 
+spvs_real spvs_inlier_px(const spvs_params_t *p)
+{
+    return p->noise_px * SPVS_SQRT((spvs_real)SPVS_INLIER_CHI2_X100 / SPVS_R(100.0));
+}
+
 static int params_check(const spvs_params_t *p)
 {
     int rc = spvs_control_params_check(&p->ctl);
     if (rc != SPVS_OK) {
         return rc;
     }
-    if (!(p->inlier_px > SPVS_R(0.0) && p->inlier_px < SPVS_R(1000.0)) ||
+    if (!(p->noise_px > SPVS_R(0.0) && p->noise_px < SPVS_R(300.0)) ||
         !(p->confidence > SPVS_R(0.0) && p->confidence < SPVS_R(1.0)) ||
         p->max_iters < 1u || p->max_iters > SPVS_RANSAC_MAX_ITERS ||
-        !(p->offplane_px >= p->inlier_px) ||
+        !(p->offplane_px >= spvs_inlier_px(p)) ||
         !(p->epipole_sin_tol > SPVS_R(0.0) && p->epipole_sin_tol < SPVS_R(1.0)) ||
         p->min_support < 1u ||
         !(p->max_frame_gap_s > SPVS_R(0.0))) {
@@ -116,10 +123,10 @@ static int estimate(spvs_t *s, const spvs_match_t *m, uint16_t n, const spvs_rea
             H_sc[k] = H_px[k];
         }
         spvs_h_rescale(H_sc, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
-        rc = spvs_plane_h_adopt(&s->est, H_sc, s->p.inlier_px);
+        rc = spvs_plane_h_adopt(&s->est, H_sc, spvs_inlier_px(&s->p));
     } else {
         uint32_t iters = 0;
-        rc = spvs_plane_h_estimate(&s->est, s->p.inlier_px, s->p.confidence, s->p.max_iters,
+        rc = spvs_plane_h_estimate(&s->est, spvs_inlier_px(&s->p), s->p.confidence, s->p.max_iters,
                                    &s->rng, &iters);
         out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
     }

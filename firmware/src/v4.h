@@ -85,4 +85,10 @@ static inline void spvs_v4_store_flags(spvs_v4i f, uint8_t *mask)
     __builtin_memcpy(mask, &word, sizeof word);
 }
 
+/* Nonzero when any lane of the comparison m is true. */
+static inline int spvs_v4_any(spvs_v4i m)
+{
+    return ((m[0] | m[1]) | (m[2] | m[3])) != 0;
+}
+
 #endif /* SPVS_V4_H */

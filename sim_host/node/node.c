@@ -221,7 +221,7 @@ static const pdesc_t pdesc[] = {
     PR("min_signal_ratio", ctl.min_signal_ratio),
     PR("step_timeout_s", ctl.step_timeout_s),
     {"hold_frames", offsetof(spvs_params_t, ctl.hold_frames), P_U16},
-    PR("inlier_px", inlier_px),
+    PR("noise_px", noise_px),
     PR("confidence", confidence),
     {"max_iters", offsetof(spvs_params_t, max_iters), P_U32},
     PR("offplane_px", offplane_px),
@@ -236,7 +236,7 @@ const char *const spvs_node_param_names[] = {
     "alpha", "k_w", "k_v", "k_w3", "k_w11", "v_max", "w_max", "w_min_escape",
     "alpha_x", "alpha_y", "tol_align", "tol_translate", "tol_h13_px",
     "lock_ex_px", "switch_parallax_px", "min_signal_ratio", "step_timeout_s",
-    "hold_frames", "inlier_px", "confidence", "max_iters", "offplane_px",
+    "hold_frames", "noise_px", "confidence", "max_iters", "offplane_px",
     "epipole_sin_tol", "min_support", "max_frame_gap_s", "seed", NULL};
 
 int spvs_node_param_set(spvs_params_t *p, const char *name, const char *value,

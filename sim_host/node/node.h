@@ -93,7 +93,7 @@ void spvs_node_close(spvs_node_t *node);
 
 /* Set one named parameter from text, the names of the node's --gains file
  * and of its flags with '-' written '_' (k_w, k_v, k_w3, k_w11, v_max, w_max,
- * alpha, inlier_px, ...).  Returns 0, or -1 with a one-line reason in err for
+ * alpha, noise_px, ...).  Returns 0, or -1 with a one-line reason in err for
  * an unknown name or a value that does not parse. */
 int spvs_node_param_set(spvs_params_t *p, const char *name, const char *value,
                         char *err, unsigned err_len);

@@ -31,9 +31,11 @@ public:
     {
         spvs_params_t p;
         spvs_params_default(&p, SPVS_METHOD_III);
-        /* Parity with the peers: 3 px inlier threshold, 0.999 confidence.
-         * The hypothesis cap stays the core's default. */
-        p.inlier_px = (spvs_real)kInlierPx;
+        /* Parity with the peers: 0.999 confidence, and 1 px noise, which
+         * puts our threshold on the Sampson error at 3.03 px against their
+         * 3 px on the reprojection error.  The hypothesis cap stays the
+         * core's default. */
+        p.noise_px = (spvs_real)(kInlierPx / 3.0);
         p.confidence = (spvs_real)kConfidence;
         ok_ = spvs_init(s_.get(), &p) == SPVS_OK;
         if (!ok_)

@@ -64,7 +64,7 @@ int cv_exchange(void *ctx, uint32_t seq, double t_s, const spvs_match_t *m, uint
         }
         cv::Mat Hm;
         try {
-            Hm = cv::findHomography(L.src, L.dst, L.method, (double)L.p.inlier_px, L.inl, 2000,
+            Hm = cv::findHomography(L.src, L.dst, L.method, (double)spvs_inlier_px(&L.p), L.inl, 2000,
                                     (double)L.p.confidence);
         } catch (const cv::Exception &) {
             Hm.release();

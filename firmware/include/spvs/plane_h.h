@@ -14,11 +14,13 @@
  *   reselect  up to SPVS_REFIT_ROUNDS rounds of the joint linear fit on the
  *             inliers and a new inlier set under it, until the set stops
  *             changing;
- *   refit     SPVS_FINAL_GN_STEPS Gauss-Newton steps on the final set, kept
- *             only where they lower the transfer error.
+ *   refit     SPVS_FINAL_STEPS reweighted steps on the final set, kept only
+ *             where they lower its summed Sampson error.
  *
- * Error: the transfer error in the current image, |p_cur - dehom(H p_tgt)|,
- * against the caller's threshold in pixels.
+ * Error: Sampson's first-order geometric error (Hartley and Zisserman,
+ * section 4.2.6) of the planar-motion H, which weighs the noise of both
+ * images, against the caller's threshold in pixels; the fits minimise it
+ * with the Sampson weights of a reference H (docs/ESTIMATION.md).
  *
  * Bounds: RANSAC's (ransac.h: min(adaptive count, max_iters) hypotheses,
  * each scored once over at most n points, at most one LO step of two
@@ -46,6 +48,9 @@ extern "C" {
  * read them with spvs_plane_h_point). */
 typedef struct {
     spvs_real v[4u * SPVS_MAX_MATCHES];
+    /* The largest |x_cur| and |y_cur| of the frame, scaled units: they
+     * bound the Sampson error's Jacobian (points.c). */
+    spvs_real cur_max[2];
 } spvs_point_store_t;
 
 typedef struct {
@@ -95,7 +100,7 @@ SPVS_NODISCARD int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, u
                                      const uint16_t *order, uint16_t n_plane);
 
 /* Estimates H on the loaded plane candidates: RANSAC (inlier threshold
- * inlier_px pixels, confidence in (0, 1), at most max_iters <=
+ * inlier_px pixels on the Sampson error, confidence in (0, 1), at most max_iters <=
  * SPVS_RANSAC_MAX_ITERS hypotheses, samples drawn from rng), the
  * re-selection and the final refit.  On success e->H_sc, e->mask and
  * e->n_inliers hold the estimate.  *iters: hypotheses tried (also on
@@ -109,7 +114,7 @@ SPVS_NODISCARD int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px,
 
 /* Takes H_sc (scaled units, planar form) as the estimate of the loaded
  * frame instead of estimating it: e->mask and e->n_inliers get its inliers
- * among the plane candidates under inlier_px pixels.  Returns SPVS_OK,
+ * among the plane candidates (Sampson error within inlier_px pixels).  Returns SPVS_OK,
  * SPVS_E_DEGENERATE (a non-finite H_sc) or SPVS_E_NO_CONSENSUS (fewer than
  * SPVS_MIN_INLIERS inliers); e->H_sc is set in every case but the first
  * error. */

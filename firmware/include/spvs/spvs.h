@@ -31,7 +31,9 @@ extern "C" {
 
 typedef struct {
     spvs_control_params_t ctl; /* control law, see control.h                 */
-    spvs_real inlier_px;       /* RANSAC inlier threshold, pixels            */
+    spvs_real noise_px;        /* image noise sigma, pixels, in both images:
+                                  inliers have a Sampson error within
+                                  sqrt(SPVS_INLIER_CHI2_X100 / 100) of it  */
     spvs_real confidence;      /* RANSAC confidence, (0, 1)                  */
     uint32_t max_iters;        /* RANSAC cap, <= SPVS_RANSAC_MAX_ITERS       */
     spvs_real offplane_px;     /* a rejected match is an off-plane candidate
@@ -81,6 +83,10 @@ typedef struct {
 
 /* Parameters for a method: the defaults of docs/CONTROL.md. */
 void spvs_params_default(spvs_params_t *p, spvs_method_t method);
+
+/* The inlier threshold, pixels, on the Sampson error: noise_px times
+ * sqrt(SPVS_INLIER_CHI2_X100 / 100) (3.03 noise_px by default). */
+spvs_real spvs_inlier_px(const spvs_params_t *p);
 
 /* Set up an instance (copies p) and reset it.
  * Returns SPVS_OK, SPVS_E_ARG (NULL) or SPVS_E_CONFIG (p out of range). */

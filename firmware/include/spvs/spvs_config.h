@@ -64,12 +64,21 @@
 #define SPVS_REFIT_MAX_ITERS 5
 #endif
 
-/* Gauss-Newton steps of the estimator's final refit (plane_h.c), which
- * starts from the re-selection's linear fit on the same inliers, so one
- * step is enough (docs/ESTIMATION.md); a step is kept only if it lowers the
- * transfer error. */
-#ifndef SPVS_FINAL_GN_STEPS
-#define SPVS_FINAL_GN_STEPS 1
+/* Steps of the estimator's final refit (plane_h.c): each solves the
+ * joint linear fit on the final inliers with Sampson weights taken at the
+ * current H, and is kept only if it lowers their summed Sampson error
+ * (docs/ESTIMATION.md). */
+#ifndef SPVS_FINAL_STEPS
+#define SPVS_FINAL_STEPS 1
+#endif
+
+/* The inlier test: a match is an inlier when its squared Sampson error is
+ * at most SPVS_INLIER_CHI2_X100 / 100 noise_px^2 (spvs_params_t).  With
+ * Gaussian noise of sigma noise_px in both images the squared Sampson error
+ * over sigma^2 is chi-square with 2 degrees of freedom; 921 is its 0.99
+ * quantile (9.21), so 1 % of true inliers fall outside. */
+#ifndef SPVS_INLIER_CHI2_X100
+#define SPVS_INLIER_CHI2_X100 921
 #endif
 
 /* Fewest plane inliers that make a consensus, and fewest plane candidates
@@ -198,8 +207,11 @@
 #if (SPVS_LO_POINTS < 8) || (SPVS_LO_POINTS > 4096)
 #error "SPVS_LO_POINTS must be in 8..4096"
 #endif
-#if (SPVS_FINAL_GN_STEPS < 1) || (SPVS_FINAL_GN_STEPS > SPVS_REFIT_MAX_ITERS)
-#error "SPVS_FINAL_GN_STEPS must be in 1..SPVS_REFIT_MAX_ITERS"
+#if (SPVS_FINAL_STEPS < 1) || (SPVS_FINAL_STEPS > SPVS_REFIT_MAX_ITERS)
+#error "SPVS_FINAL_STEPS must be in 1..SPVS_REFIT_MAX_ITERS"
+#endif
+#if (SPVS_INLIER_CHI2_X100 < 100) || (SPVS_INLIER_CHI2_X100 > 10000)
+#error "SPVS_INLIER_CHI2_X100 must be in 100..10000"
 #endif
 #if (SPVS_MIN_INLIERS < 4) || (SPVS_MIN_INLIERS > SPVS_MAX_MATCHES)
 #error "SPVS_MIN_INLIERS must be in 4..SPVS_MAX_MATCHES"
