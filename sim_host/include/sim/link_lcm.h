@@ -10,6 +10,7 @@
  * yet listening); the node answers a repeat with its previous answer, so
  * this never changes the result.  Each open link draws a fresh
  * run_id, so a running node resets its controller for the new run.
+ * The exchange itself is sim/link_lockstep.h's, shared with the Zenoh link.
  */
 #ifndef SIM_LINK_LCM_H
 #define SIM_LINK_LCM_H

@@ -15,7 +15,7 @@
  * lost on the way (the bridge restarting, Zenoh still connecting) is sent
  * again every resend interval until answered or until the timeout; the node
  * answers a repeated frame from its last answer, so repeats never run the
- * controller twice.
+ * controller twice.  The exchange is sim/link_lockstep.h's, as over LCM.
  *
  * Settings that spvs-sim has no option for come from the environment:
  *   SPVS_ZENOH_ROBOT     robot name in the key expressions (robot0)
