@@ -6,8 +6,8 @@
 #   scalar          against a library built here with the other scalar type
 #                   (a double library for a float build under test, and the
 #                   other way round): a consumer compiled for this build's
-#                   type must fail; with the library's pkg-config flags it
-#                   links and runs (the control).
+#                   type must fail; with the library's pkg-config flags, or
+#                   through find_package, it links and runs (the control).
 #   matches PREFIX  find_package(spvs) against PREFIX, the consumer compiled
 #                   with -DSPVS_MAX_MATCHES=128.
 set -euo pipefail
@@ -43,6 +43,12 @@ case $mode in
       fail "the consumer does not build with the $lib library's pkg-config flags"
     "$tmp/ok" >"$tmp/ok.txt" || fail "the consumer built for the $lib library fails"
     check_consumer_output "$tmp/ok.txt" "$lib"
+    # ... and so it does through find_package: spvs::core carries the type.
+    "$CMAKE" -S "$example" -B "$tmp/cm" -G "$SPVS_GENERATOR" -DCMAKE_PREFIX_PATH="$tmp/prefix" \
+        >"$tmp/cm.log" 2>&1 && "$CMAKE" --build "$tmp/cm" >>"$tmp/cm.log" 2>&1 ||
+      { cat "$tmp/cm.log" >&2; fail "the consumer does not build with find_package against the $lib library"; }
+    "$tmp/cm/spvs-consumer" >"$tmp/cm.txt" || fail "the find_package consumer of the $lib library fails"
+    check_consumer_output "$tmp/cm.txt" "$lib"
     # The mismatch: this build's scalar type against the other library.
     def=$([ "$SPVS_SCALAR" = double ] && echo 1 || echo 0)
     rc=0
