@@ -552,7 +552,10 @@ def inner_main(workdir):
         r.start_controller()
     # Every node and bridge up before the first frame goes out; a frame
     # lost anyway would be sent again, only later.
-    ready_by = time.monotonic() + 30.0
+    # Dozens of Python processes importing Zenoh at once take a while on a
+    # small machine.
+    ready_s = 30.0 + 1.0 * len(robots)
+    ready_by = time.monotonic() + ready_s
     pending = list(robots)
     while pending and stop["why"] is None:
         for r in list(pending):
@@ -562,7 +565,8 @@ def inner_main(workdir):
             elif r.node.poll() is not None or r.bridge.poll() is not None \
                     or time.monotonic() > ready_by:
                 why = last_line(r.bridge.stderr_text()) or \
-                    last_line(r.node.stderr_text()) or "no ready line in 30 s"
+                    last_line(r.node.stderr_text()) or \
+                    "no ready line in %.0f s" % ready_s
                 r.fail("did not start: %s" % why)
                 pending.remove(r)
         pump(fds, TICK_S)
