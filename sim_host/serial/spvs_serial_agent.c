@@ -71,6 +71,7 @@ typedef struct {
     uint32_t bad_framing;     /* failing COBS, size, version, length, type   */
     uint32_t connects;        /* device (re)opened                           */
     uint32_t held;            /* repeats of an unanswered frame held back    */
+    uint32_t write_timeouts;  /* frames dropped: the device took no bytes    */
 } agent_stats_t;
 
 typedef struct {
@@ -85,6 +86,7 @@ typedef struct {
     int ready_done;
 
     int fd;
+    int need_delim;           /* a partial frame went out: end it first      */
     lcm_t *lcm;
     spvs_serial_rx_t rx;
     agent_stats_t st;
@@ -200,8 +202,11 @@ static int open_tty(const char *path, long baud, char *err, size_t err_len)
 {
     int fd = open(path, O_RDWR | O_NOCTTY);
     if (fd < 0) {
+        /* A port that is not there yet (a USB adapter being plugged in) is
+         * waited for; one that can never be opened is an error now. */
+        int again = errno == ENOENT || errno == EBUSY || errno == EAGAIN;
         snprintf(err, err_len, "%s: %s", path, strerror(errno));
-        return -1;
+        return again ? -1 : -2;
     }
     struct termios t;
     if (tcgetattr(fd, &t) != 0) {
@@ -211,7 +216,9 @@ static int open_tty(const char *path, long baud, char *err, size_t err_len)
     }
     cfmakeraw(&t);
     t.c_cflag |= CLOCAL | CREAD;
-    t.c_cc[VMIN] = 0;
+    /* VMIN 1 with O_NONBLOCK: no data reads as EAGAIN, so a read of 0
+     * bytes can only mean the end, as on the sockets. */
+    t.c_cc[VMIN] = 1;
     t.c_cc[VTIME] = 0;
     speed_t sp = baud_const(baud);
     if (cfsetispeed(&t, sp) != 0 || cfsetospeed(&t, sp) != 0 ||
@@ -248,13 +255,23 @@ static void close_device(agent_t *a, const char *why)
         a->fd = -1;
     }
     spvs_serial_rx_init(&a->rx);
+    a->need_delim = 0;
 }
 
-/* Write all n bytes, waiting up to 1 s for room. */
+/* Write all n bytes, waiting up to WRITE_WAIT_S for room.  When the other
+ * end stops reading (a full pty, a stalled port) the rest of the frame is
+ * dropped and a delimiter goes out before the next one, so the receiver
+ * throws the partial frame away and loses nothing else. */
+#define WRITE_WAIT_S 5.0
 static int write_all(agent_t *a, const uint8_t *p, size_t n)
 {
+    if (a->need_delim) {
+        static const uint8_t zero = 0;
+        if (write(a->fd, &zero, 1) == 1)
+            a->need_delim = 0;
+    }
     size_t done = 0;
-    double deadline = now_s() + 1.0;
+    double deadline = now_s() + WRITE_WAIT_S;
     while (done < n && a->fd >= 0) {
         ssize_t w = write(a->fd, p + done, n - done);
         if (w > 0) {
@@ -263,7 +280,10 @@ static int write_all(agent_t *a, const uint8_t *p, size_t n)
         }
         if (w < 0 && (errno == EAGAIN || errno == EINTR)) {
             if (now_s() > deadline) {
-                close_device(a, "write timed out");
+                a->st.write_timeouts++;
+                a->need_delim = done > 0;
+                logf_(a, 1, "device %s takes no bytes for %.0f s; frame dropped",
+                      a->device, WRITE_WAIT_S);
                 return -1;
             }
             struct pollfd pf = { a->fd, POLLOUT, 0 };
@@ -529,10 +549,11 @@ static void write_summary(const agent_t *a)
              "\"dropped_offline\":%u,\"results\":%u,\"rejected\":%u,"
              "\"repeats\":%u,\"watchdog\":%u,\"boots\":%u,\"configs\":%u,"
              "\"bad_crc\":%u,\"bad_framing\":%u,\"connects\":%u,"
-             "\"held\":%u,\"mcu\":",
+             "\"held\":%u,\"write_timeouts\":%u,\"mcu\":",
              s->to_mcu, s->refused, s->undecodable, s->dropped_offline,
              s->results, s->rejected, s->repeats, s->watchdog, s->boots,
-             s->configs, s->bad_crc, s->bad_framing, s->connects, s->held);
+             s->configs, s->bad_crc, s->bad_framing, s->connects, s->held,
+             s->write_timeouts);
     char mcu[512] = "null";
     if (a->have_mcu) {
         const spvs_serial_status_frame_t *m = &a->mcu;
