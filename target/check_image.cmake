@@ -9,8 +9,10 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "nm failed on ${IMAGE}")
 endif()
 set(heap_stdio malloc calloc realloc free _malloc_r _free_r _realloc_r _calloc_r
-    _sbrk sbrk printf fprintf sprintf snprintf vfprintf _vfprintf_r _printf_r puts
-    fputs putchar fputc fwrite fflush fopen stdout stderr _write)
+    _sbrk sbrk _sbrk_r printf fprintf sprintf snprintf vfprintf _vfprintf_r _printf_r puts
+    fputs putchar fputc fwrite fflush fopen stdout stderr _write
+    iprintf fiprintf siprintf sniprintf _vfiprintf_r _svfprintf_r _svfiprintf_r
+    scanf sscanf _vfscanf_r getchar fgets _read)
 set(found "")
 string(REPLACE "\n" ";" lines "${syms}")
 foreach(line IN LISTS lines)

@@ -51,3 +51,13 @@ endforeach()
 # (target/check_image.cmake, which the cross build also runs after linking).
 spvs_mcu_test(mcu_image_check ${CMAKE_CURRENT_SOURCE_DIR}/mcu/image_check.sh ${spvs_mcu_image}
               ${PROJECT_SOURCE_DIR}/target/check_image.cmake)
+
+# The agent's command line, its pty path, and spvs-sim stopping QEMU and
+# the agent however the run ends.
+add_test(NAME mcu_agent_cli COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mcu/agent_cli.sh
+         $<TARGET_FILE:spvs-serial-agent>)
+set_tests_properties(mcu_agent_cli PROPERTIES LABELS "float;mcu" TIMEOUT 60)
+spvs_mcu_test(mcu_agent_pty ${CMAKE_CURRENT_SOURCE_DIR}/mcu/agent_pty.sh
+              $<TARGET_FILE:spvs-sim> $<TARGET_FILE:spvs-serial-agent> ${spvs_mcu_image})
+spvs_mcu_test(mcu_sim_stop ${CMAKE_CURRENT_SOURCE_DIR}/mcu/sim_stop.sh
+              $<TARGET_FILE:spvs-sim> ${spvs_mcu_image})

@@ -46,6 +46,8 @@
 #include "wire.h"
 
 #define DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+/* A repeat of the frame in flight is held back this long, seconds. */
+#define REPEAT_HOLD_S 0.5
 
 static volatile sig_atomic_t g_stop = 0;
 static void on_signal(int sig)
@@ -68,6 +70,8 @@ typedef struct {
     uint32_t bad_crc;         /* frames from the MCU failing the CRC         */
     uint32_t bad_framing;     /* failing COBS, size, version, length, type   */
     uint32_t connects;        /* device (re)opened                           */
+    uint32_t held;            /* repeats of an unanswered frame held back    */
+    uint32_t write_timeouts;  /* frames dropped: the device took no bytes    */
 } agent_stats_t;
 
 typedef struct {
@@ -82,6 +86,7 @@ typedef struct {
     int ready_done;
 
     int fd;
+    int need_delim;           /* a partial frame went out: end it first      */
     lcm_t *lcm;
     spvs_serial_rx_t rx;
     agent_stats_t st;
@@ -89,6 +94,9 @@ typedef struct {
     int have_mcu;
     int last_step;
     int64_t fwd_seq, fwd_utime;     /* last frame forwarded           */
+    int64_t fwd_run;
+    double fwd_t;                   /* when it went out               */
+    int fwd_answered;               /* the MCU has answered it        */
     double last_config_s;
     spvs_matches_t msg;
     spvs_match_t m[SPVS_MAX_MATCHES];
@@ -194,8 +202,11 @@ static int open_tty(const char *path, long baud, char *err, size_t err_len)
 {
     int fd = open(path, O_RDWR | O_NOCTTY);
     if (fd < 0) {
+        /* A port that is not there yet (a USB adapter being plugged in) is
+         * waited for; one that can never be opened is an error now. */
+        int again = errno == ENOENT || errno == EBUSY || errno == EAGAIN;
         snprintf(err, err_len, "%s: %s", path, strerror(errno));
-        return -1;
+        return again ? -1 : -2;
     }
     struct termios t;
     if (tcgetattr(fd, &t) != 0) {
@@ -205,7 +216,9 @@ static int open_tty(const char *path, long baud, char *err, size_t err_len)
     }
     cfmakeraw(&t);
     t.c_cflag |= CLOCAL | CREAD;
-    t.c_cc[VMIN] = 0;
+    /* VMIN 1 with O_NONBLOCK: no data reads as EAGAIN, so a read of 0
+     * bytes can only mean the end, as on the sockets. */
+    t.c_cc[VMIN] = 1;
     t.c_cc[VTIME] = 0;
     speed_t sp = baud_const(baud);
     if (cfsetispeed(&t, sp) != 0 || cfsetospeed(&t, sp) != 0 ||
@@ -242,13 +255,23 @@ static void close_device(agent_t *a, const char *why)
         a->fd = -1;
     }
     spvs_serial_rx_init(&a->rx);
+    a->need_delim = 0;
 }
 
-/* Write all n bytes, waiting up to 1 s for room. */
+/* Write all n bytes, waiting up to WRITE_WAIT_S for room.  When the other
+ * end stops reading (a full pty, a stalled port) the rest of the frame is
+ * dropped and a delimiter goes out before the next one, so the receiver
+ * throws the partial frame away and loses nothing else. */
+#define WRITE_WAIT_S 5.0
 static int write_all(agent_t *a, const uint8_t *p, size_t n)
 {
+    if (a->need_delim) {
+        static const uint8_t zero = 0;
+        if (write(a->fd, &zero, 1) == 1)
+            a->need_delim = 0;
+    }
     size_t done = 0;
-    double deadline = now_s() + 1.0;
+    double deadline = now_s() + WRITE_WAIT_S;
     while (done < n && a->fd >= 0) {
         ssize_t w = write(a->fd, p + done, n - done);
         if (w > 0) {
@@ -257,7 +280,10 @@ static int write_all(agent_t *a, const uint8_t *p, size_t n)
         }
         if (w < 0 && (errno == EAGAIN || errno == EINTR)) {
             if (now_s() > deadline) {
-                close_device(a, "write timed out");
+                a->st.write_timeouts++;
+                a->need_delim = done > 0;
+                logf_(a, 1, "device %s takes no bytes for %.0f s; frame dropped",
+                      a->device, WRITE_WAIT_S);
                 return -1;
             }
             struct pollfd pf = { a->fd, POLLOUT, 0 };
@@ -339,6 +365,17 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
         publish_stop(a, a->msg.seq, a->msg.utime, SPVS_E_RANGE);
         return;
     }
+    /* The sender repeats a frame it has no answer for (spvs-sim every
+     * 0.25 s).  While the MCU may still be working through the first copy,
+     * a second one only queues behind it on the line, so it is held back
+     * for REPEAT_HOLD_S; after that it goes out, in case the first was
+     * damaged on the way. */
+    double t = now_s();
+    if (a->msg.seq == a->fwd_seq && a->msg.run_id == a->fwd_run &&
+        !a->fwd_answered && t - a->fwd_t < REPEAT_HOLD_S) {
+        a->st.held++;
+        return;
+    }
     if (a->fd < 0) {
         a->st.dropped_offline++;
         logf_(a, 1, "frame %lld: no device; dropped", (long long)a->msg.seq);
@@ -346,6 +383,9 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
     }
     a->fwd_seq = a->msg.seq;
     a->fwd_utime = a->msg.utime;
+    a->fwd_run = a->msg.run_id;
+    a->fwd_t = t;
+    a->fwd_answered = 0;
     if (write_all(a, a->wire, (size_t)len) == 0) {
         a->st.to_mcu++;
         logf_(a, 3, "frame %lld: %u matches, %d bytes to the MCU",
@@ -361,6 +401,8 @@ static void on_result(agent_t *a, const spvs_serial_result_t *r)
     int64_t utime = seq == a->fwd_seq ? a->fwd_utime : (int64_t)r->t_ms * 1000;
     a->st.results++;
     a->last_step = r->out.step;
+    if (seq == a->fwd_seq)
+        a->fwd_answered = 1;
     if (r->flags & SPVS_SERIAL_F_REPEAT)
         a->st.repeats++;
     if (r->flags & SPVS_SERIAL_F_REJECTED) {
@@ -389,8 +431,11 @@ static void on_status(agent_t *a, const spvs_serial_status_frame_t *s)
     a->have_mcu = 1;
     if (s->reason == SPVS_SERIAL_S_BOOT) {
         a->st.boots++;
-        logf_(a, 1, "MCU booted (watchdog %u ms); sending the set-up",
+        logf_(a, 1, "MCU booted (watchdog %u ms); stop, sending the set-up",
               (unsigned)s->watchdog_ms);
+        /* Whatever it commanded before a reset no longer holds. */
+        a->last_step = 0;
+        publish_stop(a, -1, 0, SPVS_E_STALE);
         send_config(a);
         return;
     }
@@ -503,10 +548,12 @@ static void write_summary(const agent_t *a)
              "{\"to_mcu\":%u,\"refused\":%u,\"undecodable\":%u,"
              "\"dropped_offline\":%u,\"results\":%u,\"rejected\":%u,"
              "\"repeats\":%u,\"watchdog\":%u,\"boots\":%u,\"configs\":%u,"
-             "\"bad_crc\":%u,\"bad_framing\":%u,\"connects\":%u,\"mcu\":",
+             "\"bad_crc\":%u,\"bad_framing\":%u,\"connects\":%u,"
+             "\"held\":%u,\"write_timeouts\":%u,\"mcu\":",
              s->to_mcu, s->refused, s->undecodable, s->dropped_offline,
              s->results, s->rejected, s->repeats, s->watchdog, s->boots,
-             s->configs, s->bad_crc, s->bad_framing, s->connects);
+             s->configs, s->bad_crc, s->bad_framing, s->connects, s->held,
+             s->write_timeouts);
     char mcu[512] = "null";
     if (a->have_mcu) {
         const spvs_serial_status_frame_t *m = &a->mcu;

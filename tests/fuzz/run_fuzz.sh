@@ -32,6 +32,7 @@ shift 4
 case "$target" in
   fuzz_core) seeds="$here/corpus/core"; maxlen=4096 ;;
   fuzz_node) seeds="$here/corpus/node"; maxlen=6000 ;;
+  fuzz_serial) seeds="$here/corpus/serial"; maxlen=8192 ;;
   *) echo "run_fuzz.sh: unknown target '$target'" >&2; exit 2 ;;
 esac
 exe="$dir/$target"
