@@ -43,6 +43,7 @@ static void make_input(const synth_pose_t *p, const synth_plane_t *pl, double t,
     in->e_dir_z = (spvs_real)e3;
     in->parallax_px = (spvs_real)(20.0 * r);
     in->t_s = (spvs_real)t;
+    in->n_inliers = 100;
 }
 
 typedef struct {
@@ -289,6 +290,120 @@ static void test_method3_eq11(void **state)
     assert_int_equal(c.sign_sin_phit, -1);
 }
 
+/* The arrival check: a controller that has just ended step 3 at pose, fed
+ * arrival_frames exact frames from there (the robot stands still). */
+static int arrival_at(spvs_control_t *c, const spvs_control_params_t *p,
+                      const synth_pose_t *pose, double t0)
+{
+    const synth_plane_t pl = default_plane();
+    c->checked_plane = 1;
+    c->step = SPVS_STEP_ALIGN;
+    c->step_t0 = (spvs_real)t0;
+    c->sign_w = 1;
+    c->sign_v = 1;
+    c->arriving = 1;
+    c->arrive_n = 0;
+    for (int k = 0; k < 6; k++) {
+        c->arrive_sum[k] = 0;
+    }
+    c->arrive_inv_n = 0;
+    int rc = SPVS_OK;
+    for (int k = 0; k < p->arrival_frames && rc == SPVS_OK; k++) {
+        spvs_control_input_t in;
+        make_input(pose, &pl, t0 + 0.1 * k, &in);
+        spvs_real v = 1, w = 1;
+        rc = spvs_control_step(c, p, &in, &v, &w);
+        assert_true(v == 0 && w == 0);
+    }
+    return rc;
+}
+
+/* Mean corner transfer of the exact H at pose, pixels (the check's figure). */
+static double corner_px(const synth_pose_t *pose)
+{
+    const synth_plane_t pl = default_plane();
+    double H[9], sum = 0;
+    synth_H(pose, &pl, 800, H);
+    for (int k = 0; k < 4; k++) {
+        double u = (k & 1) ? 320 : -320, v = (k & 2) ? 240 : -240;
+        double x = H[0] * u + H[1] * v + H[2], y = H[3] * u + H[4] * v + H[5];
+        double w = H[6] * u + H[7] * v + H[8];
+        sum += hypot(x / w - u, y / w - v) / 4;
+    }
+    return sum;
+}
+
+/* Accepted at the target, with the telemetry's bound from the noise model:
+ * 4 sigma sqrt(2 L / n / N) for sigma = 1 px, L = 23.5, n = 100 inliers,
+ * N = 20 frames = 0.6131 px; rejected 0.3 m along the axis (step 2 again),
+ * 0.3 m sideways facing the target heading's h13 = 0 (step 1 again) and
+ * 0.5 deg off the heading (step 3 again), each with the figures of that
+ * pose's exact H. */
+static void test_arrival_check(void **state)
+{
+    (void)state;
+    for (int m = 1; m <= 3; m++) {
+        spvs_control_params_t p;
+        spvs_control_params_default(&p, (spvs_method_t)m);
+        spvs_control_t c;
+        spvs_control_reset(&c);
+        synth_pose_t home = {0, 0, 0};
+        assert_int_equal(arrival_at(&c, &p, &home, 0), SPVS_OK);
+        assert_int_equal(c.step, SPVS_STEP_DONE);
+        assert_true(fabs((double)c.arrival_bound_px - 0.61311) < 1e-4);
+        assert_true(c.arrival_corner_px < 1e-3);
+        assert_int_equal(c.reentries, 0);
+
+        const double nz = -0.75 / sqrt(0.3 * 0.3 + 0.6 * 0.6 + 0.75 * 0.75);
+        const struct {
+            synth_pose_t pose;
+            spvs_step_t expect;
+        } cases[] = {{{0, 0.3, 0}, SPVS_STEP_TRANSLATE},
+                     {{0.3, 0, -atan(0.3 * nz / 45)}, SPVS_STEP_ROTATE},
+                     {{0, 0, 0.5 * DEG}, SPVS_STEP_ALIGN}};
+        for (int i = 0; i < 3; i++) {
+            spvs_control_reset(&c);
+            assert_int_equal(arrival_at(&c, &p, &cases[i].pose, 0), SPVS_OK);
+            print_message("method %d case %d: corner %.3f px (bound %.3f), lateral %.3f, depth %.3f, h13 %.3f\n",
+                          m, i, (double)c.arrival_corner_px, (double)c.arrival_bound_px,
+                          (double)c.arrival_lateral_px, (double)c.arrival_depth_px,
+                          (double)c.arrival_h13_px);
+            assert_int_equal(c.step, cases[i].expect);
+            assert_int_equal(c.arrival_next, cases[i].expect);
+            assert_int_equal(c.reentries, 1);
+            assert_true(c.arrival_corner_px > c.arrival_bound_px);
+            assert_true(fabs((double)c.arrival_corner_px - corner_px(&cases[i].pose)) <
+                        1e-3 * corner_px(&cases[i].pose));
+        }
+    }
+}
+
+/* The re-entries are bounded: a robot that stays 0.3 m short is sent back
+ * SPVS_CTL_ARRIVAL_MAX_REENTRIES times, then the run ends with
+ * SPVS_E_NOT_AT_TARGET, latched with a stop, never converged. */
+static void test_arrival_bound_spent(void **state)
+{
+    (void)state;
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_II);
+    spvs_control_t c;
+    spvs_control_reset(&c);
+    synth_pose_t shortp = {0, 0.3, 0};
+    for (int k = 0; k < SPVS_CTL_ARRIVAL_MAX_REENTRIES; k++) {
+        assert_int_equal(arrival_at(&c, &p, &shortp, 10.0 * k), SPVS_OK);
+        assert_int_equal(c.step, SPVS_STEP_TRANSLATE);
+        assert_int_equal(c.reentries, k + 1);
+    }
+    assert_int_equal(arrival_at(&c, &p, &shortp, 100.0), SPVS_E_NOT_AT_TARGET);
+    assert_int_equal(c.step, SPVS_STEP_FAILED);
+    spvs_control_input_t in;
+    synth_plane_t pl = default_plane();
+    make_input(&shortp, &pl, 200.0, &in);
+    spvs_real v = 1, w = 1;
+    assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_E_NOT_AT_TARGET);
+    assert_true(v == 0 && w == 0);
+}
+
 static void test_params_check(void **state)
 {
     (void)state;
@@ -315,6 +430,8 @@ int main(void)
         cmocka_unit_test(test_plane_check),
         cmocka_unit_test(test_no_parallax_and_timeout),
         cmocka_unit_test(test_method3_eq11),
+        cmocka_unit_test(test_arrival_check),
+        cmocka_unit_test(test_arrival_bound_spent),
         cmocka_unit_test(test_params_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

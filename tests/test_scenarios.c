@@ -239,50 +239,55 @@ static void test_table1_plane_normals(void **state)
 }
 
 /* 1 px image noise from the six Figure 5 poses, seeds 0..NOISE_SEEDS-1 (120
- * runs per method): the share of runs that end converged within 0.25 m and
- * 0.5 deg is at least NOISE_MIN_PCT[method], and no run reports "converged"
- * farther than 1 m from the target.  The bounds sit about 3.5 standard
- * deviations of a 120-run share below the rates measured over 420 runs
- * (seeds 0..69: Methods I, II, III 92, 73 and 89 %; docs/RESULTS.md), so a
- * change of the random streams alone does not fail the test, and a real
- * loss of 10 points or more does.  (Seeds 0..4 alone gave 27 to 29 of 30
- * for every method: a lucky handful.  Over the 70 seeds, seed 25 from
- * (5, 2, -50) ends "converged" 1.1-1.3 m away for every method; see
- * docs/CONTROL.md.) */
+ * runs per method), without and with 20 % mismatches (seeds
+ * 0..MISMATCH_SEEDS-1): no run reports "converged" outside 0.25 m / 0.5 deg
+ * (the arrival check, docs/CONTROL.md), and without mismatches the share of
+ * runs that end converged within them is at least NOISE_MIN_PCT[method].
+ * The bounds sit about 3.5 standard deviations of a 120-run share below the
+ * rates measured on other seeds (docs/CONTROL.md, "A verified arrival"). */
 #define NOISE_SEEDS 20
-static const int NOISE_MIN_PCT[4] = {0, 83, 59, 79};
+#define MISMATCH_SEEDS 5
+static const int NOISE_MIN_PCT[4] = {0, 60, 60, 60};
+
+static int noise_runs(int method, double outliers, int seeds, int *false_claims)
+{
+    int good = 0;
+    for (int i = 0; i < 6; ++i) {
+        for (uint64_t seed = 0; seed < (uint64_t)seeds; ++seed) {
+            sim_config_t c;
+            sim_result_t r;
+            config(&c, method, fig5_poses[i]);
+            c.noise_px = 1.0;
+            c.outliers = outliers;
+            c.seed = seed;
+            run_cfg(&c, &r, NULL, NULL);
+            if (within(&r, 0.25, 0.5)) {
+                ++good;
+            } else if (r.status == SIM_CONVERGED) {
+                report("  claims converged outside 0.25 m / 0.5 deg", &c, &r);
+                ++*false_claims;
+            }
+        }
+    }
+    return good;
+}
 
 static void test_one_pixel_noise_six_poses(void **state)
 {
     (void)state;
     int short_methods = 0, false_claims = 0;
     for (int method = 1; method <= 3; ++method) {
-        int good = 0, runs = 0;
-        for (int i = 0; i < 6; ++i) {
-            for (uint64_t seed = 0; seed < NOISE_SEEDS; ++seed) {
-                sim_config_t c;
-                sim_result_t r;
-                config(&c, method, fig5_poses[i]);
-                c.noise_px = 1.0;
-                c.seed = seed;
-                run_cfg(&c, &r, NULL, NULL);
-                ++runs;
-                if (within(&r, 0.25, 0.5)) {
-                    ++good;
-                }
-                if (r.status == SIM_CONVERGED &&
-                    hypot(r.err_x_m, r.err_z_m) > 1.0) {
-                    report("  claims converged farther than 1 m", &c, &r);
-                    ++false_claims;
-                }
-            }
-        }
+        int runs = 6 * NOISE_SEEDS;
+        int good = noise_runs(method, 0.0, NOISE_SEEDS, &false_claims);
         print_message("method %d: %d of %d runs within 0.25 m / 0.5 deg (%.1f %%, at least "
                       "%d %% needed)\n", method, good, runs, 100.0 * good / runs,
                       NOISE_MIN_PCT[method]);
         if (100 * good < NOISE_MIN_PCT[method] * runs) {
             ++short_methods;
         }
+        good = noise_runs(method, 0.2, MISMATCH_SEEDS, &false_claims);
+        print_message("method %d, 20 %% mismatches: %d of %d runs within 0.25 m / 0.5 deg\n",
+                      method, good, 6 * MISMATCH_SEEDS);
     }
     assert_int_equal(false_claims, 0);
     assert_int_equal(short_methods, 0);

@@ -177,6 +177,31 @@ static void test_every_status_stops(void **state)
     }
     assert_int_equal(rc, SPVS_E_STEP_TIMEOUT);
 
+    /* The arrival check: 2 mm short of the target with plane points only,
+     * the translation signals are under their tolerances and the controller
+     * goes straight to step 3; with an image-noise sigma of 1e-3 px assumed
+     * the 2 mm (0.013 px at the corners) exceed the check's bound, the robot
+     * standing still cannot close them, and once the re-entries are spent
+     * the run ends not at the target (latched). */
+    init(SPVS_METHOD_III);
+    {
+        spvs_params_t pa;
+        spvs_params_default(&pa, SPVS_METHOD_III);
+        pa.ctl.arrival_sigma_px = SPVS_R(1.0e-3);
+        assert_int_equal(spvs_init(&s, &pa), SPVS_OK);
+        synth_pose_t home = {0, 0.002, 0};
+        uint64_t r1 = rng;
+        rc = SPVS_OK;
+        for (int k = 0; k < 2000 && rc == SPVS_OK; k++) {
+            rng = r1;
+            n = synth_frame(&home, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
+            rc = update(n, 0.1 * k, &g);
+        }
+        assert_int_equal(rc, SPVS_E_NOT_AT_TARGET);
+        assert_int_equal(g.out.step, SPVS_STEP_FAILED);
+        assert_true(g.out.arrival_corner_px > g.out.arrival_bound_px);
+    }
+
     /* Bad parameters and NULL arguments. */
     spvs_params_t bad;
     spvs_params_default(&bad, SPVS_METHOD_III);

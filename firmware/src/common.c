@@ -18,6 +18,7 @@ const char *spvs_status_str(int status)
     case SPVS_E_PLANE_NY: return "plane_normal_ny_zero";
     case SPVS_E_STEP_TIMEOUT: return "step_timeout";
     case SPVS_E_CONFIG: return "bad_config";
+    case SPVS_E_NOT_AT_TARGET: return "not_at_target";
     default: return "unknown_status";
     }
 }

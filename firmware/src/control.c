@@ -46,6 +46,14 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     p->hold_frames = 3;
     p->fit_min_frames = 10;
     p->fit_min_span_m = SPVS_R(0.5);
+    p->arrival_sigma_px = SPVS_R(1.0);
+    p->arrival_k = SPVS_R(4.0);
+    p->arrival_leverage = SPVS_R(23.5);
+    p->arrival_corner_x_px = SPVS_R(320.0);
+    p->arrival_corner_y_px = SPVS_R(240.0);
+    p->arrival_frames = 20;
+    p->arrival_max_frames = 80;
+    p->arrival_resolution_px = SPVS_R(0.65);
     switch (m) {
     case SPVS_METHOD_I:
         /* f of eq. (19) changes by about 2 (r/d) |n_x cos phi + n_z sin phi|
@@ -86,7 +94,9 @@ int spvs_control_params_check(const spvs_control_params_t *p)
     const spvs_real pos[] = {p->alpha_x, p->alpha_y, p->k_w, p->k_v, p->k_w3,
                              p->k_w11, p->v_max, p->w_max, p->tol_align,
                              p->tol_translate, p->tol_h13_px, p->lock_ex_px, p->tol_det,
-                             p->step_timeout_s};
+                             p->step_timeout_s, p->arrival_sigma_px, p->arrival_k,
+                             p->arrival_leverage, p->arrival_corner_x_px,
+                             p->arrival_corner_y_px, p->arrival_resolution_px};
     for (unsigned i = 0; i < sizeof pos / sizeof pos[0]; i++) {
         /* Written so that NaN fails too. */
         if (!(pos[i] > SPVS_R(0.0) && pos[i] < SPVS_REAL_MAX)) {
@@ -98,7 +108,9 @@ int spvs_control_params_check(const spvs_control_params_t *p)
         !(p->hold_heading_ratio >= SPVS_R(0.0) && p->hold_heading_ratio < SPVS_R(1.0)) ||
         !(p->min_signal_ratio >= SPVS_R(0.0) && p->min_signal_ratio < SPVS_R(1.0)) ||
         p->hold_frames < 1u || p->fit_min_frames < 2u ||
-        !(p->fit_min_span_m > SPVS_R(0.0))) {
+        !(p->fit_min_span_m > SPVS_R(0.0)) || p->arrival_frames < 1u ||
+        p->arrival_max_frames < p->arrival_frames ||
+        p->arrival_max_frames > SPVS_CTL_ARRIVAL_MAX_FRAMES) {
         return SPVS_E_CONFIG;
     }
     return SPVS_OK;
@@ -107,6 +119,7 @@ int spvs_control_params_check(const spvs_control_params_t *p)
 static void fit_clear(spvs_control_t *c)
 {
     c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
+    c->fit_h33 = c->fit_sh33 = SPVS_R(0.0);
 }
 
 void spvs_control_reset(spvs_control_t *c)
@@ -144,6 +157,23 @@ void spvs_control_reset(spvs_control_t *c)
     c->last_v = SPVS_R(0.0);
     c->last_t = SPVS_R(-1.0);
     fit_clear(c);
+    c->arriving = 0;
+    c->reentries = 0;
+    c->reentered = 0;
+    c->arrival_next = 0;
+    c->arrive_n = 0;
+    for (int k = 0; k < 6; k++) {
+        c->arrive_sum[k] = SPVS_R(0.0);
+    }
+    c->arrive_inv_n = SPVS_R(0.0);
+    c->arrival_corner_px = SPVS_R(0.0);
+    c->arrival_bound_px = SPVS_R(0.0);
+    c->arrival_lateral_px = SPVS_R(0.0);
+    c->arrival_depth_px = SPVS_R(0.0);
+    c->arrival_h13_px = SPVS_R(0.0);
+    c->slope_sig = SPVS_R(0.0);
+    c->slope_h33 = SPVS_R(0.0);
+    c->reentry_d0 = SPVS_R(0.0);
 }
 
 static int fail(spvs_control_t *c, int status)
@@ -269,7 +299,9 @@ static spvs_real rotation(spvs_control_t *c, const spvs_control_params_t *p,
         return -(spvs_real)c->sign_w * p->k_w * H[SPVS_H12];
     case SPVS_METHOD_III:
     default:
-        if (c->use_eq11) {
+        /* A re-entered step 1 turns towards the target from where the robot
+         * stands, not to the heading learnt on the first line. */
+        if (c->use_eq11 && !c->reentered) {
             /* Eq. (11): w = k_w11 (h11 - cos phi_t), sign of k_w11 that of
              * sin phi_t, as h11 - cos phi_t ~ -sin phi_t (phi - phi_t). */
             return (spvs_real)c->sign_sin_phit * p->k_w11 *
@@ -311,7 +343,7 @@ static spvs_real translate_signal(const spvs_control_params_t *p,
 static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
                        const spvs_control_input_t *in)
 {
-    if (p->method != SPVS_METHOD_III || c->use_eq11 || !in->e_valid ||
+    if (p->method != SPVS_METHOD_III || c->use_eq11 || c->reentered || !in->e_valid ||
         SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
         return;
     }
@@ -337,9 +369,11 @@ static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
  * fit_min_span_m metres the raw signal is used, and so it is while the
  * distances driven are too close together to fix a slope. */
 static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p,
-                               spvs_real D)
+                               spvs_real D, spvs_real h33)
 {
     spvs_real s = c->odo_s;
+    c->fit_h33 += h33;
+    c->fit_sh33 += s * h33;
     c->fit_n += SPVS_R(1.0);
     c->fit_s += s;
     c->fit_ss += s * s;
@@ -356,6 +390,8 @@ static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p
     }
     spvs_real b = (c->fit_n * c->fit_sd - c->fit_s * c->fit_d) / den;
     spvs_real a = (c->fit_d - b * c->fit_s) / c->fit_n;
+    c->slope_sig = b;
+    c->slope_h33 = (c->fit_n * c->fit_sh33 - c->fit_s * c->fit_h33) / den;
     return a + b * s;
 }
 
@@ -453,7 +489,15 @@ static int start_with_parallax(spvs_control_t *c, const spvs_control_params_t *p
 static int eq11_switch(spvs_control_t *c, const spvs_control_params_t *p,
                        const spvs_control_input_t *in)
 {
-    if (p->method != SPVS_METHOD_III || c->use_eq11 || c->step == SPVS_STEP_ALIGN) {
+    if (p->method != SPVS_METHOD_III || c->step == SPVS_STEP_ALIGN) {
+        return SPVS_OK;
+    }
+    /* A re-entered step 1 turns on eq. (22), a re-entered step 2 holds the
+     * heading: only the first needs the epipole. */
+    if (c->reentered) {
+        return (c->step == SPVS_STEP_ROTATE && !in->e_valid) ? SPVS_E_NO_PARALLAX : SPVS_OK;
+    }
+    if (c->use_eq11) {
         return SPVS_OK;
     }
     int low = c->step == SPVS_STEP_TRANSLATE && in->parallax_px >= SPVS_R(0.0) &&
@@ -507,6 +551,11 @@ static void translate_begin(spvs_control_t *c, const spvs_control_params_t *p,
     if (in->e_valid && sgn(in->e_dir_z) != 0) {
         c->ahead = sgn(in->e_dir_z);
     }
+    /* sign(k_v) below comes out as -sign(n_z) (Methods I, III) or sign(n_y)
+     * (Method II), whatever the line: a re-entered step 2 keeps it. */
+    if (c->reentered) {
+        return;
+    }
     if (p->method == SPVS_METHOD_II) {
         /* sign(k_v) = sign(n_y) = -sign(h32) sign(e_z), with the sign of h32
          * at the start (sign_w). */
@@ -520,15 +569,39 @@ static void translate_begin(spvs_control_t *c, const spvs_control_params_t *p,
 }
 
 /* Step 2: drive straight to the target on the fitted signal. */
+/* A step 2 re-entered by the arrival check, where the first line's fit gave
+ * the slope of the signal per metre driven: its size, n_z / d (Methods I,
+ * III) or n_y / d (Method II), is the same on every line, so the averaged
+ * row-3 residual of the check says how far to drive, and the robot drives
+ * that far by odometry on the heading it has (the per-frame signal there is
+ * mostly noise). */
+static void step_translate_again(spvs_control_t *c, const spvs_control_params_t *p,
+                                 const spvs_control_input_t *in, spvs_real *vc,
+                                 spvs_real *wc)
+{
+    const spvs_real d0 = c->reentry_d0;
+    const spvs_real D = d0 - (spvs_real)sgn(d0) * SPVS_FABS(c->slope_sig) * c->odo_s;
+    *vc = -(spvs_real)c->sign_v * p->k_v * D;
+    *wc = SPVS_R(0.0);
+    if (sgn(D) != sgn(d0) || SPVS_FABS(D) < p->tol_translate) {
+        next_step(c, SPVS_STEP_ALIGN, in->t_s);
+        *vc = SPVS_R(0.0);
+    }
+}
+
 static void step_translate(spvs_control_t *c, const spvs_control_params_t *p,
                            const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
 {
+    if (c->reentered && c->slope_sig != SPVS_R(0.0) && c->reentry_d0 != SPVS_R(0.0)) {
+        step_translate_again(c, p, in, vc, wc);
+        return;
+    }
     learn_phit(c, p, in);
     spvs_real D = translate_signal(p, in);
     if (c->trans_sign0 == 0) {
         translate_begin(c, p, in, D);
     }
-    spvs_real Df = fitted_signal(c, p, D);
+    spvs_real Df = fitted_signal(c, p, D, in->H[SPVS_H33]);
     /* det H = 1 + n^T c / d whatever the heading and the calibration
      * (eq. 2): a step-2 signal that crossed zero while det H says the robot
      * is still away from the target crossed through a turn. */
@@ -544,6 +617,11 @@ static void step_translate(spvs_control_t *c, const spvs_control_params_t *p,
         !(p->method == SPVS_METHOD_III && c->use_eq11)) {
         *wc = SPVS_R(0.0);
     }
+    /* A re-entered step 2 is short and near the target, where every rotation
+     * signal is noise: it drives on the heading it starts with. */
+    if (c->reentered) {
+        *wc = SPVS_R(0.0);
+    }
     if (step_done(c, p, Df, p->tol_translate) && det_ok) {
         next_step(c, SPVS_STEP_ALIGN, in->t_s);
         *vc = SPVS_R(0.0);
@@ -551,17 +629,174 @@ static void step_translate(spvs_control_t *c, const spvs_control_params_t *p,
     }
 }
 
+/* ---- the arrival check (beyond the paper) ------------------------------
+ * At the target H = I whatever the calibration (eq. 2 with R = I, c = 0).
+ * Near it, to first order (eq. 5), an offset along the optical axis moves
+ * only row 3 of H, a sideways offset row 1 (h13 with it), a turn h13 and
+ * h31.  docs/CONTROL.md derives the bound. */
+
+/* Mean over the four image corners of the transfer |H p - p| (pixels), of H
+ * = I + the residual r (h11 - 1, h12, h13, h31, h32, h33 - 1), and of its
+ * row-1 (without h13) and row-3 parts. */
+static void corner_figures(const spvs_control_params_t *p, const spvs_real r[6],
+                           spvs_real *all, spvs_real *lateral, spvs_real *depth)
+{
+    *all = *lateral = *depth = SPVS_R(0.0);
+    for (int k = 0; k < 4; k++) {
+        const spvs_real u = (k & 1) ? p->arrival_corner_x_px : -p->arrival_corner_x_px;
+        const spvs_real v = (k & 2) ? p->arrival_corner_y_px : -p->arrival_corner_y_px;
+        const spvs_real w = r[3] * u + r[4] * v + SPVS_R(1.0) + r[5];
+        const spvs_real x1 = (SPVS_R(1.0) + r[0]) * u + r[1] * v;
+        if (!(w > SPVS_R(0.0))) {
+            /* A corner behind the camera: as far from the identity as can be. */
+            *all = *depth = SPVS_REAL_MAX;
+            return;
+        }
+        const spvs_real dx = (x1 + r[2]) / w - u;
+        const spvs_real dy = v / w - v;
+        const spvs_real gw = SPVS_R(1.0) / w - SPVS_R(1.0);
+        *all += SPVS_R(0.25) * SPVS_SQRT(dx * dx + dy * dy);
+        *lateral += SPVS_R(0.25) * SPVS_FABS(x1 - u);
+        *depth += SPVS_R(0.25) * SPVS_FABS(gw) * SPVS_SQRT(u * u + v * v);
+    }
+}
+
+static void arrival_begin(spvs_control_t *c)
+{
+    c->arriving = 1;
+    c->arrive_n = 0;
+    for (int k = 0; k < 6; k++) {
+        c->arrive_sum[k] = SPVS_R(0.0);
+    }
+    c->arrive_inv_n = SPVS_R(0.0);
+}
+
+/* A failed check sends the robot back to a step from where it stands; the
+ * signs of the gains stay as chosen at the start. */
+static int reenter(spvs_control_t *c, const spvs_control_params_t *p,
+                   const spvs_control_input_t *in, spvs_step_t step)
+{
+    if (c->reentries >= (uint8_t)SPVS_CTL_ARRIVAL_MAX_REENTRIES) {
+        return fail(c, SPVS_E_NOT_AT_TARGET);
+    }
+    /* Method III turns towards the target on the epipole (eq. 22). */
+    if (step == SPVS_STEP_ROTATE && p->method == SPVS_METHOD_III && !in->e_valid) {
+        return fail(c, SPVS_E_NOT_AT_TARGET);
+    }
+    c->reentries++;
+    c->reentered = 1;
+    c->arriving = 0;
+    next_step(c, step, in->t_s);
+    c->trans_sign0 = 0;
+    c->odo_s = SPVS_R(0.0);
+    fit_clear(c);
+    return SPVS_OK;
+}
+
+/* The row-3 part of the method's step-2 signal in the averaged residual r:
+ * along the optical axis h11 - h33 moves by -h33 (Methods I, III).  Method
+ * II's alpha_y h32 scatters about SPVS_CTL_H32_NOISE_RATIO times as much as
+ * h33 from frame to frame, so where the first line's fits say h33 moved
+ * at least a third as much it is read from h33, scaled by the ratio of the
+ * two slopes (both lines of the same motion). */
+static spvs_real reentry_signal(const spvs_control_t *c, const spvs_control_params_t *p,
+                                const spvs_real r[6])
+{
+    if (p->method != SPVS_METHOD_II) {
+        return -r[5];
+    }
+    if ((spvs_real)SPVS_CTL_H32_NOISE_RATIO * SPVS_FABS(c->slope_h33) > SPVS_FABS(c->slope_sig)) {
+        return r[5] * (c->slope_sig / c->slope_h33);
+    }
+    return p->alpha_y * r[4];
+}
+
+/* arrival_k standard deviations of the mean corner transfer that image
+ * noise alone gives the average of the frames so far at the target: one
+ * frame's H from n inliers moves a corner by 2 sigma^2 L / n in variance
+ * (noise in both images; L the corners' leverage), N frames average it. */
+static spvs_real arrival_bound(const spvs_control_t *c, const spvs_control_params_t *p)
+{
+    const spvs_real nf = (spvs_real)c->arrive_n;
+    const spvs_real var1 = SPVS_R(2.0) * p->arrival_sigma_px * p->arrival_sigma_px *
+                           p->arrival_leverage * (c->arrive_inv_n / nf);
+    return p->arrival_k * SPVS_SQRT(var1 / nf);
+}
+
+/* The check, on the average of arrival_frames frames standing still: the
+ * mean corner transfer of the averaged H against arrival_k standard
+ * deviations of what image noise alone gives it at the target. */
+static int arrival_decide(spvs_control_t *c, const spvs_control_params_t *p,
+                          const spvs_control_input_t *in)
+{
+    const spvs_real nf = (spvs_real)c->arrive_n;
+    spvs_real r[6];
+    for (int k = 0; k < 6; k++) {
+        r[k] = c->arrive_sum[k] / nf;
+    }
+    c->arrival_bound_px = arrival_bound(c, p);
+    corner_figures(p, r, &c->arrival_corner_px, &c->arrival_lateral_px, &c->arrival_depth_px);
+    c->arrival_h13_px = r[2];
+    c->arriving = 0;
+    if (c->arrival_corner_px <= c->arrival_bound_px) {
+        c->arrival_next = 0;
+        next_step(c, SPVS_STEP_DONE, in->t_s);
+        return SPVS_OK;
+    }
+    const spvs_real lat = c->arrival_lateral_px, dep = c->arrival_depth_px;
+    const spvs_real rot = SPVS_FABS(r[2]);
+    spvs_step_t step = SPVS_STEP_ROTATE;
+    if (dep >= lat && dep >= rot) {
+        step = SPVS_STEP_TRANSLATE;
+    } else if (rot >= lat) {
+        step = SPVS_STEP_ALIGN;
+    }
+    c->arrival_next = (uint8_t)step;
+    c->reentry_d0 = reentry_signal(c, p, r);
+    return reenter(c, p, in, step);
+}
+
+/* Standing still after step 3: sum this frame's H - I and 1 / n_inliers. */
+static int arrival_frame(spvs_control_t *c, const spvs_control_params_t *p,
+                         const spvs_control_input_t *in)
+{
+    const spvs_real *H = in->H;
+    c->arrive_sum[0] += H[SPVS_H11] - SPVS_R(1.0);
+    c->arrive_sum[1] += H[SPVS_H12];
+    c->arrive_sum[2] += H[SPVS_H13];
+    c->arrive_sum[3] += H[SPVS_H31];
+    c->arrive_sum[4] += H[SPVS_H32];
+    c->arrive_sum[5] += H[SPVS_H33] - SPVS_R(1.0);
+    c->arrive_inv_n += SPVS_R(1.0) / (spvs_real)(in->n_inliers > 4u ? in->n_inliers : 4u);
+    c->arrive_n++;
+    if (c->arrive_n < p->arrival_frames) {
+        return SPVS_OK;
+    }
+    /* With few inliers the bound is wide: hold on, up to arrival_max_frames,
+     * until it resolves arrival_resolution_px. */
+    if (c->arrive_n < p->arrival_max_frames &&
+        arrival_bound(c, p) > p->arrival_resolution_px) {
+        return SPVS_OK;
+    }
+    return arrival_decide(c, p, in);
+}
+
 /* Step 3: turn to the target heading, eq. (17)/(18) as chosen by the paper:
- * w = -k_w3 h13. */
-static void step_align(spvs_control_t *c, const spvs_control_params_t *p,
-                       const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
+ * w = -k_w3 h13; then stand still for the arrival check. */
+static int step_align(spvs_control_t *c, const spvs_control_params_t *p,
+                      const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
 {
     *vc = SPVS_R(0.0);
+    *wc = SPVS_R(0.0);
+    if (c->arriving) {
+        return arrival_frame(c, p, in);
+    }
     *wc = -p->k_w3 * in->H[SPVS_H13];
     if (step_done(c, p, in->H[SPVS_H13], p->tol_h13_px)) {
-        next_step(c, SPVS_STEP_DONE, in->t_s);
+        arrival_begin(c);
         *wc = SPVS_R(0.0);
     }
+    return SPVS_OK;
 }
 
 int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
@@ -608,10 +843,13 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
         step_translate(c, p, in, &vc, &wc);
         break;
     case SPVS_STEP_ALIGN:
-        step_align(c, p, in, &vc, &wc);
+        rc = step_align(c, p, in, &vc, &wc);
         break;
     default:
         break;
+    }
+    if (rc != SPVS_OK) {
+        return rc;
     }
     *v = clamp(vc, p->v_max);
     *w = clamp(wc, p->w_max);

@@ -94,6 +94,15 @@ static void clear_output(spvs_output_t *out, uint16_t n)
     out->h_valid = 0;
     out->e_valid = 0;
     out->eq11 = 0;
+    out->arrival_corner_px = SPVS_R(0.0);
+    out->arrival_bound_px = SPVS_R(0.0);
+    out->arrival_lateral_px = SPVS_R(0.0);
+    out->arrival_depth_px = SPVS_R(0.0);
+    out->arrival_h13_px = SPVS_R(0.0);
+    out->arrival_frames = 0;
+    out->arrival_reentries = 0;
+    out->arrival_next = 0;
+    out->arriving = 0;
 }
 
 /* Check and load the frame, the matches of features known to be off the
@@ -243,6 +252,7 @@ static int after_h(spvs_t *s, spvs_real t_s, spvs_output_t *out)
     in.parallax_px = parallax;
     in.t_s = t_s;
     in.e_valid = (uint8_t)e_ok;
+    in.n_inliers = out->n_inliers;
 
     spvs_real v, w;
     rc = spvs_control_step(&s->ctl, &s->p.ctl, &in, &v, &w);
@@ -255,6 +265,15 @@ static int after_h(spvs_t *s, spvs_real t_s, spvs_output_t *out)
     out->eq11 = s->ctl.use_eq11;
     out->status = (int16_t)rc;
     out->step = (uint8_t)s->ctl.step;
+    out->arrival_corner_px = s->ctl.arrival_corner_px;
+    out->arrival_bound_px = s->ctl.arrival_bound_px;
+    out->arrival_lateral_px = s->ctl.arrival_lateral_px;
+    out->arrival_depth_px = s->ctl.arrival_depth_px;
+    out->arrival_h13_px = s->ctl.arrival_h13_px;
+    out->arrival_frames = s->ctl.arrive_n;
+    out->arrival_reentries = s->ctl.reentries;
+    out->arrival_next = s->ctl.arrival_next;
+    out->arriving = s->ctl.arriving;
     return rc;
 }
 

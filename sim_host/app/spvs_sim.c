@@ -308,12 +308,17 @@ typedef struct {
     FILE *trace;
     FILE *record;
     char err[160];
+    /* The last answered frame's arrival check figures, for --json. */
+    spvs_output_t last;
+    int has_last;
 } sinks_t;
 
 static int on_frame(const sim_frame_t *f, void *user)
 {
     sinks_t *s = user;
     const spvs_output_t *o = f->out;
+    s->last = *o;
+    s->has_last = 1;
     if (s->trace) {
         const spvs_real *H = o->H;
         int bad = fprintf(s->trace,
@@ -358,7 +363,25 @@ static void json_string(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static void print_json(const options_t *o, const sim_result_t *r)
+/* The arrival check after step 3 (docs/CONTROL.md): the figures of the last
+ * check, pixels of mean corner transfer. */
+static void print_json_arrival(const sinks_t *s)
+{
+    const spvs_output_t *a = &s->last;
+    if (!s->has_last) {
+        fputs(",\"arrival\":null", stdout);
+        return;
+    }
+    printf(",\"arrival\":{\"corner_px\":%.6g,\"bound_px\":%.6g,\"lateral_px\":%.6g"
+           ",\"depth_px\":%.6g,\"h13_px\":%.6g,\"frames\":%u,\"reentries\":%u"
+           ",\"next_step\":%u}",
+           (double)a->arrival_corner_px, (double)a->arrival_bound_px,
+           (double)a->arrival_lateral_px, (double)a->arrival_depth_px,
+           (double)a->arrival_h13_px, (unsigned)a->arrival_frames,
+           (unsigned)a->arrival_reentries, (unsigned)a->arrival_next);
+}
+
+static void print_json(const options_t *o, const sim_result_t *r, const sinks_t *s)
 {
     const sim_config_t *c = &o->cfg;
     printf("{\"method\":%d,\"status\":\"%s\",\"reason\":", c->method,
@@ -396,6 +419,7 @@ static void print_json(const options_t *o, const sim_result_t *r)
            c->pp_offset_px, c->dt_s, r->path_m,
            o->images ? "images" : "points");
     json_string(stdout, o->transport);
+    print_json_arrival(s);
     fputs("}\n", stdout);
 }
 
@@ -655,7 +679,7 @@ int main(int argc, char **argv)
     }
 #endif
     if (o.json) {
-        print_json(&o, &res);
+        print_json(&o, &res, &sinks);
     }
     fflush(stdout);
     if (res.status == SIM_ABORTED || out_bad) {

@@ -70,11 +70,12 @@ typedef enum {
     SPVS_E_PLANE_NZ = -10,      /* Methods I, III: plane has n_z ~ 0, no signal */
     SPVS_E_PLANE_NY = -11,      /* Method II: plane has n_y ~ 0, no signal      */
     SPVS_E_STEP_TIMEOUT = -12,  /* a step ran past its time bound               */
-    SPVS_E_CONFIG = -13         /* parameters out of their documented range    */
+    SPVS_E_CONFIG = -13,        /* parameters out of their documented range    */
+    SPVS_E_NOT_AT_TARGET = -14  /* step 3 ended but H is not the identity      */
 } spvs_status_t;
 
 /* Number of distinct status values (for tables and tests). */
-#define SPVS_STATUS_COUNT 14
+#define SPVS_STATUS_COUNT 15
 
 /* One match: a target-image feature and where it is seen in the current image.
  * Pixels, centred on the assumed principal point.  `feature` is the index of

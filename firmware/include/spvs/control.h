@@ -21,6 +21,13 @@
  * (the signed epipole) and H at the start of the step that needs them, as the
  * paper suggests.  docs/CONTROL.md derives each rule.  Step-ending rules,
  * saturation and the Method I false-zero escape are documented there too.
+ *
+ * Beyond the paper, the end of step 3 is checked: standing still, H averaged
+ * over arrival_frames frames must be the identity (eq. 10) within the spread
+ * image noise gives it.  Otherwise the residual says which step to run again
+ * from where the robot stands: row 3 of H - I (an offset along the optical
+ * axis) step 2, h13 alone step 3, row 1 (a sideways offset) step 1; at most
+ * SPVS_CTL_ARRIVAL_MAX_REENTRIES times, then SPVS_E_NOT_AT_TARGET.
  */
 #ifndef SPVS_CONTROL_H
 #define SPVS_CONTROL_H
@@ -74,6 +81,26 @@ typedef struct {
     uint16_t hold_frames;     /* consecutive frames a step-end test must hold */
     uint16_t fit_min_frames;  /* step 2: frames before the fitted signal is used */
     spvs_real fit_min_span_m; /* step 2: distance driven before it is used, m */
+    /* The arrival check after step 3 (beyond the paper; docs/CONTROL.md,
+     * "A verified arrival"): the robot stands still for arrival_frames
+     * frames (more, up to arrival_max_frames, while the bound below is over
+     * arrival_resolution_px), H is averaged, and the mean transfer of the image corners
+     * (+-arrival_corner_x_px, +-arrival_corner_y_px) under it must stay under
+     *   arrival_k * sigma * sqrt(2 arrival_leverage mean(1/n_inliers) / frames)
+     * (sigma = arrival_sigma_px), the spread that image noise alone gives it
+     * at the target, where H = I whatever the calibration (eq. 2). */
+    spvs_real arrival_sigma_px;   /* image noise sigma assumed, pixels      */
+    spvs_real arrival_k;          /* bound in standard deviations           */
+    spvs_real arrival_leverage;   /* corner variance per point's variance,
+                                     times the inlier count (23.5 for inliers
+                                     spread over a 4:3 image)               */
+    spvs_real arrival_corner_x_px; /* image half width, pixels              */
+    spvs_real arrival_corner_y_px; /* image half height, pixels             */
+    uint16_t arrival_frames;      /* frames averaged at least, standing still */
+    uint16_t arrival_max_frames;  /* ... and at most, while the bound is over
+                                     arrival_resolution_px (at most
+                                     SPVS_CTL_ARRIVAL_MAX_FRAMES)          */
+    spvs_real arrival_resolution_px; /* the bound the hold aims for, pixels */
 } spvs_control_params_t;
 
 /* What the estimation stages hand to the controller for one frame. */
@@ -85,6 +112,8 @@ typedef struct {
     spvs_real parallax_px; /* median off-plane parallax, negative: unknown  */
     spvs_real t_s;       /* frame time, seconds                             */
     uint8_t e_valid;     /* the epipole estimate is usable this frame       */
+    uint16_t n_inliers;  /* plane inliers behind H (the arrival check's
+                            noise model; under 4 counts as 4)              */
 } spvs_control_input_t;
 
 /* Controller state: caller-owned, cleared by spvs_control_reset(). */
@@ -119,6 +148,25 @@ typedef struct {
     spvs_real last_v;        /* last commanded v, m/s                       */
     spvs_real last_t;        /* time of the last frame, s                   */
     spvs_real fit_n, fit_s, fit_ss, fit_d, fit_sd; /* LS sums               */
+    /* The arrival check (after step 3).  The figures of the last check stay
+     * for the telemetry; all corner figures are mean corner transfers of the
+     * averaged H in pixels. */
+    uint8_t arriving;        /* step 3 has ended: holding still, averaging  */
+    uint8_t reentries;       /* checks failed so far (each re-entered a step) */
+    uint8_t reentered;       /* the steps now running are a re-entry        */
+    uint8_t arrival_next;    /* step the last failed check pointed to, 0    */
+    uint16_t arrive_n;       /* frames averaged so far                      */
+    spvs_real arrive_sum[6]; /* sums of h11 - 1, h12, h13, h31, h32, h33 - 1 */
+    spvs_real arrive_inv_n;  /* sum of 1 / n_inliers                        */
+    spvs_real arrival_corner_px;  /* all of H - I                           */
+    spvs_real arrival_bound_px;   /* the bound it was held to               */
+    spvs_real arrival_lateral_px; /* row 1 without h13: sideways offset     */
+    spvs_real arrival_depth_px;   /* row 3: offset along the optical axis   */
+    spvs_real arrival_h13_px;     /* mean h13: heading (and sideways)       */
+    spvs_real fit_h33, fit_sh33; /* step 2: sums of h33 and s h33       */
+    spvs_real slope_sig;     /* d signal / d metre, the first step 2's fit  */
+    spvs_real slope_h33;     /* d h33 / d metre, the same line              */
+    spvs_real reentry_d0;    /* row-3 part of the step-2 signal at the check */
 } spvs_control_t;
 
 /* Defaults for a method: the gains and tolerances of docs/CONTROL.md for the
@@ -134,7 +182,10 @@ void spvs_control_reset(spvs_control_t *c);
  * Writes the command to *v (m/s) and *w (rad/s); (0, 0) on every error.
  * Returns SPVS_OK, or SPVS_E_NO_PARALLAX (signs not yet chosen, or Method III
  * without an epipole), SPVS_E_PLANE_NZ / SPVS_E_PLANE_NY (latched: the plane
- * gives this method no signal), SPVS_E_STEP_TIMEOUT (latched). */
+ * gives this method no signal), SPVS_E_STEP_TIMEOUT (latched),
+ * SPVS_E_NOT_AT_TARGET (latched: the arrival check failed
+ * SPVS_CTL_ARRIVAL_MAX_REENTRIES + 1 times, or pointed to a step 1 that
+ * Method III cannot run without an epipole). */
 SPVS_NODISCARD int spvs_control_step(spvs_control_t *c,
                                      const spvs_control_params_t *p,
                                      const spvs_control_input_t *in,

@@ -61,6 +61,19 @@ typedef struct {
     uint8_t h_valid;        /* H is this frame's estimate                     */
     uint8_t e_valid;        /* e_x_px is this frame's estimate                */
     uint8_t eq11;           /* Method III runs on eq. (11)                    */
+    /* The arrival check after step 3 (control.h; docs/CONTROL.md): the
+     * figures of the last check made (0 before the first), on H averaged
+     * over arrival_frames frames standing still. Mean corner transfers of
+     * H - I in pixels: */
+    spvs_real arrival_corner_px;  /* all of it: converged only if <= bound  */
+    spvs_real arrival_bound_px;   /* the noise bound it was held to         */
+    spvs_real arrival_lateral_px; /* row 1 without h13 (sideways offset)    */
+    spvs_real arrival_depth_px;   /* row 3 (offset along the optical axis)  */
+    spvs_real arrival_h13_px;     /* mean h13, pixels (heading)             */
+    uint16_t arrival_frames;      /* frames averaged (so far, while holding) */
+    uint8_t arrival_reentries;    /* failed checks that re-entered a step   */
+    uint8_t arrival_next;         /* the step the last failed check chose   */
+    uint8_t arriving;             /* standing still for the check now       */
 } spvs_output_t;
 
 typedef struct {

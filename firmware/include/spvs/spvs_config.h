@@ -258,11 +258,37 @@
 #define SPVS_CTL_FIT_MIN_SPREAD_UM 32
 #endif
 
+/* The arrival check after step 3 (control.h): how many times a failed check
+ * may send the robot back to a step before the run ends with
+ * SPVS_E_NOT_AT_TARGET, and the most frames one check may average. */
+#ifndef SPVS_CTL_ARRIVAL_MAX_REENTRIES
+#define SPVS_CTL_ARRIVAL_MAX_REENTRIES 3
+#endif
+#ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
+#define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
+#endif
+
+/* How many times the per-frame scatter of alpha_y h32 is that of h33 (both
+ * from the same plane inliers spread over the image; docs/CONTROL.md):
+ * Method II's re-entered step 2 reads the distance from the less noisy. */
+#ifndef SPVS_CTL_H32_NOISE_RATIO
+#define SPVS_CTL_H32_NOISE_RATIO 3
+#endif
+
 #if (SPVS_CTL_PHIT_FRAMES < 1) || (SPVS_CTL_PHIT_FRAMES > 100000)
 #error "SPVS_CTL_PHIT_FRAMES must be in 1..100000"
 #endif
 #if (SPVS_CTL_FIT_MIN_SPREAD_UM < 1) || (SPVS_CTL_FIT_MIN_SPREAD_UM > 100000)
 #error "SPVS_CTL_FIT_MIN_SPREAD_UM must be in 1..100000"
+#endif
+#if (SPVS_CTL_H32_NOISE_RATIO < 1) || (SPVS_CTL_H32_NOISE_RATIO > 100)
+#error "SPVS_CTL_H32_NOISE_RATIO must be in 1..100"
+#endif
+#if (SPVS_CTL_ARRIVAL_MAX_REENTRIES < 0) || (SPVS_CTL_ARRIVAL_MAX_REENTRIES > 20)
+#error "SPVS_CTL_ARRIVAL_MAX_REENTRIES must be in 0..20"
+#endif
+#if (SPVS_CTL_ARRIVAL_MAX_FRAMES < 1) || (SPVS_CTL_ARRIVAL_MAX_FRAMES > 65535)
+#error "SPVS_CTL_ARRIVAL_MAX_FRAMES must be in 1..65535"
 #endif
 
 #endif /* SPVS_CONFIG_H */
