@@ -154,6 +154,185 @@ static void test_homing_pose(void **state)
     assert_true(-sin(phi) * (-x) + cos(phi) * (-z) > 0.0);
 }
 
+
+/* The controller drives backwards onto the line when the target is behind
+ * (tools/experiments.py's Figure 5: (-6, 4, 20) and (6, 8, 10)), and from
+ * the grazing start (5, 2, -50) too: the line's heading is the one nearer
+ * the start heading. */
+static void test_homing_pose_backwards(void **state)
+{
+    (void)state;
+    double x, z, phi;
+    hb_homing_pose(-6.0, 4.0, 20.0 * DEG, 0.5, &x, &z, &phi);
+    assert_true(fabs(phi - atan2(6.0, 4.0)) < 1e-12); /* 56.31 deg */
+    /* Backwards: the heading points away from the target. */
+    assert_true(-sin(phi) * (-x) + cos(phi) * (-z) < 0.0);
+    hb_homing_pose(5.0, 2.0, -50.0 * DEG, 0.5, &x, &z, &phi);
+    assert_true(fabs(phi / DEG + 68.198590513648) < 1e-9);
+    hb_homing_pose(6.0, 8.0, 10.0 * DEG, 0.5, &x, &z, &phi);
+    assert_true(fabs(phi / DEG + 36.869897645844) < 1e-9);
+    /* The first rotation takes the short way: half-way through it from
+     * (5, 2, -50) the heading is the mean of -50 and -68.2 deg. */
+    hb_homing_pose(5.0, 2.0, -50.0 * DEG, 0.1, &x, &z, &phi);
+    assert_true(fabs(phi / DEG + 59.099295256824) < 1e-9);
+    /* The last rotation ends at phi = 0. */
+    hb_homing_pose(5.0, 2.0, -50.0 * DEG, 1.0, &x, &z, &phi);
+    assert_true(fabs(phi) < 1e-12 && x == 0.0 && z == 0.0);
+}
+
+/* The families: record counts, pose ids, the Figure 5 starts, and the
+ * grazing family's off-axis angles (60 .. 100 deg, right then left). */
+static void test_families(void **state)
+{
+    (void)state;
+    hb_scene_t sc;
+    hb_scene_default(&sc);
+    assert_int_equal(hb_family_poses(HB_FAMILY_HOMING, 8), 8);
+    assert_int_equal(hb_family_poses(HB_FAMILY_FIG5, 8), 48);
+    assert_int_equal(hb_family_poses(HB_FAMILY_GRAZING, 8), 48);
+    assert_string_equal(hb_family_name(HB_FAMILY_GRAZING), "grazing");
+    assert_null(hb_family_name(HB_FAMILIES));
+    double x, z, phi;
+    uint32_t id;
+    /* fig5 pose 5 * 8: the sixth start itself. */
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILY_FIG5, 40, 8, &x, &z, &phi, &id), 0);
+    assert_true(x == 5.0 && z == 2.0 && fabs(phi + 50.0 * DEG) < 1e-12);
+    assert_int_equal(id, 5 * HB_POSE_STRIDE);
+    /* (5, 2, -50) sees the goal image's centre 54.9 deg left of its axis. */
+    assert_true(fabs(hb_off_axis(&sc, x, z, phi) / DEG + 54.89) < 0.01);
+    for (uint32_t k = 0; k < 48; k++) {
+        assert_int_equal(hb_family_pose(&sc, HB_FAMILY_GRAZING, k, 8, &x, &z, &phi, &id), 0);
+        double x0, z0, phi0;
+        assert_int_equal(hb_fig5_start(k / 8, &x0, &z0, &phi0), 0);
+        assert_true(x == x0 && z == z0);
+        assert_int_equal(id, (k / 8) * HB_POSE_STRIDE + k % 8);
+        double want = (60.0 + 40.0 * (double)(k % 8) / 7.0) * ((k % 2) ? -1.0 : 1.0);
+        assert_true(fabs(hb_off_axis(&sc, x, z, phi) / DEG - want) < 1e-9);
+    }
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILY_GRAZING, 48, 8, &x, &z, &phi, &id), -1);
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILIES, 0, 8, &x, &z, &phi, &id), -1);
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILY_FIG5, 0, HB_POSE_STRIDE, &x, &z, &phi, &id), -1);
+}
+
+/* (x, y) of the target image maps in front of the current camera within
+ * HB_VIEW_PX (+ 1e-6 px: a corner on the bound may round past it). */
+static int seen(const double H[9], double x, double y)
+{
+    double w = H[6] * x + H[7] * y + H[8], xo, yo;
+    if (!(w > 0.0) || hb_apply_h(H, x, y, &xo, &yo) != 0)
+        return 0;
+    return fabs(xo) <= HB_VIEW_PX + 1e-6 && fabs(yo) <= HB_VIEW_PX + 1e-6;
+}
+
+/* The seen rectangle: the whole image on the homing run; at a grazing view
+ * a strip whose corners map in front within HB_VIEW_PX, with nothing
+ * seen 2 px beyond the edge that bounds it. */
+static void test_view_region(void **state)
+{
+    (void)state;
+    hb_scene_t sc;
+    hb_scene_default(&sc);
+    double H[9], r[4], x, z, phi;
+    uint32_t id;
+    hb_true_h(&sc, -3.0, -10.0, -30.0 * DEG, H);
+    assert_int_equal(hb_view_region(&sc, H, r), 0);
+    assert_true(r[0] == -320.0 && r[1] == 320.0 && r[2] == -240.0 && r[3] == 240.0);
+    /* Grazing, 100 deg left of the axis at (0, -8): pose 1 * 8 + 7. */
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILY_GRAZING, 15, 8, &x, &z, &phi, &id), 0);
+    hb_true_h(&sc, x, z, phi, H);
+    assert_int_equal(hb_view_region(&sc, H, r), 0);
+    assert_true(r[1] - r[0] >= 1.0 && r[1] - r[0] < 200.0);
+    const double cx[4] = {r[0], r[1], r[1], r[0]}, cy[4] = {r[2], r[2], r[3], r[3]};
+    for (int k = 0; k < 4; k++)
+        assert_true(seen(H, cx[k], cy[k]));
+    /* The strip lies at one side of the image; 2 px past its inner edge the
+     * top or the bottom corner is no longer seen. */
+    const int left = r[0] == -320.0;
+    const double beyond = left ? r[1] + 2.0 : r[0] - 2.0;
+    assert_true(left ? r[1] < 320.0 : r[0] > -320.0);
+    assert_false(seen(H, beyond, r[2]) && seen(H, beyond, r[3]));
+    /* Past 90 deg the goal image's centre is behind the camera (h33 < 0);
+     * the true H, at any scale of either sign, still scores 0. */
+    assert_true(H[8] < 0.0);
+    double G[9];
+    for (int i = 0; i < 9; i++)
+        G[i] = -3.0 * H[i];
+    assert_true(hb_corner_err(&sc, H, H) < 1e-9 && hb_corner_err(&sc, H, G) < 1e-9);
+    assert_true(hb_corner_err_tgt(&sc, H, G) < 1e-9);
+    /* Facing away from the plane, nothing is seen. */
+    hb_true_h(&sc, 0.0, 0.0, 180.0 * DEG, H);
+    assert_int_equal(hb_view_region(&sc, H, r), -1);
+}
+
+/* A grazing record: the target points in the seen strip, every current
+ * point imaged within HB_VIEW_PX, the true H exact on noise-free inliers,
+ * and noise of sigma on the target image too (as a real goal image has),
+ * which H magnifies: most true inliers then lie over 3 px from H p_tgt. */
+static void test_grazing_record(void **state)
+{
+    (void)state;
+    hb_scene_t sc;
+    hb_scene_default(&sc);
+    double x, z, phi, r[4];
+    uint32_t id;
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILY_GRAZING, 4, 8, &x, &z, &phi, &id), 0);
+    hb_record_t a, b;
+    assert_int_equal(hb_record_alloc(&a, 400), 0);
+    assert_int_equal(hb_record_alloc(&b, 400), 0);
+    assert_int_equal(hb_generate(&sc, 400, 0.0, 0.0, x, z, phi, 11, &a), 0);
+    assert_int_equal(hb_generate(&sc, 400, 0.0, 1.0, x, z, phi, 11, &b), 0);
+    assert_int_equal(hb_view_region(&sc, a.H, r), 0);
+    double worst = 0.0, s2_tgt = 0.0, s2_cur = 0.0;
+    for (uint32_t i = 0; i < 400; i++) {
+        assert_true(a.pts[i][0] >= r[0] && a.pts[i][0] <= r[1]);
+        assert_true(a.pts[i][1] >= r[2] && a.pts[i][1] <= r[3]);
+        assert_true(fabs(a.pts[i][2]) <= HB_VIEW_PX && fabs(a.pts[i][3]) <= HB_VIEW_PX);
+        double xo, yo;
+        assert_int_equal(hb_apply_h(a.H, a.pts[i][0], a.pts[i][1], &xo, &yo), 0);
+        worst = fmax(worst, hypot(xo - a.pts[i][2], yo - a.pts[i][3]));
+        for (int j = 0; j < 2; j++) {
+            s2_tgt += pow(b.pts[i][j] - a.pts[i][j], 2);
+            s2_cur += pow(b.pts[i][2 + j] - a.pts[i][2 + j], 2);
+        }
+    }
+    assert_true(worst < 1e-6);
+    assert_true(fabs(sqrt(s2_tgt / 800.0) - 1.0) < 0.1);
+    assert_true(fabs(sqrt(s2_cur / 800.0) - 1.0) < 0.1);
+    assert_true(hb_inliers_over(&a, 3.0) == 0.0);
+    assert_true(hb_inliers_over(&b, 3.0) > 0.5);
+    /* The first-order error that weighs both images' noise keeps them: at
+     * the chi-square 0.99 quantile about 1 % are cut, not over half. */
+    assert_true(hb_inliers_over_sampson(&a, 0.0, 9.21) == 0.0);
+    assert_true(hb_inliers_over_sampson(&b, 1.0, 9.21) < 0.04);
+    free(a.pts);
+    free(a.inlier);
+    free(b.pts);
+    free(b.inlier);
+}
+
+/* The corner error in target-image pixels: equal to the current-image one
+ * where H is the identity, smaller by the local magnification at a grazing
+ * view. */
+static void test_corner_error_tgt(void **state)
+{
+    (void)state;
+    hb_scene_t sc;
+    hb_scene_default(&sc);
+    double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, T[9] = {1, 0, 3, 0, 1, 4, 0, 0, 1};
+    assert_true(fabs(hb_corner_err_tgt(&sc, I, T) - 5.0) < 1e-12);
+    double H[9], G[9], x, z, phi;
+    uint32_t id;
+    assert_int_equal(hb_family_pose(&sc, HB_FAMILY_GRAZING, 4, 8, &x, &z, &phi, &id), 0);
+    hb_true_h(&sc, x, z, phi, H);
+    assert_true(hb_corner_err_tgt(&sc, H, H) < 1e-9);
+    /* The estimate off by 1 px along x in the target image: G = H T1. */
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            G[3 * i + j] = H[3 * i + j] + (j == 2 ? H[3 * i] : 0.0);
+    assert_true(fabs(hb_corner_err_tgt(&sc, H, G) - 1.0) < 1e-6);
+    assert_true(hb_corner_err(&sc, H, G) > 5.0);
+}
+
 /* ---- file format ------------------------------------------------------- */
 
 static int make_set(hb_set_t *set, uint32_t count)
@@ -293,6 +472,11 @@ int main(void)
         cmocka_unit_test(test_mismatch_count_and_noise),
         cmocka_unit_test(test_corner_error),
         cmocka_unit_test(test_homing_pose),
+        cmocka_unit_test(test_homing_pose_backwards),
+        cmocka_unit_test(test_families),
+        cmocka_unit_test(test_view_region),
+        cmocka_unit_test(test_grazing_record),
+        cmocka_unit_test(test_corner_error_tgt),
         cmocka_unit_test(test_round_trip),
         cmocka_unit_test(test_bad_files_rejected),
     };

@@ -13,9 +13,8 @@
  *   --callgrind EST            run EST for --count K estimates (instruction
  *                              counts: run with K and with 0, subtract)
  * Options: --repeats K, --estimators a,b|all, --order turns|blocks,
- *   --between none|frame, --case ID, --instances I, --poses P, --seed S, --n N,
- *   --mismatch F, --sigma PX,
- *   --count K, --warmup K.
+ *   --between none|frame, --case ID, --family F[,F], --instances I, --poses P,
+ *   --seed S, --n N, --mismatch F, --sigma PX, --count K, --warmup K.
  * Bad options print one line on stderr and exit with status 2.
  */
 #include <algorithm>
@@ -40,13 +39,18 @@ namespace {
 
 using bench::Estimator;
 
-/* The matrix of the issue: N x mismatch fraction x noise sigma. */
+/* The matrix: pose family (hombench.h: homing, fig5, grazing) x N x
+ * mismatch fraction x noise sigma; case_id = ((iFamily * 4 + iN) * 3 +
+ * iMismatch) * 2 + iSigma, so the homing family keeps ids 0-23. */
 const uint32_t kNs[] = {50, 100, 200, 500};
 const double kMismatch[] = {0.0, 0.2, 0.5};
 const double kSigma[] = {0.0, 1.0};
+const int kCellsPerFamily = 4 * 3 * 2;
+const int kCases = (int)HB_FAMILIES * kCellsPerFamily;
 
-/* The homing run the poses are sampled from: DESIGN.md's usual start. */
-const double kStartX = -3.0, kStartZ = -10.0, kStartPhiDeg = -30.0;
+/* The chi-square 0.99 quantile with two degrees of freedom, -2 ln 0.01: the
+ * per-record view statistic inliers_over_sampson_99. */
+const double kChi2Two99 = 9.2103403719761836;
 
 struct Options {
     std::string mode;
@@ -64,6 +68,7 @@ struct Options {
     uint32_t poses = 8;
     uint64_t seed = 1;
     int only_case = -1;
+    std::vector<bool> families = std::vector<bool>(HB_FAMILIES, true);
     uint32_t n = 100;
     double mismatch = 0.2;
     double sigma = 1.0;
@@ -107,6 +112,25 @@ std::vector<std::string> split_list(const std::string &s)
     return out;
 }
 
+/* A list of pose families (hombench.h's names) or `all`. */
+std::vector<bool> parse_families(const char *opt, const char *s)
+{
+    std::vector<bool> on(HB_FAMILIES, !std::strcmp(s, "all"));
+    if (on[0])
+        return on;
+    for (const auto &name : split_list(s)) {
+        uint32_t f = 0;
+        while (f < HB_FAMILIES && name != hb_family_name(f))
+            f++;
+        if (f == HB_FAMILIES)
+            sim_cli_fail("%s takes homing, fig5, grazing or all, not '%s'", opt, name.c_str());
+        on[f] = true;
+    }
+    if (std::find(on.begin(), on.end(), true) == on.end())
+        sim_cli_fail("%s needs a comma-separated list of families", opt);
+    return on;
+}
+
 void print_help()
 {
     std::printf(
@@ -128,9 +152,17 @@ void print_help()
         "                         (ORB, 500 features, 640x480) after which the matches\n"
         "                         are handed over afresh: every estimator starts cold\n"
         "  --case ID              with --generate or --full: only case ID of the matrix\n"
-        "                         (0-23, (iN * 3 + iMismatch) * 2 + iSigma; 15 = N 200, 20 %%, 1 px)\n"
+        "                         (0-71, ((iFamily * 4 + iN) * 3 + iMismatch) * 2 + iSigma;\n"
+        "                         15 = homing, N 200, 20 %%, 1 px; 39 = fig5, 63 = grazing)\n"
+        "  --family F[,F]|all     with --generate or --full: only these pose families:\n"
+        "                         homing (P poses along the run from (-3, -10, -30 deg)),\n"
+        "                         fig5 (P along each of the six Figure 5 runs),\n"
+        "                         grazing (the goal image's centre 60-100 deg off the\n"
+        "                         optical axis, P angles at each Figure 5 start)\n"
         "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
-        "  --per-record           also print one JSON line per (record, estimator) on stderr\n"
+        "  --per-record           also print one JSON line per (record, estimator) on stderr:\n"
+        "                         the pose, its view (off_axis_deg, inliers_over_3px) and\n"
+        "                         the estimator's successes and median corner error\n"
         "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
         "  --n N --mismatch F --sigma PX --count K   callgrind mode\n"
         "estimators in this build:");
@@ -190,11 +222,13 @@ Options parse(int argc, char **argv)
             if (o.estimators.empty())
                 sim_cli_fail("--estimators needs a comma-separated list");
         } else if (!std::strcmp(a, "--case")) {
-            o.only_case = (int)parse_long(a, need(i), 0, 23);
+            o.only_case = (int)parse_long(a, need(i), 0, kCases - 1);
+        } else if (!std::strcmp(a, "--family")) {
+            o.families = parse_families(a, need(i));
         } else if (!std::strcmp(a, "--instances")) {
             o.instances = (uint32_t)parse_long(a, need(i), 1, 10000);
         } else if (!std::strcmp(a, "--poses")) {
-            o.poses = (uint32_t)parse_long(a, need(i), 1, 1000);
+            o.poses = (uint32_t)parse_long(a, need(i), 1, (long)HB_POSE_STRIDE - 1);
         } else if (!std::strcmp(a, "--seed")) {
             o.seed = (uint64_t)parse_long(a, need(i), 0, 2147483647L);
         } else if (!std::strcmp(a, "--n")) {
@@ -213,6 +247,13 @@ Options parse(int argc, char **argv)
         sim_cli_fail("no mode given");
     if (o.only_case >= 0 && o.mode != "--generate" && o.mode != "--full")
         sim_cli_fail("--case goes with --generate or --full");
+    const bool all_families =
+        std::find(o.families.begin(), o.families.end(), false) == o.families.end();
+    if (!all_families && o.mode != "--generate" && o.mode != "--full")
+        sim_cli_fail("--family goes with --generate or --full");
+    if (o.only_case >= 0 && !o.families[(size_t)(o.only_case / kCellsPerFamily)])
+        sim_cli_fail("--case %d is a %s case, outside --family", o.only_case,
+                     hb_family_name((uint32_t)(o.only_case / kCellsPerFamily)));
     if (o.mode == "--cases" && !o.json)
         sim_cli_fail("--cases prints JSON lines only: add --json");
     if (o.estimators.empty() || (o.estimators.size() == 1 && o.estimators[0] == "all")) {
@@ -237,50 +278,58 @@ uint64_t record_seed(uint64_t base, uint32_t case_id, uint32_t inst, uint32_t po
     return hb_rng_next(&r);
 }
 
-bool generate_case(hb_set_t &set, uint32_t case_id, uint32_t n, double mismatch, double sigma,
-                   uint32_t instances, uint32_t poses, uint64_t seed)
+/* Every record of one cell: `instances` draws of each of the family's
+ * poses (hb_family_pose). */
+bool generate_case(hb_set_t &set, uint32_t case_id, uint32_t family, uint32_t n,
+                   double mismatch, double sigma, uint32_t instances, uint32_t poses,
+                   uint64_t seed)
 {
+    const uint32_t per = hb_family_poses(family, poses);
     for (uint32_t inst = 0; inst < instances; inst++)
-        for (uint32_t k = 0; k < poses; k++) {
+        for (uint32_t k = 0; k < per; k++) {
             hb_record_t &rec = set.rec[set.count];
-            double s = poses > 1 ? (double)k / (double)(poses - 1) : 0.5;
             double x, z, phi;
-            hb_homing_pose(kStartX, kStartZ, kStartPhiDeg * M_PI / 180.0, s, &x, &z, &phi);
+            uint32_t pose_id;
+            if (hb_family_pose(&set.scene, family, k, poses, &x, &z, &phi, &pose_id) != 0)
+                return false;
             if (hb_record_alloc(&rec, n) != 0)
                 return false;
             set.count++;
             rec.case_id = case_id;
             rec.instance = inst;
-            rec.pose = k;
+            rec.pose = pose_id;
             if (hb_generate(&set.scene, n, mismatch, sigma, x, z, phi,
-                            record_seed(seed, case_id, inst, k), &rec) != 0)
+                            record_seed(seed, case_id, inst, pose_id), &rec) != 0)
                 return false;
         }
     return true;
 }
 
-/* The whole matrix, or only case only_case when it is >= 0; case_id =
- * (iN * 3 + iMismatch) * 2 + iSigma either way. */
+/* The whole matrix over the chosen families, or only case only_case when it
+ * is >= 0. */
 bool generate_matrix(hb_set_t &set, uint32_t instances, uint32_t poses, uint64_t seed,
-                     int only_case)
+                     int only_case, const std::vector<bool> &families)
 {
     hb_scene_default(&set.scene);
-    size_t total = 4 * 3 * 2 * (size_t)instances * poses;
+    size_t total = 0;
+    for (uint32_t f = 0; f < HB_FAMILIES; f++)
+        if (families[f])
+            total += (size_t)kCellsPerFamily * instances * hb_family_poses(f, poses);
     set.rec = (hb_record_t *)std::calloc(total, sizeof(hb_record_t));
     set.count = 0;
     if (!set.rec)
         return false;
     uint32_t id = 0;
-    for (uint32_t n : kNs)
-        for (double m : kMismatch)
-            for (double s : kSigma)
-            {
-                const uint32_t case_id = id++;
-                if (only_case >= 0 && case_id != (uint32_t)only_case)
-                    continue;
-                if (!generate_case(set, case_id, n, m, s, instances, poses, seed))
-                    return false;
-            }
+    for (uint32_t f = 0; f < HB_FAMILIES; f++)
+        for (uint32_t n : kNs)
+            for (double m : kMismatch)
+                for (double s : kSigma) {
+                    const uint32_t case_id = id++;
+                    if (!families[f] || (only_case >= 0 && case_id != (uint32_t)only_case))
+                        continue;
+                    if (!generate_case(set, case_id, f, n, m, s, instances, poses, seed))
+                        return false;
+                }
     return true;
 }
 
@@ -292,12 +341,15 @@ struct Cell {
     uint32_t records = 0;
     std::vector<double> us;      /* one per timed estimate              */
     std::vector<double> err_px;  /* corner error of estimates returning H */
+    std::vector<double> err_tgt; /* the same in target-image pixels       */
     uint32_t estimates = 0, successes = 0, returned = 0;
     /* How the estimates were timed (run_set). */
     const char *order = "turns";
     const char *between = "none";
 };
 
+/* Interpolated quantile; infinite when it falls on or next to an infinite
+ * value (a failed estimate's error). */
 double quantile(std::vector<double> v, double q)
 {
     if (v.empty())
@@ -306,11 +358,17 @@ double quantile(std::vector<double> v, double q)
     double pos = q * (double)(v.size() - 1);
     size_t lo = (size_t)std::floor(pos);
     size_t hi = std::min(lo + 1, v.size() - 1);
+    if (pos == (double)lo)
+        return v[lo];
+    if (!std::isfinite(v[hi]))
+        return v[hi];
     return v[lo] + (pos - (double)lo) * (v[hi] - v[lo]);
 }
 
 struct Summary {
     double median_us, q1_us, q3_us, success_rate, mean_err, median_err, mean_err_ok;
+    double median_err_all; /* over every estimate, a failed one as infinite */
+    double median_err_tgt; /* the same in target-image pixels             */
 };
 
 Summary summarise(const Cell &c)
@@ -335,6 +393,12 @@ Summary summarise(const Cell &c)
     s.mean_err = n_fin ? sum / n_fin : NAN;
     s.median_err = quantile(c.err_px, 0.5);
     s.mean_err_ok = n_ok ? sum_ok / n_ok : NAN;
+    std::vector<double> all = c.err_px;
+    all.resize(std::max<size_t>(all.size(), c.estimates), INFINITY);
+    s.median_err_all = quantile(all, 0.5);
+    all = c.err_tgt;
+    all.resize(std::max<size_t>(all.size(), c.estimates), INFINITY);
+    s.median_err_tgt = quantile(all, 0.5);
     return s;
 }
 
@@ -350,21 +414,26 @@ std::string jnum(double v, const char *fmt = "%.4g")
 std::string json_line(const std::string &est, const Cell &c)
 {
     Summary s = summarise(c);
-    char b[1024];
+    const char *family = hb_family_name(c.case_id / (uint32_t)kCellsPerFamily);
+    char b[1280];
     std::snprintf(b, sizeof b,
-                  "{\"case_id\": %u, \"estimator\": \"%s\", \"N\": %u, \"mismatch\": %s, "
+                  "{\"case_id\": %u, \"family\": %s%s%s, \"estimator\": \"%s\", \"N\": %u, "
+                  "\"mismatch\": %s, "
                   "\"sigma_px\": %s, \"records\": %u, \"estimates\": %u, \"median_us\": %s, "
                   "\"q1_us\": %s, \"q3_us\": %s, \"iqr_us\": %s, \"success_rate\": %s, "
                   "\"returned_rate\": %s, \"mean_corner_err_px\": %s, "
                   "\"median_corner_err_px\": %s, \"mean_corner_err_ok_px\": %s, "
+                  "\"median_corner_err_all_px\": %s, \"median_corner_err_tgt_px\": %s, "
                   "\"order\": \"%s\", \"between\": \"%s\"}",
-                  c.case_id, est.c_str(), c.n, jnum(c.mismatch).c_str(), jnum(c.sigma).c_str(),
+                  c.case_id, family ? "\"" : "", family ? family : "null", family ? "\"" : "",
+                  est.c_str(), c.n, jnum(c.mismatch).c_str(), jnum(c.sigma).c_str(),
                   c.records, c.estimates, jnum(s.median_us).c_str(), jnum(s.q1_us).c_str(),
                   jnum(s.q3_us).c_str(), jnum(s.q3_us - s.q1_us).c_str(),
                   jnum(s.success_rate).c_str(),
                   jnum(c.estimates ? (double)c.returned / c.estimates : 0.0).c_str(),
                   jnum(s.mean_err).c_str(), jnum(s.median_err).c_str(),
-                  jnum(s.mean_err_ok).c_str(), c.order, c.between);
+                  jnum(s.mean_err_ok).c_str(), jnum(s.median_err_all).c_str(),
+                  jnum(s.median_err_tgt).c_str(), c.order, c.between);
     return b;
 }
 
@@ -381,8 +450,45 @@ using Results = std::vector<std::pair<uint32_t, std::map<std::string, Cell>>>;
  * timed estimate and the estimator's input is prepared again after it, so
  * every estimator starts from the same cold caches and predictors, as on a
  * robot (neither is timed). */
+/* One line per (record, estimator) for --per-record: the record's pose and
+ * view, and what the estimator made of it over its repeats. */
+void print_record_line(const hb_scene_t &sc, const hb_record_t &rec, uint32_t r,
+                       const std::string &name, const std::vector<double> &errs,
+                       const std::vector<double> &errs_tgt, const std::vector<double> &us,
+                       uint32_t estimates)
+{
+    uint32_t ok = 0;
+    for (double e : errs)
+        ok += e < 2.0;
+    std::vector<double> all = errs;
+    all.resize(std::max<size_t>(all.size(), estimates), INFINITY);
+    std::vector<double> all_tgt = errs_tgt;
+    all_tgt.resize(std::max<size_t>(all_tgt.size(), estimates), INFINITY);
+    const char *family = hb_family_name(rec.case_id / (uint32_t)kCellsPerFamily);
+    const bool strided = family && rec.case_id >= (uint32_t)kCellsPerFamily;
+    std::fprintf(stderr,
+                 "{\"record\": %u, \"case_id\": %u, \"family\": %s%s%s, \"instance\": %u, "
+                 "\"pose\": %u, \"start\": %s, \"x_m\": %.3f, \"z_m\": %.3f, "
+                 "\"phi_deg\": %.2f, \"off_axis_deg\": %s, \"inliers_over_3px\": %.4f, "
+                 "\"inliers_over_sampson_99\": %.4f, "
+                 "\"N\": %u, \"mismatch\": %s, \"sigma_px\": %s, \"estimator\": \"%s\", "
+                 "\"estimates\": %u, \"successes\": %u, \"median_us\": %s, "
+                 "\"median_corner_err_all_px\": %s, \"median_corner_err_tgt_px\": %s}\n",
+                 r, rec.case_id, family ? "\"" : "", family ? family : "null",
+                 family ? "\"" : "", rec.instance, rec.pose,
+                 strided ? std::to_string(rec.pose / HB_POSE_STRIDE).c_str() : "null", rec.x_m,
+                 rec.z_m, rec.phi_rad * 180.0 / M_PI,
+                 jnum(hb_off_axis(&sc, rec.x_m, rec.z_m, rec.phi_rad) * 180.0 / M_PI, "%.2f")
+                     .c_str(),
+                 hb_inliers_over(&rec, bench::kInlierPx),
+                 hb_inliers_over_sampson(&rec, rec.sigma_px, kChi2Two99), rec.n, jnum(rec.mismatch).c_str(),
+                 jnum(rec.sigma_px).c_str(), name.c_str(), estimates, ok,
+                 jnum(quantile(us, 0.5), "%.2f").c_str(), jnum(quantile(all, 0.5)).c_str(),
+                 jnum(quantile(all_tgt, 0.5)).c_str());
+}
+
 Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int repeats,
-                int warmup, bool per_record, bool blocks, bool frame)
+                int warmup, bool per_record, bool blocks, bool frame, bool progress)
 {
     using clock = std::chrono::steady_clock;
     std::vector<std::unique_ptr<Estimator>> est;
@@ -410,6 +516,14 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
         if (it == pos.end()) {
             it = pos.emplace(rec.case_id, res.size()).first;
             res.emplace_back(rec.case_id, std::map<std::string, Cell>());
+            if (progress) {
+                const char *family = hb_family_name(rec.case_id / (uint32_t)kCellsPerFamily);
+                std::fprintf(stderr,
+                             "spvs-bench: case %u (%s, N %u, %.0f %% mismatches, %g px), "
+                             "from record %u of %u\n",
+                             rec.case_id, family ? family : "?", rec.n, 100.0 * rec.mismatch,
+                             rec.sigma_px, r + 1, set.count);
+            }
         }
         auto &cells = res[it->second].second;
         std::vector<bool> ready(est.size());
@@ -436,6 +550,8 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
          * counted from this record's first (blocks). */
         const size_t n_est = est.size();
         const size_t total = n_est * (size_t)repeats;
+        /* This record's errors and times, per estimator (--per-record). */
+        std::vector<std::vector<double>> rec_err(n_est), rec_tgt(n_est), rec_us(n_est);
         for (size_t q = 0; q < total; q++) {
             const size_t e = blocks ? (q / (size_t)repeats + r) % n_est : q % n_est;
             Cell &c = cells[names[e]];
@@ -451,20 +567,22 @@ Results run_set(const hb_set_t &set, const std::vector<std::string> &names, int 
             bool ok = est[e]->estimate(H);
             auto t1 = clock::now();
             c.us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+            rec_us[e].push_back(c.us.back());
             if (!ok)
                 continue;
             c.returned++;
             double err = hb_corner_err(&set.scene, rec.H, H);
             c.err_px.push_back(err);
+            rec_err[e].push_back(err);
+            c.err_tgt.push_back(hb_corner_err_tgt(&set.scene, rec.H, H));
+            rec_tgt[e].push_back(c.err_tgt.back());
             if (err < 2.0)
                 c.successes++;
-            if (per_record)
-                std::fprintf(stderr,
-                             "{\"record\": %u, \"case_id\": %u, \"instance\": %u, \"pose\": %u, "
-                             "\"estimator\": \"%s\", \"us\": %.2f, \"corner_err_px\": %s}\n",
-                             r, rec.case_id, rec.instance, rec.pose, names[e].c_str(),
-                             c.us.back(), jnum(err).c_str());
         }
+        if (per_record)
+            for (size_t e = 0; e < n_est; e++)
+                print_record_line(set.scene, rec, r, names[e], rec_err[e], rec_tgt[e], rec_us[e],
+                                  (uint32_t)repeats);
     }
     return res;
 }
@@ -551,7 +669,8 @@ int mode_callgrind(const Options &o)
     hb_scene_default(&set.scene);
     const uint32_t poses = 6;
     set.rec = (hb_record_t *)std::calloc(poses, sizeof(hb_record_t));
-    if (!set.rec || !generate_case(set, 0, o.n, o.mismatch, o.sigma, 1, poses, o.seed)) {
+    if (!set.rec ||
+        !generate_case(set, 0, HB_FAMILY_HOMING, o.n, o.mismatch, o.sigma, 1, poses, o.seed)) {
         std::fprintf(stderr, "spvs-bench: case generation failed\n");
         hb_set_free(&set);
         return 1;
@@ -589,7 +708,7 @@ int main(int argc, char **argv)
 
     if (o.mode == "--generate") {
         hb_set_t set{};
-        if (!generate_matrix(set, o.instances, o.poses, o.seed, o.only_case)) {
+        if (!generate_matrix(set, o.instances, o.poses, o.seed, o.only_case, o.families)) {
             std::fprintf(stderr, "spvs-bench: case generation failed\n");
             hb_set_free(&set);
             return 1;
@@ -609,7 +728,8 @@ int main(int argc, char **argv)
             return 1;
         }
         Results res = run_set(set, o.estimators, o.repeats > 0 ? o.repeats : 5,
-                              o.warmup >= 0 ? o.warmup : 20, o.per_record, o.blocks, o.frame);
+                              o.warmup >= 0 ? o.warmup : 20, o.per_record, o.blocks, o.frame,
+                              true);
         print_json(res, o.estimators, stdout);
         hb_set_free(&set);
         return 0;
@@ -621,9 +741,9 @@ int main(int argc, char **argv)
             /* N = 200, 20 % mismatches, 1 px noise: the issue's headline case. */
             hb_scene_default(&set.scene);
             set.rec = (hb_record_t *)std::calloc(2 * 6, sizeof(hb_record_t));
-            ok = set.rec && generate_case(set, 13, 200, 0.2, 1.0, 2, 6, o.seed);
+            ok = set.rec && generate_case(set, 15, HB_FAMILY_HOMING, 200, 0.2, 1.0, 2, 6, o.seed);
         } else {
-            ok = generate_matrix(set, o.instances, o.poses, o.seed, o.only_case);
+            ok = generate_matrix(set, o.instances, o.poses, o.seed, o.only_case, o.families);
         }
         if (!ok) {
             std::fprintf(stderr, "spvs-bench: case generation failed\n");
@@ -633,7 +753,8 @@ int main(int argc, char **argv)
         int repeats = o.repeats > 0 ? o.repeats : (o.mode == "--short" ? 3 : 5);
         int warmup = o.warmup >= 0 ? o.warmup : (o.mode == "--short" ? 3 : 20);
         Results res =
-            run_set(set, o.estimators, repeats, warmup, o.per_record, o.blocks, o.frame);
+            run_set(set, o.estimators, repeats, warmup, o.per_record, o.blocks, o.frame,
+                    o.mode == "--full");
         if (!o.jsonl_path.empty()) {
             FILE *f = std::fopen(o.jsonl_path.c_str(), "w");
             if (!f) {

@@ -91,21 +91,38 @@ int hb_apply_h(const double H[9], double x, double y, double *xo, double *yo)
     return 0;
 }
 
+/* The four corners of the seen rectangle and H_est with w > 0 for points
+ * in front (a negative overall scale flips the sign of w).  Returns 0, or
+ * -1 when H_est is not finite or nothing is seen. */
+static int corners_and_h(const hb_scene_t *sc, const double H_true[9],
+                         const double H_est[9], double cx[4], double cy[4],
+                         double He[9])
+{
+    double r[4];
+    for (int i = 0; i < 9; i++)
+        if (!isfinite(H_est[i]))
+            return -1;
+    if (hb_view_region(sc, H_true, r) != 0)
+        return -1;
+    cx[0] = r[0], cx[1] = r[1], cx[2] = r[1], cx[3] = r[0];
+    cy[0] = r[2], cy[1] = r[2], cy[2] = r[3], cy[3] = r[3];
+    /* Both H are only defined up to scale; dehomogenising removes it, but a
+     * negative overall scale flips the sign of w, so normalise it first:
+     * w > 0 at the rectangle's centre, which the true H maps in front (in a
+     * view over 90 deg off-axis, h33 itself is negative). */
+    const double xm = 0.5 * (r[0] + r[1]), ym = 0.5 * (r[2] + r[3]);
+    double sgn = (H_est[6] * xm + H_est[7] * ym + H_est[8] < 0.0) ? -1.0 : 1.0;
+    for (int i = 0; i < 9; i++)
+        He[i] = sgn * H_est[i];
+    return 0;
+}
+
 double hb_corner_err(const hb_scene_t *sc, const double H_true[9],
                      const double H_est[9])
 {
-    const double hw = 0.5 * sc->width_px, hh = 0.5 * sc->height_px;
-    const double cx[4] = {-hw, hw, hw, -hw}, cy[4] = {-hh, -hh, hh, hh};
-    double sum = 0.0;
-    for (int i = 0; i < 9; i++)
-        if (!isfinite(H_est[i]))
-            return INFINITY;
-    /* Both H are only defined up to scale; dehomogenising removes it, but a
-     * negative overall scale flips the sign of w, so normalise it first. */
-    double He[9];
-    double sgn = (H_est[8] < 0.0) ? -1.0 : 1.0;
-    for (int i = 0; i < 9; i++)
-        He[i] = sgn * H_est[i];
+    double cx[4], cy[4], He[9], sum = 0.0;
+    if (corners_and_h(sc, H_true, H_est, cx, cy, He) != 0)
+        return INFINITY;
     for (int k = 0; k < 4; k++) {
         double xt, yt, xe, ye;
         if (hb_apply_h(H_true, cx[k], cy[k], &xt, &yt) != 0 ||
@@ -116,12 +133,147 @@ double hb_corner_err(const hb_scene_t *sc, const double H_true[9],
     return 0.25 * sum;
 }
 
+double hb_corner_err_tgt(const hb_scene_t *sc, const double H_true[9],
+                         const double H_est[9])
+{
+    double cx[4], cy[4], He[9], sum = 0.0;
+    if (corners_and_h(sc, H_true, H_est, cx, cy, He) != 0)
+        return INFINITY;
+    /* H_true^-1 as its adjugate (scale does not matter), signed so that
+     * points in front of the current camera map back with w > 0. */
+    const double *h = H_true;
+    double A[9] = {h[4] * h[8] - h[5] * h[7], h[2] * h[7] - h[1] * h[8], h[1] * h[5] - h[2] * h[4],
+                   h[5] * h[6] - h[3] * h[8], h[0] * h[8] - h[2] * h[6], h[2] * h[3] - h[0] * h[5],
+                   h[3] * h[7] - h[4] * h[6], h[1] * h[6] - h[0] * h[7], h[0] * h[4] - h[1] * h[3]};
+    const double det = h[0] * A[0] + h[1] * A[3] + h[2] * A[6];
+    if (!(fabs(det) > 0.0))
+        return INFINITY;
+    for (int i = 0; i < 9; i++)
+        A[i] /= det;
+    for (int k = 0; k < 4; k++) {
+        double xe, ye, xb, yb;
+        if (hb_apply_h(He, cx[k], cy[k], &xe, &ye) != 0 ||
+            hb_apply_h(A, xe, ye, &xb, &yb) != 0)
+            return INFINITY;
+        sum += hypot(xb - cx[k], yb - cy[k]);
+    }
+    return 0.25 * sum;
+}
+
+/* The x-range of the horizontal line y of the target image whose points
+ * map under H in front of the current camera and within lim of its centre:
+ * five half-lines a x + b >= 0 (w > 0, and lim w -+ x' >= 0, lim w -+ y' >= 0
+ * with x' and y' the numerators), cut down to [*lo, *hi].  An empty range
+ * leaves *lo > *hi. */
+static void seen_on_line(const double H[9], double y, double lim, double *lo,
+                         double *hi)
+{
+    const double w0 = H[7] * y + H[8];
+    const double x0 = H[1] * y + H[2], y0 = H[4] * y + H[5];
+    const double a[5] = {H[6], lim * H[6] - H[0], lim * H[6] + H[0],
+                         lim * H[6] - H[3], lim * H[6] + H[3]};
+    const double b[5] = {w0 - 1e-9, lim * w0 - x0, lim * w0 + x0,
+                         lim * w0 - y0, lim * w0 + y0};
+    for (int k = 0; k < 5; k++) {
+        if (a[k] > 0.0)
+            *lo = fmax(*lo, -b[k] / a[k]);
+        else if (a[k] < 0.0)
+            *hi = fmin(*hi, -b[k] / a[k]);
+        else if (b[k] < 0.0)
+            *hi = -INFINITY;
+    }
+}
+
+int hb_view_region(const hb_scene_t *sc, const double H_true[9], double r[4])
+{
+    const double hw = 0.5 * sc->width_px, hh = 0.5 * sc->height_px;
+    /* The seen set is convex (an intersection of half-planes), so a
+     * rectangle lies in it when its top and bottom edges do. */
+    double best_area = 0.0;
+    for (int t = 16; t >= 1; t--) {
+        const double yh = hh * (double)t / 16.0;
+        double lo = -hw, hi = hw;
+        seen_on_line(H_true, -yh, HB_VIEW_PX, &lo, &hi);
+        seen_on_line(H_true, yh, HB_VIEW_PX, &lo, &hi);
+        const double area = (hi - lo) * 2.0 * yh;
+        if (hi - lo >= 1.0 && area > best_area) {
+            best_area = area;
+            r[0] = lo;
+            r[1] = hi;
+            r[2] = -yh;
+            r[3] = yh;
+        }
+        if (t == 16 && lo == -hw && hi == hw)
+            break; /* the whole image */
+    }
+    return best_area > 0.0 ? 0 : -1;
+}
+
+double hb_inliers_over(const hb_record_t *rec, double px)
+{
+    uint32_t over = 0, in = 0;
+    for (uint32_t i = 0; i < rec->n; i++) {
+        if (!rec->inlier[i])
+            continue;
+        in++;
+        double x, y;
+        if (hb_apply_h(rec->H, rec->pts[i][0], rec->pts[i][1], &x, &y) != 0 ||
+            hypot(x - rec->pts[i][2], y - rec->pts[i][3]) > px)
+            over++;
+    }
+    return in ? (double)over / (double)in : 0.0;
+}
+
+double hb_inliers_over_sampson(const hb_record_t *rec, double sigma, double chi2)
+{
+    if (!(sigma > 0.0))
+        return 0.0;
+    const double *h = rec->H;
+    uint32_t over = 0, in = 0;
+    for (uint32_t i = 0; i < rec->n; i++) {
+        if (!rec->inlier[i])
+            continue;
+        in++;
+        const double x = rec->pts[i][0], y = rec->pts[i][1];
+        const double w = h[6] * x + h[7] * y + h[8];
+        double fx, fy;
+        if (hb_apply_h(h, x, y, &fx, &fy) != 0) {
+            over++;
+            continue;
+        }
+        /* A = d(fx, fy) / d(x, y); C = I + A A^T (symmetric 2x2). */
+        const double a = (h[0] - fx * h[6]) / w, b = (h[1] - fx * h[7]) / w;
+        const double c = (h[3] - fy * h[6]) / w, d = (h[4] - fy * h[7]) / w;
+        const double c11 = 1.0 + a * a + b * b, c12 = a * c + b * d, c22 = 1.0 + c * c + d * d;
+        const double ex = rec->pts[i][2] - fx, ey = rec->pts[i][3] - fy;
+        const double det = c11 * c22 - c12 * c12;
+        const double q = (c22 * ex * ex - 2.0 * c12 * ex * ey + c11 * ey * ey) / det;
+        if (q > chi2 * sigma * sigma)
+            over++;
+    }
+    return in ? (double)over / (double)in : 0.0;
+}
+
+/* a wrapped into (-pi, pi]. */
+static double wrap_pi(double a)
+{
+    while (a > 0.5 * HB_TWO_PI)
+        a -= HB_TWO_PI;
+    while (a <= -0.5 * HB_TWO_PI)
+        a += HB_TWO_PI;
+    return a;
+}
+
 void hb_homing_pose(double x0_m, double z0_m, double phi0_rad, double s,
                     double *x_m, double *z_m, double *phi_rad)
 {
     /* Facing the target: the heading (-sin phi, cos phi) points along
-     * (0, 0) - (x0, z0), so sin phi = x0 / L and cos phi = -z0 / L. */
-    const double phi_line = atan2(x0_m, -z0_m);
+     * (0, 0) - (x0, z0), so sin phi = x0 / L and cos phi = -z0 / L.  Backing
+     * onto it: that heading turned by pi.  The line's heading is the one
+     * nearer phi0. */
+    double phi_line = atan2(x0_m, -z0_m);
+    if (fabs(wrap_pi(phi_line - phi0_rad)) > 0.25 * HB_TWO_PI)
+        phi_line = wrap_pi(phi_line + 0.5 * HB_TWO_PI);
     if (s < 0.0)
         s = 0.0;
     if (s > 1.0)
@@ -130,7 +282,7 @@ void hb_homing_pose(double x0_m, double z0_m, double phi0_rad, double s,
         double a = s / 0.2;
         *x_m = x0_m;
         *z_m = z0_m;
-        *phi_rad = phi0_rad + a * (phi_line - phi0_rad);
+        *phi_rad = wrap_pi(phi0_rad + a * wrap_pi(phi_line - phi0_rad));
     } else if (s <= 0.8) {
         double a = (s - 0.2) / 0.6;
         *x_m = (1.0 - a) * x0_m;
@@ -141,6 +293,87 @@ void hb_homing_pose(double x0_m, double z0_m, double phi0_rad, double s,
         *x_m = 0.0;
         *z_m = 0.0;
         *phi_rad = (1.0 - a) * phi_line;
+    }
+}
+
+/* ---- pose families ----------------------------------------------------- */
+
+static const double fig5_starts[HB_FIG5_STARTS][3] = {
+    {-3.0, -10.0, -30.0}, {0.0, -8.0, -40.0}, {6.0, -6.0, 0.0},
+    {-6.0, 4.0, 20.0},    {6.0, 8.0, 10.0},   {5.0, 2.0, -50.0}};
+
+const char *hb_family_name(uint32_t family)
+{
+    static const char *const names[HB_FAMILIES] = {"homing", "fig5", "grazing"};
+    return family < HB_FAMILIES ? names[family] : NULL;
+}
+
+int hb_fig5_start(uint32_t i, double *x_m, double *z_m, double *phi_rad)
+{
+    if (i >= HB_FIG5_STARTS)
+        return -1;
+    *x_m = fig5_starts[i][0];
+    *z_m = fig5_starts[i][1];
+    *phi_rad = fig5_starts[i][2] * HB_TWO_PI / 360.0;
+    return 0;
+}
+
+uint32_t hb_family_poses(uint32_t family, uint32_t poses)
+{
+    return family == HB_FAMILY_HOMING ? poses : HB_FIG5_STARTS * poses;
+}
+
+/* Bearing (radians, from +z towards +x) of the goal image's centre point
+ * seen from (x, 0, z): the plane point (0, 0, -d / n_z) on the goal
+ * camera's axis.  NAN when that axis does not meet the plane ahead. */
+static double centre_bearing(const hb_scene_t *sc, double x_m, double z_m)
+{
+    if (!(sc->normal[2] < -1e-9))
+        return NAN;
+    const double t = -sc->d_m / sc->normal[2];
+    return atan2(-x_m, t - z_m);
+}
+
+double hb_off_axis(const hb_scene_t *sc, double x_m, double z_m, double phi_rad)
+{
+    /* The optical axis (-sin phi, 0, cos phi) has bearing -phi. */
+    return wrap_pi(centre_bearing(sc, x_m, z_m) + phi_rad);
+}
+
+int hb_family_pose(const hb_scene_t *sc, uint32_t family, uint32_t k,
+                   uint32_t poses, double *x_m, double *z_m, double *phi_rad,
+                   uint32_t *pose_id)
+{
+    if (poses == 0 || poses >= HB_POSE_STRIDE || k >= hb_family_poses(family, poses))
+        return -1;
+    double x0 = 0.0, z0 = 0.0, phi0 = 0.0;
+    const uint32_t start = family == HB_FAMILY_HOMING ? 0u : k / poses, j = k % poses;
+    if (hb_fig5_start(start, &x0, &z0, &phi0) != 0)
+        return -1;
+    const double s = poses > 1 ? (double)j / (double)(poses - 1) : 0.5;
+    switch (family) {
+    case HB_FAMILY_HOMING:
+        hb_homing_pose(x0, z0, phi0, s, x_m, z_m, phi_rad);
+        *pose_id = k;
+        return 0;
+    case HB_FAMILY_FIG5:
+        hb_homing_pose(x0, z0, phi0, s, x_m, z_m, phi_rad);
+        *pose_id = start * HB_POSE_STRIDE + j;
+        return 0;
+    case HB_FAMILY_GRAZING: {
+        const double b = centre_bearing(sc, x0, z0);
+        if (!isfinite(b))
+            return -1;
+        const double deg = HB_GRAZING_MIN_DEG + s * (HB_GRAZING_MAX_DEG - HB_GRAZING_MIN_DEG);
+        const double off = (j % 2 == 0 ? 1.0 : -1.0) * deg * HB_TWO_PI / 360.0;
+        *x_m = x0;
+        *z_m = z0;
+        *phi_rad = wrap_pi(off - b);
+        *pose_id = start * HB_POSE_STRIDE + j;
+        return 0;
+    }
+    default:
+        return -1;
     }
 }
 
@@ -175,16 +408,21 @@ int hb_generate(const hb_scene_t *sc, uint32_t n, double mismatch,
     const double hw = 0.5 * sc->width_px, hh = 0.5 * sc->height_px;
     const double c = cos(phi_rad), s = sin(phi_rad);
     const double *nv = sc->normal;
+    double H[9], reg[4];
+    hb_true_h(sc, x_m, z_m, phi_rad, H);
+    if (hb_view_region(sc, H, reg) != 0)
+        return -1;
 
     for (uint32_t i = 0; i < n; i++) {
-        /* A plane point seen at a uniform pixel of the target image: back-
-         * project the ray and intersect n^T X = -d, then project it into the
-         * current camera P2 = K [R | -R c].  Redraw the rare point that falls
-         * behind either camera (bounded: 64 tries). */
+        /* A plane point seen at a uniform pixel of the seen rectangle of
+         * the target image: back-project the ray and intersect n^T X = -d,
+         * then project it into the current camera P2 = K [R | -R c].  Redraw
+         * the rare point that falls behind either camera or beyond
+         * HB_VIEW_PX (bounded: 64 tries). */
         int ok = 0;
         for (int tries = 0; tries < 64 && !ok; tries++) {
-            double u = hb_rng_uniform(&rng, -hw, hw);
-            double v = hb_rng_uniform(&rng, -hh, hh);
+            double u = hb_rng_uniform(&rng, reg[0], reg[1]);
+            double v = hb_rng_uniform(&rng, reg[2], reg[3]);
             double r[3] = {u / sc->alpha_x, v / sc->alpha_y, 1.0};
             double nr = nv[0] * r[0] + nv[1] * r[1] + nv[2] * r[2];
             if (!(nr < -1e-9))
@@ -194,10 +432,13 @@ int hb_generate(const hb_scene_t *sc, uint32_t n, double mismatch,
             double Xc[3] = {c * X[0] + s * X[2], X[1], -s * X[0] + c * X[2]};
             if (!(Xc[2] > 1e-6))
                 continue;
+            const double xc = sc->alpha_x * Xc[0] / Xc[2], yc = sc->alpha_y * Xc[1] / Xc[2];
+            if (!(fabs(xc) <= HB_VIEW_PX && fabs(yc) <= HB_VIEW_PX))
+                continue;
             rec->pts[i][0] = u;
             rec->pts[i][1] = v;
-            rec->pts[i][2] = sc->alpha_x * Xc[0] / Xc[2];
-            rec->pts[i][3] = sc->alpha_y * Xc[1] / Xc[2];
+            rec->pts[i][2] = xc;
+            rec->pts[i][3] = yc;
             ok = 1;
         }
         if (!ok)
@@ -239,7 +480,7 @@ int hb_generate(const hb_scene_t *sc, uint32_t n, double mismatch,
     rec->x_m = x_m;
     rec->z_m = z_m;
     rec->phi_rad = phi_rad;
-    hb_true_h(sc, x_m, z_m, phi_rad, rec->H);
+    memcpy(rec->H, H, sizeof rec->H);
     return 0;
 }
 
