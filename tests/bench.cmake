@@ -57,6 +57,13 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt)
   spvs_bench_refuses(bench_bad_case_family "--generate x.bin --case 15 --family grazing"
                      "outside --family")
 
+  # The rules of the every-cell accuracy table (tools/bench/accuracy.py):
+  # the best OpenCV estimator, when ours is behind, the doc block rewritten
+  # in place, on made-up cells.
+  spvs_bench_add(bench_accuracy_rules
+    "/usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/bench/test_accuracy.py .")
+  set_tests_properties(bench_accuracy_rules PROPERTIES LABELS "bench" TIMEOUT 30)
+
   # The case file reader and writer: round trip, and bad files rejected.
   spvs_add_test(NAME test_bench_cases SOURCES test_bench_cases.c
                 LIBS spvs_hombench LABELS bench TIMEOUT 60)

@@ -96,7 +96,7 @@ def best_opencv(cell):
 def behind(ours, best):
     """Why ours is behind the best OpenCV estimator ([] when it is not)."""
     why = []
-    if ours["success_rate"] < best["success_rate"] - SUCCESS_SLACK:
+    if ours["success_rate"] < best["success_rate"] - SUCCESS_SLACK - 1e-9:
         why.append("success")
     mo, mb = num(ours["median_corner_err_all_px"]), num(best["median_corner_err_all_px"])
     if mo > mb + MEDIAN_SLACK_PX:
