@@ -4,13 +4,16 @@ estimator, and the cells where we are behind (docs/BENCHMARKS.md, section
 "Accuracy in every cell").
 
 usage:
-  accuracy.py run [--bench PATH] [--out DIR] [--doc FILE] [-- BENCH_ARGS...]
+  accuracy.py run [--bench PATH] [--out DIR] [--doc FILE] [--before CELLS.jsonl]
+                  [-- BENCH_ARGS...]
       runs `nice spvs-bench --full --repeats 2 --warmup 5 --jsonl DIR/cells.jsonl
       --per-record` (stderr to DIR/records.jsonl), then renders as below
-  accuracy.py render [DIR] [--doc FILE]
+  accuracy.py render [DIR|CELLS.jsonl] [--doc FILE] [--before CELLS.jsonl]
       prints the tables made from DIR/cells.jsonl (and DIR/records.jsonl when
       it exists); with --doc, also writes them into FILE between the lines
-      <!-- accuracy:begin --> and <!-- accuracy:end -->
+      <!-- accuracy:begin --> and <!-- accuracy:end -->; with --before, adds
+      ours in an earlier run (docs/data/bench_accuracy_before.jsonl holds
+      the run docs/BENCHMARKS.md reports) beside ours now, cell by cell
 
 Definitions (the doc repeats them):
   success   share of estimates whose mean corner transfer error is under 2 px
@@ -93,7 +96,7 @@ def best_opencv(cell):
 def behind(ours, best):
     """Why ours is behind the best OpenCV estimator ([] when it is not)."""
     why = []
-    if ours["success_rate"] < best["success_rate"] - SUCCESS_SLACK:
+    if ours["success_rate"] < best["success_rate"] - SUCCESS_SLACK - 1e-9:
         why.append("success")
     mo, mb = num(ours["median_corner_err_all_px"]), num(best["median_corner_err_all_px"])
     if mo > mb + MEDIAN_SLACK_PX:
@@ -212,10 +215,33 @@ def view_tables(records_path):
     return out
 
 
-def render(out_dir, doc):
-    cells_path = os.path.join(out_dir, "cells.jsonl")
+def before_table(cells, before_path):
+    old = load_cells(before_path)
+    out = ["| case | cell | ours success, before -> now | ours median px, before -> now | "
+           "best OpenCV success / median now | behind now |",
+           "|---|---|---|---|---|---|"]
+    for cid in sorted(cells):
+        if "spvs" not in cells[cid] or "spvs" not in old.get(cid, {}):
+            continue
+        o, n = old[cid]["spvs"], cells[cid]["spvs"]
+        bname, best = best_opencv(cells[cid])
+        out.append("| %d | %s | %.3f -> %.3f | %s -> %s | %s | %s |" % (
+            cid, cell_key(n), o["success_rate"], n["success_rate"],
+            fmt_med(num(o["median_corner_err_all_px"])),
+            fmt_med(num(n["median_corner_err_all_px"])),
+            "%.3f / %s" % (best["success_rate"], fmt_med(num(best["median_corner_err_all_px"])))
+            if best else "-", ", ".join(behind(n, best)) or "no" if best else "-"))
+    return out
+
+
+def render(path, doc, before=None):
+    if os.path.isdir(path):
+        cells_path = os.path.join(path, "cells.jsonl")
+    else:
+        cells_path = path
     if not os.path.exists(cells_path):
         fail("no %s (run `accuracy.py run` first)" % cells_path)
+    out_dir = os.path.dirname(cells_path)
     cells = load_cells(cells_path)
     table, n_behind = every_cell_table(cells)
     n_cells = sum(1 for c in cells.values() if "spvs" in c)
@@ -226,8 +252,12 @@ def render(out_dir, doc):
     text += behind_list(cells)
     rec = os.path.join(out_dir, "records.jsonl")
     if os.path.exists(rec):
-        text += ["", "Noisy records (1 px) by view, all N and mismatch shares pooled:", ""]
+        text += ["", "Noisy records (1 px) by view, all N and mismatch shares pooled (from "
+                 "`records.jsonl`, the `--per-record` lines):", ""]
         text += view_tables(rec)
+    if before:
+        text += ["", "Ours against the run in `%s`:" % before, ""]
+        text += before_table(cells, before)
     body = "\n".join(text) + "\n"
     sys.stdout.write(body)
     if doc:
@@ -266,19 +296,21 @@ def main():
     r.add_argument("--bench", default="build/bench/tools/bench/spvs-bench")
     r.add_argument("--out", default="build/bench/accuracy")
     r.add_argument("--doc", default=None)
+    r.add_argument("--before", default=None)
     r.add_argument("extra", nargs="*", help="more spvs-bench options, after --")
     d = sub.add_parser("render")
     d.add_argument("dir", nargs="?", default="build/bench/accuracy")
     d.add_argument("--doc", default=None)
+    d.add_argument("--before", default=None)
     a = ap.parse_args()
     if a.cmd == "run":
         if not os.access(a.bench, os.X_OK):
             fail("no spvs-bench at %s (cmake --preset bench && cmake --build --preset bench "
                  "--target spvs-bench)" % a.bench)
         run(a.bench, a.out, a.extra)
-        render(a.out, a.doc)
+        render(a.out, a.doc, a.before)
     else:
-        render(a.dir, a.doc)
+        render(a.dir, a.doc, a.before)
 
 
 if __name__ == "__main__":

@@ -3,6 +3,9 @@
  * OpenCV (and ViSP when built) on the same synthetic cases.  The whole-process
  * comparison (closed-loop homing run) is spvs-bench-homing, homing.cpp.
  *
+ * The case matrix: pose family (homing, fig5, grazing; hombench.h) x N x
+ * mismatch share x noise, 72 cases.
+ *
  * Modes (one per run; docs/BENCHMARKS.md gives the commands behind its tables):
  *   --generate FILE            write the case matrix as a HOMBENCH v1 file
  *   --cases FILE --json        time estimators on every record of FILE and
