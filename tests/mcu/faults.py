@@ -19,7 +19,8 @@ repeats included):
             frames replaced by garbage
   count     the window's frames say 300 matches (CRC made right)
   range     a coordinate of the window's frames at 32100 (2006 px; CRC right)
-  agent_restart  the agent killed (SIGKILL) at frame K, restarted 1.5 s later
+  agent_restart  the agent killed (SIGKILL) at frame K, restarted once the
+                 MCU's watchdog has stopped the robot (at least 1.5 s later)
   mcu_reset      QEMU's system_reset (QMP) half way through frame K
 
 Asserted, from what the relay saw on the wire:
@@ -230,7 +231,15 @@ def start_agent(n):
 
 def restart_agent():
     agents[-1].send_signal(signal.SIGKILL); agents[-1].wait()
-    time.sleep(1.5)
+    t_kill = time.monotonic()
+    # Back after the MCU's watchdog has stopped the robot (its clock counts
+    # instructions, so on a loaded host this takes longer than 300 ms of
+    # wall time), and at least 1.5 s later.
+    while time.monotonic() - t_kill < 15:
+        if time.monotonic() - t_kill >= 1.5 and any(
+                e[1] == "status" and e[2]["reason"] == 1 and e[0] > t_kill for e in list(relay.events)):
+            break
+        time.sleep(0.05)
     start_agent(len(agents))
 
 def fail(msg):
