@@ -43,9 +43,20 @@ configure_file(${CMAKE_CURRENT_LIST_DIR}/version.h.in
                ${spvs_gen_include}/spvs/version.h @ONLY)
 
 # spvs_core's include directories as the build tree and an installed tree
-# each see them (an absolute source path cannot go into an installed package).
+# each see them: the folders firmware/CMakeLists.txt gives (absolute source
+# paths, which cannot go into an installed package) for the build tree only,
+# plus the generated version.h; include/ once installed.
+get_target_property(spvs_core_inc spvs_core INTERFACE_INCLUDE_DIRECTORIES)
+set(spvs_core_iface "")
+foreach(dir IN LISTS spvs_core_inc)
+  if(dir MATCHES "^\\$<")
+    list(APPEND spvs_core_iface "${dir}")
+  else()
+    list(APPEND spvs_core_iface "$<BUILD_INTERFACE:${dir}>")
+  endif()
+endforeach()
 set_property(TARGET spvs_core PROPERTY INTERFACE_INCLUDE_DIRECTORIES
-  $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/firmware/include>
+  ${spvs_core_iface}
   $<BUILD_INTERFACE:${spvs_gen_include}>
   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 set_target_properties(spvs_core PROPERTIES EXPORT_NAME core)
