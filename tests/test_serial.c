@@ -172,7 +172,7 @@ static void test_result_status_config(void **state)
     r.out.step = 2; r.out.n_matches = 125; r.out.n_inliers = 90; r.out.n_offplane = 20;
     for (int k = 0; k < 9; ++k) r.out.H[k] = (spvs_real)(0.1 * k - 0.3);
     int len = spvs_serial_encode_result(&r, wire, sizeof(wire));
-    assert_int_equal(len, 1 + 84 + 1); /* 76-byte body: 86 B on the wire, no zeros to spare */
+    assert_int_equal(len, 1 + 108 + 1); /* 100-byte body: 110 B on the wire, no zeros to spare */
     spvs_serial_frame_t f;
     spvs_serial_rx_init(&rx);
     assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);

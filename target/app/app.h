@@ -48,7 +48,10 @@ typedef struct {
     spvs_t core;
     spvs_match_t m[SPVS_MAX_MATCHES];
     spvs_serial_rx_t rx;
-    uint8_t tx[SPVS_SERIAL_WIRE_BYTES(SPVS_SERIAL_STATUS_BODY) + 8u];
+    /* The larger of a RESULT and a STATUS frame. */
+    uint8_t tx[(SPVS_SERIAL_RESULT_BODY > SPVS_SERIAL_STATUS_BODY
+                    ? SPVS_SERIAL_WIRE_BYTES(SPVS_SERIAL_RESULT_BODY)
+                    : SPVS_SERIAL_WIRE_BYTES(SPVS_SERIAL_STATUS_BODY)) + 8u];
 
     uint8_t configured;
     spvs_serial_config_t cfg;
