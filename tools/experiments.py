@@ -834,6 +834,41 @@ def exp_false_zero(runner, outdir, quick):
 
 
 # ----------------------------------------------------------------------------
+# The arrival check (docs/CONTROL.md, "A verified arrival"): 1 px noise from
+# the six Figure 5 poses on seeds the tests do not use, without and with 20 %
+# mismatches.  Prints a markdown table; writes nothing.
+
+ARRIVAL_SEED0 = 1000  # test_scenarios uses seeds 0..19
+
+
+def arrival_check(runner, seeds):
+    rows = []
+    false_total = 0
+    for outliers in (0.0, 0.2):
+        jobs = [job(m, pose=p, noise=1.0, outliers=outliers, seed=ARRIVAL_SEED0 + s)
+                for m in METHODS for p in FIG5_POSES for s in range(seeds)]
+        res = runner.run("arrival, %.0f %% mismatches" % (100 * outliers), jobs)
+        for m in METHODS:
+            rm = [r for r in res if r["job"]["method"] == m]
+            good = sum(within(r, TOL_NOISE) for r in rm)
+            false = [r for r in rm if r["status"] == "converged" and not within(r, TOL_NOISE)]
+            false_total += len(false)
+            st = {}
+            for r in rm:
+                st[status_str(r)] = st.get(status_str(r), 0) + 1
+            reent = sum(r.get("arrival", {}).get("reentries", 0) or 0 for r in rm
+                        if r.get("arrival"))
+            rows.append("| %s | %.0f %% | %d | %d (%.1f %%) | %d | %s | %.2f |" % (
+                METHOD_NAME[m], 100 * outliers, len(rm), good, 100.0 * good / len(rm),
+                len(false), ", ".join("%s %d" % kv for kv in sorted(st.items())),
+                reent / len(rm)))
+            for r in false:
+                sys.stderr.write("  converged outside 0.25 m / 0.5 deg: %s %s\n" %
+                                 (r["job"], fmt_err(r)))
+    head = ["| method | mismatches | runs | within 0.25 m / 0.5 deg | `converged` outside | statuses | re-entries per run |",
+            "| --- | ---: | ---: | ---: | ---: | --- | ---: |"]
+    print("\n".join(head + rows))
+    return false_total
 
 
 def build_sim(sim):
@@ -858,13 +893,28 @@ def main(argv):
     ap.add_argument("--quick", action="store_true", help="coarse grids and few seeds: a fast check")
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="parallel spvs-sim processes")
     ap.add_argument("--only", default="", help="comma list of experiments: fig5,fig6,fig7,fig8,table1,map,falsezero")
+    ap.add_argument("--arrival", type=int, metavar="SEEDS", default=0,
+                    help="only the arrival check: 1 px noise, the six Figure 5 poses, seeds "
+                    "%d..%d+SEEDS-1, all methods, without and with 20 %%%% mismatches; prints a "
+                    "markdown table, writes nothing, exits 1 if a run claims converged outside "
+                    "0.25 m / 0.5 deg" % (ARRIVAL_SEED0, ARRIVAL_SEED0))
     args = ap.parse_args(argv)
+    if args.arrival < 0:
+        sys.stderr.write("experiments.py: --arrival must be a positive number of seeds\n")
+        return 2
     if args.jobs < 1:
         sys.stderr.write("experiments.py: --jobs must be at least 1\n")
         return 2
     if not build_sim(args.sim):
         sys.stderr.write("experiments.py: no spvs-sim at %s (build it: cmake --build build/exp --target spvs-sim)\n" % args.sim)
         return 2
+    if args.arrival:
+        tmp = tempfile.mkdtemp(prefix="spvs-arrival-")
+        try:
+            false_total = arrival_check(Runner(args.sim, args.jobs, tmp), args.arrival)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+        return 1 if false_total else 0
     os.makedirs(os.path.join(args.out, "figures"), exist_ok=True)
 
     t0 = time.time()

@@ -119,6 +119,15 @@ void spvs_wire_state_from_output(spvs_state_t *st, int64_t seq, int64_t utime,
     st->w = (double)out->w;
     st->step = (int8_t)out->step;
     st->status = out->status;
+    st->arrival_corner_px = (double)out->arrival_corner_px;
+    st->arrival_bound_px = (double)out->arrival_bound_px;
+    st->arrival_lateral_px = (double)out->arrival_lateral_px;
+    st->arrival_depth_px = (double)out->arrival_depth_px;
+    st->arrival_h13_px = (double)out->arrival_h13_px;
+    st->arrival_frames = (int16_t)out->arrival_frames;
+    st->arrival_reentries = (int8_t)out->arrival_reentries;
+    st->arrival_next = (int8_t)out->arrival_next;
+    st->arriving = (int8_t)out->arriving;
 }
 
 void spvs_wire_cmd_stop(spvs_cmd_t *cmd, int64_t seq, int64_t utime,
@@ -153,6 +162,15 @@ void spvs_wire_output_from_msgs(spvs_output_t *out, const spvs_cmd_t *cmd,
     out->e_valid = (uint8_t)st->e_valid;
     out->parallax_px = (spvs_real)st->parallax;
     out->eq11 = (uint8_t)st->eq11;
+    out->arrival_corner_px = (spvs_real)st->arrival_corner_px;
+    out->arrival_bound_px = (spvs_real)st->arrival_bound_px;
+    out->arrival_lateral_px = (spvs_real)st->arrival_lateral_px;
+    out->arrival_depth_px = (spvs_real)st->arrival_depth_px;
+    out->arrival_h13_px = (spvs_real)st->arrival_h13_px;
+    out->arrival_frames = (uint16_t)st->arrival_frames;
+    out->arrival_reentries = (uint8_t)st->arrival_reentries;
+    out->arrival_next = (uint8_t)st->arrival_next;
+    out->arriving = (uint8_t)st->arriving;
 }
 
 int spvs_wire_publish_matches(lcm_t *lcm, const spvs_matches_t *msg)
