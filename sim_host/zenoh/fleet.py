@@ -328,7 +328,8 @@ class Robot:
                                    "--log-level", "2"], self.dir, self.env())
         self.bridge = Child("bridge", [sys.executable,
                                        os.path.join(HERE, "bridge.py"),
-                                       "--robot", self.name, "--mode",
+                                       # = keeps a name like -a a value
+                                       "--robot=" + self.name, "--mode",
                                        "client", "--connect", c["endpoint"],
                                        "--scouting", "off", "--lcm-url",
                                        self.url, "--lcm-types", c["types"],
@@ -684,6 +685,14 @@ def outer_main(a):
     workdir = tempfile.mkdtemp(prefix="spvs-fleet-") if own_tmp else \
         os.path.abspath(a.workdir)
     os.makedirs(workdir, exist_ok=True)
+    try:
+        return run_fleet(a, paths, workdir, own_tmp)
+    finally:
+        if own_tmp:
+            shutil.rmtree(workdir, ignore_errors=True)
+
+
+def run_fleet(a, paths, workdir, own_tmp):
     stopping = {"sig": None}
 
     def on_signal(signum, frame):
@@ -786,8 +795,6 @@ def outer_main(a):
         print(json.dumps({"fleet": summary}))
     else:
         print_table(results, summary)
-    if own_tmp:
-        shutil.rmtree(workdir, ignore_errors=True)
     if stopping["sig"] is not None:
         return 1
     return 1 if summary["failed"] else 0

@@ -35,8 +35,10 @@ import time
 
 WATCHDOG = 0.5
 MAX_TIME = 150
-ROBOTS = ["r1:3:-3,-10,-30:1", "r2:1:-2,-8,20:2", "r3:2:1,-9,10:3",
-          "r4:3:2,-12,-15:4", "r5:1:4,-14,-25:5", "r6:2:-1,-6,5:6",
+# Names from the whole allowed set (A-Z a-z 0-9 _ . -), one starting with
+# '-' (given as --robot=...).
+ROBOTS = ["r1:3:-3,-10,-30:1", "R_2.b:1:-2,-8,20:2", "..:2:1,-9,10:3",
+          "-r4:3:2,-12,-15:4", "r5:1:4,-14,-25:5", "r6:2:-1,-6,5:6",
           "r7:3:0,-11,40:7", "r8:1:-4,-10,35:8"]
 TOL = {"m": 0.0, "deg": 0.0}
 
@@ -89,7 +91,7 @@ class Env:
                 "--max-time", str(MAX_TIME), "--noise", str(self.noise),
                 "--outliers", str(self.outliers)]
         for r in robots:
-            argv += ["--robot", r]
+            argv.append("--robot=" + r)
         out = open(os.path.join(self.tmp, tag + ".out"), "w")
         err = open(os.path.join(self.tmp, tag + ".err"), "w")
         p = subprocess.Popen(argv + list(extra), stdout=out, stderr=err)
