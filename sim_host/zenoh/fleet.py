@@ -545,7 +545,10 @@ def inner_main(workdir):
     robots = [Robot(i, s, cfg, workdir) for i, s in enumerate(cfg["robots"])]
     fds = {}
     for r in robots:
-        r.lcm = lcm_mod.LCM(r.url)
+        # The recorder hears each robot's frames too (LCM filters channels
+        # after reading): a large socket buffer carries it through the
+        # moments another process holds the CPU.
+        r.lcm = lcm_mod.LCM(r.url + "&recv_buf_size=4194304")
         r.lcm.subscribe(common.CH_CMD, r.on_cmd)
         fds[r.lcm.fileno()] = r
     deadline = time.monotonic() + cfg["max_time"]
