@@ -225,6 +225,25 @@ def descendants(pid):
     return found
 
 
+def listeners():
+    """(protocol, local address hex, port) of every listening TCP socket and
+    every bound UDP socket in this network namespace (/proc/net)."""
+    out = []
+    for proto in ("tcp", "tcp6", "udp", "udp6"):
+        try:
+            with open("/proc/net/" + proto) as f:
+                rows = f.read().splitlines()[1:]
+        except OSError:
+            continue
+        for row in rows:
+            f = row.split()
+            addr, port = f[1].split(":")
+            if proto.startswith("tcp") and f[3] != "0A":
+                continue
+            out.append((proto, addr, int(port, 16)))
+    return out
+
+
 def alive(pid):
     try:
         with open("/proc/%d/stat" % pid) as f:
@@ -449,6 +468,16 @@ def check_station(env, a):
            % (flagged, names[1]))
     kids = descendants(p.pid)
     expect(len(kids) >= 10, "only %d processes under spvs-fleet" % len(kids))
+    # This check's namespace holds only the fleet: the router is the one
+    # TCP listener, on 127.0.0.1, and no Zenoh scouting socket (UDP 7446)
+    # is open.  (LCM's sockets live in the fleet's own namespace.)
+    socks = listeners()
+    tcp = [x for x in socks if x[0].startswith("tcp")]
+    expect(tcp == [("tcp", "0100007F", port)],
+           "TCP listeners %r (want only the router on 127.0.0.1:%d)"
+           % (tcp, port))
+    expect(not [x for x in socks if x[2] == 7446],
+           "a Zenoh scouting socket is open: %r" % socks)
     p.send_signal(signal.SIGTERM)
     rc, res, summary = env.fleet_output(p, 20)
     expect(rc == 1, "spvs-fleet exited %d after SIGTERM (want 1)" % rc)
@@ -459,11 +488,12 @@ def check_station(env, a):
            "results after SIGTERM: %r" % res)
     expect(port_free(port), "the router's port %d is still taken" % port)
     print("ok: the station showed %s live (step %s, inliers %s) and %s "
-          "stale after %.1f s; SIGTERM ended the fleet and its %d processes"
+          "stale after %.1f s; only the router listened (127.0.0.1:%d); "
+          "SIGTERM ended the fleet and its %d processes"
           % (", ".join(n for n in names if n != names[1]),
              [rows[n]["step"] for n in names if n != names[1]],
              [rows[n]["n_inliers"] for n in names if n != names[1]],
-             names[1], rows[names[1]]["age_s"], len(kids)))
+             names[1], rows[names[1]]["age_s"], port, len(kids)))
 
 
 def check_cleanup(env, a):
