@@ -685,6 +685,13 @@ def outer_main(a):
                          "-n): LCM multicast must stay inside one\n" % PROG)
         return 1
     own_tmp = a.workdir is None
+    if not own_tmp:
+        sock = os.path.join(os.path.abspath(a.workdir), "router.sock")
+        if len(sock.encode()) > 100:
+            sys.stderr.write("%s: the work folder's path is too long for a "
+                             "unix socket (%s; at most 100 bytes)\n"
+                             % (PROG, sock))
+            return 1
     workdir = tempfile.mkdtemp(prefix="spvs-fleet-") if own_tmp else \
         os.path.abspath(a.workdir)
     os.makedirs(workdir, exist_ok=True)
@@ -704,9 +711,10 @@ def run_fleet(a, paths, workdir, own_tmp):
     signal.signal(signal.SIGINT, on_signal)
     signal.signal(signal.SIGHUP, on_signal)
 
+    sock = os.path.join(workdir, "router.sock")
     port = a.port or free_port()
     tcp = "tcp/127.0.0.1:%d" % port
-    router = Router(workdir, tcp, os.path.join(workdir, "router.sock"))
+    router = Router(workdir, tcp, sock)
     inner = None
     t0 = time.monotonic()
     try:
