@@ -92,7 +92,8 @@ def parse_robot(text):
     if len(xs) != 3 or len(vals) != 3 or \
             not all(math.isfinite(v) for v in vals):
         raise UsageError("--robot '%s': pose '%s' must be three finite "
-                         "numbers X,Z,PHI_DEG (metres, degrees)" % (text, pose))
+                         "numbers X,Z,PHI_DEG (metres, degrees)"
+                         % (text, pose))
     if not re.match(r"^[0-9]{1,10}$", seed) or int(seed) > 0xFFFFFFFF:
         raise UsageError("--robot '%s': seed '%s' must be an integer in "
                          "0..4294967295" % (text, seed))
@@ -521,8 +522,13 @@ def setup_namespace():
 
 def inner_main(workdir):
     """The supervisor, run by the outer process inside `unshare -r -n`."""
-    with open(os.path.join(workdir, "fleet.json")) as f:
-        cfg = json.load(f)
+    try:
+        with open(os.path.join(workdir, "fleet.json")) as f:
+            cfg = json.load(f)
+    except (OSError, ValueError) as e:
+        sys.stderr.write("%s: --inner is spvs-fleet's own: no fleet in '%s' "
+                         "(%s)\n" % (PROG, workdir, e))
+        return 2
 
     class A:
         quiet = cfg["quiet"]
@@ -531,7 +537,8 @@ def inner_main(workdir):
     stop = {"why": None}
 
     def on_signal(signum, frame):
-        stop["why"] = "the fleet was stopped (%s)" % signal.Signals(signum).name
+        stop["why"] = ("the fleet was stopped (%s)"
+                       % signal.Signals(signum).name)
     signal.signal(signal.SIGTERM, on_signal)
     signal.signal(signal.SIGINT, on_signal)
 

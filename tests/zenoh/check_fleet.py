@@ -501,7 +501,8 @@ def check_cleanup(env, a):
     names = [parse_spec(s)[0] for s in specs]
     p, work, port = env.start_fleet(specs, ["--realtime"])
     wait_until(lambda: min(answered(work, i, n) for i, n in
-                           enumerate(names)) >= 5, 60, "frame 5 of every robot")
+                           enumerate(names)) >= 5, 60,
+               "frame 5 of every robot")
     kids = descendants(p.pid)
     expect(len(kids) >= 7, "only %d processes under spvs-fleet" % len(kids))
     p.kill()
@@ -516,7 +517,8 @@ def check_cleanup(env, a):
 
 
 USAGE_CASES = {
-    "method": (["a:4:-3,-10,-30:1"], ["a:x:-3,-10,-30:1"], ["a::-3,-10,-30:1"]),
+    "method": (["a:4:-3,-10,-30:1"], ["a:x:-3,-10,-30:1"],
+               ["a::-3,-10,-30:1"]),
     "pose": (["a:3:-3,-10:1"], ["a:3:-3,-10,x:1"], ["a:3:nan,-10,-30:1"],
              ["a:3:-3,-10,-30,4:1"]),
     "seed": (["a:3:-3,-10,-30:-1"], ["a:3:-3,-10,-30:4294967296"],
