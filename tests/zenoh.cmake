@@ -55,10 +55,10 @@ set(fleet_check ${zenoh_root}/.venv/bin/python
     ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/check_fleet.py)
 # name | seconds | check and its options
 set(fleet_cases
-  "fleet_equal_4|120|equal --robots 4 --noise 0.5"
-  "fleet_equal_8|150|equal --robots 8 --noise 0.5 --outliers 0.1"
-  "fleet_isolation|150|isolation"
-  "fleet_router_restart|150|router"
+  "fleet_equal_4|240|equal --robots 4 --noise 0.5"
+  "fleet_equal_8|300|equal --robots 8 --noise 0.5 --outliers 0.1"
+  "fleet_isolation|240|isolation"
+  "fleet_router_restart|300|router"
   "fleet_station|150|station"
   "fleet_cleanup|120|cleanup"
   "fleet_bad_method|60|usage --case method"

@@ -92,7 +92,8 @@ def parse_robot(text):
     if len(xs) != 3 or len(vals) != 3 or \
             not all(math.isfinite(v) for v in vals):
         raise UsageError("--robot '%s': pose '%s' must be three finite "
-                         "numbers X,Z,PHI_DEG (metres, degrees)" % (text, pose))
+                         "numbers X,Z,PHI_DEG (metres, degrees)"
+                         % (text, pose))
     if not re.match(r"^[0-9]{1,10}$", seed) or int(seed) > 0xFFFFFFFF:
         raise UsageError("--robot '%s': seed '%s' must be an integer in "
                          "0..4294967295" % (text, seed))
@@ -328,7 +329,8 @@ class Robot:
                                    "--log-level", "2"], self.dir, self.env())
         self.bridge = Child("bridge", [sys.executable,
                                        os.path.join(HERE, "bridge.py"),
-                                       "--robot", self.name, "--mode",
+                                       # = keeps a name like -a a value
+                                       "--robot=" + self.name, "--mode",
                                        "client", "--connect", c["endpoint"],
                                        "--scouting", "off", "--lcm-url",
                                        self.url, "--lcm-types", c["types"],
@@ -520,8 +522,13 @@ def setup_namespace():
 
 def inner_main(workdir):
     """The supervisor, run by the outer process inside `unshare -r -n`."""
-    with open(os.path.join(workdir, "fleet.json")) as f:
-        cfg = json.load(f)
+    try:
+        with open(os.path.join(workdir, "fleet.json")) as f:
+            cfg = json.load(f)
+    except (OSError, ValueError) as e:
+        sys.stderr.write("%s: --inner is spvs-fleet's own: no fleet in '%s' "
+                         "(%s)\n" % (PROG, workdir, e))
+        return 2
 
     class A:
         quiet = cfg["quiet"]
@@ -530,7 +537,8 @@ def inner_main(workdir):
     stop = {"why": None}
 
     def on_signal(signum, frame):
-        stop["why"] = "the fleet was stopped (%s)" % signal.Signals(signum).name
+        stop["why"] = ("the fleet was stopped (%s)"
+                       % signal.Signals(signum).name)
     signal.signal(signal.SIGTERM, on_signal)
     signal.signal(signal.SIGINT, on_signal)
 
@@ -544,7 +552,10 @@ def inner_main(workdir):
     robots = [Robot(i, s, cfg, workdir) for i, s in enumerate(cfg["robots"])]
     fds = {}
     for r in robots:
-        r.lcm = lcm_mod.LCM(r.url)
+        # The recorder hears each robot's frames too (LCM filters channels
+        # after reading): a large socket buffer carries it through the
+        # moments another process holds the CPU.
+        r.lcm = lcm_mod.LCM(r.url + "&recv_buf_size=4194304")
         r.lcm.subscribe(common.CH_CMD, r.on_cmd)
         fds[r.lcm.fileno()] = r
     deadline = time.monotonic() + cfg["max_time"]
@@ -681,9 +692,24 @@ def outer_main(a):
                          "-n): LCM multicast must stay inside one\n" % PROG)
         return 1
     own_tmp = a.workdir is None
+    if not own_tmp:
+        sock = os.path.join(os.path.abspath(a.workdir), "router.sock")
+        if len(sock.encode()) > 100:
+            sys.stderr.write("%s: the work folder's path is too long for a "
+                             "unix socket (%s; at most 100 bytes)\n"
+                             % (PROG, sock))
+            return 1
     workdir = tempfile.mkdtemp(prefix="spvs-fleet-") if own_tmp else \
         os.path.abspath(a.workdir)
     os.makedirs(workdir, exist_ok=True)
+    try:
+        return run_fleet(a, paths, workdir, own_tmp)
+    finally:
+        if own_tmp:
+            shutil.rmtree(workdir, ignore_errors=True)
+
+
+def run_fleet(a, paths, workdir, own_tmp):
     stopping = {"sig": None}
 
     def on_signal(signum, frame):
@@ -692,9 +718,10 @@ def outer_main(a):
     signal.signal(signal.SIGINT, on_signal)
     signal.signal(signal.SIGHUP, on_signal)
 
+    sock = os.path.join(workdir, "router.sock")
     port = a.port or free_port()
     tcp = "tcp/127.0.0.1:%d" % port
-    router = Router(workdir, tcp, os.path.join(workdir, "router.sock"))
+    router = Router(workdir, tcp, sock)
     inner = None
     t0 = time.monotonic()
     try:
@@ -786,8 +813,6 @@ def outer_main(a):
         print(json.dumps({"fleet": summary}))
     else:
         print_table(results, summary)
-    if own_tmp:
-        shutil.rmtree(workdir, ignore_errors=True)
     if stopping["sig"] is not None:
         return 1
     return 1 if summary["failed"] else 0

@@ -121,6 +121,13 @@ def main(argv):
     p.add_argument("--scouting", choices=("on", "off"), default="off")
     p.add_argument("--wait", type=float, default=5.0, metavar="S",
                    help="longest wait for a subscriber of the matches, s")
+    # spvs-sim passes "--robot NAME" as two words; joined, a legal name
+    # that starts with '-' is not taken for an option.
+    argv = list(argv)
+    for i in range(len(argv) - 1):
+        if argv[i] == "--robot":
+            argv[i:i + 2] = ["--robot=" + argv[i + 1]]
+            break
     a = p.parse_args(argv)
     for why in [common.check_robot(a.robot)] + \
             [common.check_endpoint(e) for e in a.connect + a.listen]:

@@ -178,6 +178,11 @@ def main(argv):
     try:
         session.declare_subscriber("spvs/*/state", fleet.on_state)
         if a.once:
+            # One line on stderr: from here on every robot that publishes
+            # is heard (scripts can wait for it).
+            sys.stderr.write("%s: listening on spvs/*/state at %s for %g s\n"
+                             % (PROG, ",".join(a.connect), a.wait))
+            sys.stderr.flush()
             done.wait(a.wait)
             rows, bad = fleet.snapshot(a.stale)
             if a.json:
