@@ -94,7 +94,9 @@ static void test_noise_free_converges(void **state)
 }
 
 /* 1 px image noise (the paper's Figure 6), seeds 0..4: every method ends
- * within 0.25 m and 0.5 deg. */
+ * within 0.25 m and 0.5 deg, with status converged, or not_at_target where
+ * the verified arrival (docs/CONTROL.md) could not confirm it: it never
+ * claims converged outside those limits. */
 static void test_one_pixel_noise(void **state)
 {
     (void)state;
@@ -104,8 +106,9 @@ static void test_one_pixel_noise(void **state)
             sim_result_t r;
             step2_stats_t st;
             run(method, -3.0, -10.0, -30.0, 1.0, seed, &r, &st);
-            int ok = r.status == SIM_CONVERGED && fabs(r.err_x_m) < 0.25 &&
-                     fabs(r.err_z_m) < 0.25 && fabs(r.err_phi_deg) < 0.5;
+            int ok = (r.status == SIM_CONVERGED || r.core_status == SPVS_E_NOT_AT_TARGET) &&
+                     fabs(r.err_x_m) < 0.25 && fabs(r.err_z_m) < 0.25 &&
+                     fabs(r.err_phi_deg) < 0.5;
             if (!ok) {
                 report("1 px noise, limits 0.25 m / 0.5 deg", method, seed, &r);
                 ++bad;
