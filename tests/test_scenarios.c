@@ -93,12 +93,13 @@ static void report(const char *what, const sim_config_t *c,
 }
 
 /* Figure 5 without noise: every method converges to within 0.02 m and
- * 0.1 deg from (0, -8, -40), (6, -6, 0), (-6, 4, 20) and (6, 8, 10). */
+ * 0.1 deg from all six poses (18 of 18 runs), each through the arrival
+ * check: converged means the check accepted the averaged H. */
 static void test_fig5_noise_free(void **state)
 {
     (void)state;
     int bad = 0;
-    for (int i = 1; i < 5; ++i) {
+    for (int i = 0; i < 6; ++i) {
         for (int method = 1; method <= 3; ++method) {
             sim_config_t c;
             sim_result_t r;
@@ -243,11 +244,12 @@ static void test_table1_plane_normals(void **state)
  * 0..MISMATCH_SEEDS-1): no run reports "converged" outside 0.25 m / 0.5 deg
  * (the arrival check, docs/CONTROL.md), and without mismatches the share of
  * runs that end converged within them is at least NOISE_MIN_PCT[method].
- * The bounds sit about 3.5 standard deviations of a 120-run share below the
- * rates measured on other seeds (docs/CONTROL.md, "A verified arrival"). */
+ * The bounds sit 2.5-3.5 standard deviations of a 120-run share below the
+ * rates measured on seeds 1000-1099 (69.5, 65.8 and 66.3 %; docs/CONTROL.md,
+ * "A verified arrival"). */
 #define NOISE_SEEDS 20
 #define MISMATCH_SEEDS 5
-static const int NOISE_MIN_PCT[4] = {0, 60, 60, 60};
+static const int NOISE_MIN_PCT[4] = {0, 55, 55, 55};
 
 static int noise_runs(int method, double outliers, int seeds, int *false_claims)
 {

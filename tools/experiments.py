@@ -16,6 +16,8 @@ through a pool of os.cpu_count() workers.  Progress goes to stderr.
     tools/experiments.py                 # full run, writes docs/
     tools/experiments.py --quick         # coarse grids, a fast check
     tools/experiments.py --sim PATH --out DIR
+    tools/experiments.py --arrival 100   # only the arrival check's count
+                                         # (docs/CONTROL.md), writes nothing
 
 Success criteria (stated again in RESULTS.md):
     noise-free Figure 5 poses: |x|, |z| < 0.02 m and |phi| < 0.1 deg
