@@ -290,6 +290,7 @@ static void parse_options(int argc, char **argv, options_t *o)
      * one, for calibration errors). */
     if (o->images) {
         o->cfg.focal_assumed_mm = SIM_FRONTEND_FOCAL_MM;
+        o->cfg.arrival_sigma_px = SIM_FRONTEND_ARRIVAL_SIGMA_PX;
         if (!o->focal_given) {
             o->cfg.focal_true_mm = SIM_FRONTEND_FOCAL_MM;
         }
@@ -539,6 +540,9 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
         spvs_params_t p;
         sim_inproc_params(&p, o->cfg.method,
                           o->cfg.focal_assumed_mm / o->cfg.pixel_mm, o->seed32);
+        if (o->cfg.arrival_sigma_px > 0.0) {
+            p.ctl.arrival_sigma_px = (spvs_real)o->cfg.arrival_sigma_px;
+        }
         return sim_link_inproc_open(&p, link, err, err_len);
     }
     if (strcmp(o->transport, "lcm") == 0) {

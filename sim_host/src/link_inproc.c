@@ -61,6 +61,9 @@ int sim_run_inproc(const sim_config_t *c, sim_result_t *res, sim_frame_cb cb,
     spvs_params_t p;
     sim_inproc_params(&p, c->method, c->focal_assumed_mm / c->pixel_mm,
                       (uint32_t)c->seed);
+    if (c->arrival_sigma_px > 0.0) {
+        p.ctl.arrival_sigma_px = (spvs_real)c->arrival_sigma_px;
+    }
     sim_link_t link;
     if (sim_link_inproc_open(&p, &link, err, err_len) != 0) {
         return -1;

@@ -46,6 +46,10 @@ typedef struct {
     double drift_deg_per_m;   /* odometry drift in rotation                  */
     double focal_true_mm;     /* true focal length (6 mm)                    */
     double focal_assumed_mm;  /* what the controller is told (6 mm)          */
+    double arrival_sigma_px;  /* image noise the in-process controller's
+                                 arrival check assumes; 0: its default
+                                 (1 px); the image front end's matches need
+                                 more (SIM_FRONTEND_ARRIVAL_SIGMA_PX)        */
     double pixel_mm;          /* pixel pitch (0.0075 mm)                     */
     double pp_offset_px;      /* true principal point minus assumed, x, px   */
     uint64_t seed;            /* scene, noise and the controller's RANSAC    */
