@@ -31,10 +31,12 @@ sys.path.insert(0, HERE)
 import spvs_zenoh_common as common  # noqa: E402
 
 PROG = "spvs-station"
-STATE_FINGERPRINT = bytes.fromhex("f30017a913cc4d29")
+STATE_FINGERPRINT = bytes.fromhex("43535adfc7317216")
 # seq, utime (us), H[9], h_valid, n_matches, n_inliers, n_offplane, e_x (px),
-# e_valid, parallax (px), eq11, v (m/s), w (rad/s), step, status
-STATE_FIELDS = struct.Struct(">qq9dbhhhdbdbddbh")
+# e_valid, parallax (px), eq11, v (m/s), w (rad/s), step, status, then the
+# arrival check: corner, bound, lateral, depth, h13 (px), frames, re-entries,
+# next step, arriving
+STATE_FIELDS = struct.Struct(">qq9dbhhhdbdbddbh5dhbbb")
 STATE_SIZE = 8 + STATE_FIELDS.size
 
 # The core's status enum (firmware/include/spvs/common.h).
@@ -42,7 +44,7 @@ STATUS_NAMES = {0: "ok", -1: "arg", -2: "too_few", -3: "nonfinite",
                 -4: "range", -5: "capacity", -6: "degenerate",
                 -7: "no_consensus", -8: "stale", -9: "no_parallax",
                 -10: "plane_nz", -11: "plane_ny", -12: "step_timeout",
-                -13: "config"}
+                -13: "config", -14: "not_at_target"}
 
 
 class UsageError(Exception):

@@ -368,7 +368,9 @@ def check_isolation(env, a):
         # that is the kernel's and the machine's business, bounded loosely.
         seen = r["ended"]["t_failed_s"] - t_kill[i]
         stopped = r["ended"]["t_stopped_s"] - t_kill[i]
-        expect(0.0 <= seen <= WATCHDOG,
+        # t_kill is taken just after the signal is sent, so the fleet may
+        # see the death a moment before it.
+        expect(-0.05 <= seen <= WATCHDOG,
                "robot %s: the fleet saw its %s's death %.3f s after the kill "
                "(watchdog %.2f s)" % (name, what, seen, WATCHDOG))
         expect(stopped <= WATCHDOG + 1.0,
