@@ -258,8 +258,10 @@ static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
     for (int k = 0; k < 9; k++) {
         hw[k] = model[k];
     }
-    int lin = spvs_hf_lin_sums(&in, cur, e->n_plane, hw, sums) == SPVS_OK;
-    for (int round = 0; lin && round < SPVS_REFIT_ROUNDS; round++) {
+    if (spvs_hf_lin_sums(&in, cur, e->n_plane, hw, sums) != SPVS_OK) {
+        return;
+    }
+    for (int round = 0; round < SPVS_REFIT_ROUNDS; round++) {
         spvs_real Hr[9];
         if (spvs_hf_lin_solve(sums, hw, Hr) != SPVS_OK) {
             break;
@@ -274,7 +276,6 @@ static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
         /* The model is now the fit on cur; the sums move to next. */
         const int moved = lin_follow(e, hw, cur, next, sums);
         if (moved < 0) {
-            lin = 0;
             break;
         }
         uint8_t *const was = cur;
