@@ -291,9 +291,10 @@ static void test_method3_eq11(void **state)
 }
 
 /* The arrival check: a controller that has just ended step 3 at pose, fed
- * arrival_frames exact frames from there (the robot stands still). */
-static int arrival_at(spvs_control_t *c, const spvs_control_params_t *p,
-                      const synth_pose_t *pose, double t0)
+ * arrival_frames exact frames from there (the robot stands still), each
+ * with the remembered off-plane points' parallax par_px. */
+static int arrival_at_par(spvs_control_t *c, const spvs_control_params_t *p,
+                          const synth_pose_t *pose, double t0, double par_px)
 {
     const synth_plane_t pl = default_plane();
     c->checked_plane = 1;
@@ -311,11 +312,19 @@ static int arrival_at(spvs_control_t *c, const spvs_control_params_t *p,
     for (int k = 0; k < p->arrival_frames && rc == SPVS_OK; k++) {
         spvs_control_input_t in;
         make_input(pose, &pl, t0 + 0.1 * k, &in);
+        in.parallax_px = (spvs_real)par_px;
         spvs_real v = 1, w = 1;
         rc = spvs_control_step(c, p, &in, &v, &w);
         assert_true(v == 0 && w == 0);
     }
     return rc;
+}
+
+/* ... with no off-plane point in view (the H figures alone decide). */
+static int arrival_at(spvs_control_t *c, const spvs_control_params_t *p,
+                      const synth_pose_t *pose, double t0)
+{
+    return arrival_at_par(c, p, pose, t0, -1.0);
 }
 
 /* Mean corner transfer of the exact H at pose, pixels (the check's figure). */
@@ -336,9 +345,9 @@ static double corner_px(const synth_pose_t *pose)
 /* Accepted at the target, with the telemetry's bound from the noise model:
  * 4 sigma sqrt(2 L / n / N) for sigma = 1 px, L = 23.5, n = 100 inliers,
  * N = 20 frames = 0.6131 px; rejected 0.3 m along the axis (step 2 again),
- * 0.3 m sideways facing the target heading's h13 = 0 (step 1 again) and
- * 0.5 deg off the heading (step 3 again), each with the figures of that
- * pose's exact H. */
+ * 0.3 m sideways facing the target heading's h13 = 0 (step 1's verdict:
+ * the robot backs off, in step 2, for a new start) and 0.5 deg off the
+ * heading (step 3 again), each with the figures of that pose's exact H. */
 static void test_arrival_check(void **state)
 {
     (void)state;
@@ -357,10 +366,10 @@ static void test_arrival_check(void **state)
         const double nz = -0.75 / sqrt(0.3 * 0.3 + 0.6 * 0.6 + 0.75 * 0.75);
         const struct {
             synth_pose_t pose;
-            spvs_step_t expect;
-        } cases[] = {{{0, 0.3, 0}, SPVS_STEP_TRANSLATE},
-                     {{0.3, 0, -atan(0.3 * nz / 45)}, SPVS_STEP_ROTATE},
-                     {{0, 0, 0.5 * DEG}, SPVS_STEP_ALIGN}};
+            spvs_step_t verdict, step;
+        } cases[] = {{{0, 0.3, 0}, SPVS_STEP_TRANSLATE, SPVS_STEP_TRANSLATE},
+                     {{0.3, 0, -atan(0.3 * nz / 45)}, SPVS_STEP_ROTATE, SPVS_STEP_TRANSLATE},
+                     {{0, 0, 0.5 * DEG}, SPVS_STEP_ALIGN, SPVS_STEP_ALIGN}};
         for (int i = 0; i < 3; i++) {
             spvs_control_reset(&c);
             assert_int_equal(arrival_at(&c, &p, &cases[i].pose, 0), SPVS_OK);
@@ -368,14 +377,83 @@ static void test_arrival_check(void **state)
                           m, i, (double)c.arrival_corner_px, (double)c.arrival_bound_px,
                           (double)c.arrival_lateral_px, (double)c.arrival_depth_px,
                           (double)c.arrival_h13_px);
-            assert_int_equal(c.step, cases[i].expect);
-            assert_int_equal(c.arrival_next, cases[i].expect);
+            assert_int_equal(c.step, cases[i].step);
+            assert_int_equal(c.arrival_next, cases[i].verdict);
+            assert_int_equal(c.backing, cases[i].verdict == SPVS_STEP_ROTATE);
             assert_int_equal(c.reentries, 1);
             assert_true(c.arrival_corner_px > c.arrival_bound_px);
             assert_true(fabs((double)c.arrival_corner_px - corner_px(&cases[i].pose)) <
                         1e-3 * corner_px(&cases[i].pose));
         }
     }
+}
+
+/* The off-plane points' parallax decides where H cannot: standing at the
+ * target (H = I), a mean parallax under 1.75 x 1.665 sigma = 2.914 px (its
+ * median there under the noise of both images, with margin) is accepted,
+ * one over it is a sideways offset: the robot backs off at -v_max, straight,
+ * for SPVS_CTL_ARRIVAL_BACKOFF_DM decimetres by odometry, then starts over
+ * (step 1, signs not chosen) with the re-entry counted. */
+static void test_arrival_parallax(void **state)
+{
+    (void)state;
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_I);
+    spvs_control_t c;
+    const synth_pose_t home = {0, 0, 0};
+    spvs_control_reset(&c);
+    assert_int_equal(arrival_at_par(&c, &p, &home, 0, 2.90), SPVS_OK);
+    assert_int_equal(c.step, SPVS_STEP_DONE);
+    assert_true(fabs((double)c.arrival_parallax_px - 2.90) < 1e-5);
+
+    spvs_control_reset(&c);
+    assert_int_equal(arrival_at_par(&c, &p, &home, 0, 2.93), SPVS_OK);
+    assert_int_equal(c.step, SPVS_STEP_TRANSLATE);
+    assert_int_equal(c.arrival_next, SPVS_STEP_ROTATE);
+    assert_int_equal(c.backing, 1);
+    assert_int_equal(c.reentries, 1);
+
+    /* Backing off: v = -v_max, w = 0, until the odometry says 5 m. */
+    const synth_plane_t pl = default_plane();
+    const double dist = 0.1 * SPVS_CTL_ARRIVAL_BACKOFF_DM;
+    double t = 10.0, driven = 0;
+    int frames = 0;
+    spvs_real v = 0, w = 0;
+    for (; frames < 1000 && c.backing; frames++) {
+        spvs_control_input_t in;
+        synth_pose_t at = {0, -driven, 0};
+        make_input(&at, &pl, t, &in);
+        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        if (c.backing) {
+            assert_true(v == -p.v_max && w == 0);
+        }
+        driven += -(double)v * 0.1;
+        t += 0.1;
+    }
+    assert_int_equal(c.backing, 0);
+    assert_true(driven >= dist - 1e-6 && driven < dist + (double)p.v_max * 0.1 + 1e-6);
+    /* The new start: as after a reset, with the count kept. */
+    assert_int_equal(c.step, SPVS_STEP_ROTATE);
+    assert_int_equal(c.checked_plane, 0);
+    assert_int_equal(c.sign_w, 0);
+    assert_int_equal(c.reentries, 1);
+    assert_int_equal(c.arrival_next, SPVS_STEP_ROTATE);
+    assert_true(fabs((double)c.arrival_parallax_px - 2.93) < 1e-5);
+
+    /* A step 2 of the new homing that drives on past twice the back-off is
+     * going the wrong way: a latched SPVS_E_NOT_AT_TARGET with a stop. */
+    c.checked_plane = 1;
+    c.sign_w = 1;
+    c.step = SPVS_STEP_TRANSLATE;
+    c.odo_s = (spvs_real)(2 * dist + 0.01);
+    spvs_control_input_t in;
+    synth_pose_t away = {0, -2 * dist, 0};
+    make_input(&away, &pl, t, &in);
+    v = 1;
+    w = 1;
+    assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_E_NOT_AT_TARGET);
+    assert_true(v == 0 && w == 0);
+    assert_int_equal(c.step, SPVS_STEP_FAILED);
 }
 
 /* The re-entries are bounded: a robot that stays 0.3 m short is sent back
@@ -431,6 +509,7 @@ int main(void)
         cmocka_unit_test(test_no_parallax_and_timeout),
         cmocka_unit_test(test_method3_eq11),
         cmocka_unit_test(test_arrival_check),
+        cmocka_unit_test(test_arrival_parallax),
         cmocka_unit_test(test_arrival_bound_spent),
         cmocka_unit_test(test_params_check),
     };

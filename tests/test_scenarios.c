@@ -242,18 +242,25 @@ static void test_table1_plane_normals(void **state)
 /* 1 px image noise from the six Figure 5 poses, seeds 0..NOISE_SEEDS-1 (120
  * runs per method), without and with 20 % mismatches (seeds
  * 0..MISMATCH_SEEDS-1): no run reports "converged" outside 0.25 m / 0.5 deg
- * (the arrival check, docs/CONTROL.md), and without mismatches the share of
- * runs that end converged within them is at least NOISE_MIN_PCT[method].
- * The bounds sit 2.5-3.5 standard deviations of a 120-run share below the
- * rates measured on seeds 1000-1099 (69.5, 65.8 and 66.3 %; docs/CONTROL.md,
- * "A verified arrival"). */
+ * (the arrival check, docs/CONTROL.md).  Without mismatches at least
+ * NOISE_MIN_PCT_HOME % of the runs end within them, whatever their status,
+ * and at least NOISE_MIN_PCT_CONVERGED % end there converged (the others
+ * end not_at_target at home: the check refuses some homes, never a miss).
+ * Measured on seeds 1000-1099 (docs/CONTROL.md): 100, 99.2 and 100 % home,
+ * 83, 72.5 and 86 % converged. */
 #define NOISE_SEEDS 20
 #define MISMATCH_SEEDS 5
-static const int NOISE_MIN_PCT[4] = {0, 55, 55, 55};
+#define NOISE_MIN_PCT_HOME 97
+#define NOISE_MIN_PCT_CONVERGED 60
 
-static int noise_runs(int method, double outliers, int seeds, int *false_claims)
+typedef struct {
+    int home;         /* ended within 0.25 m / 0.5 deg, any status */
+    int converged;    /* ... and converged                         */
+    int false_claims; /* converged outside                         */
+} noise_count_t;
+
+static void noise_runs(int method, double outliers, int seeds, noise_count_t *n)
 {
-    int good = 0;
     for (int i = 0; i < 6; ++i) {
         for (uint64_t seed = 0; seed < (uint64_t)seeds; ++seed) {
             sim_config_t c;
@@ -263,15 +270,16 @@ static int noise_runs(int method, double outliers, int seeds, int *false_claims)
             c.outliers = outliers;
             c.seed = seed;
             run_cfg(&c, &r, NULL, NULL);
-            if (within(&r, 0.25, 0.5)) {
-                ++good;
-            } else if (r.status == SIM_CONVERGED) {
+            const int home = fabs(r.err_x_m) < 0.25 && fabs(r.err_z_m) < 0.25 &&
+                             fabs(r.err_phi_deg) < 0.5;
+            n->home += home;
+            n->converged += home && r.status == SIM_CONVERGED;
+            if (!home && r.status == SIM_CONVERGED) {
                 report("  claims converged outside 0.25 m / 0.5 deg", &c, &r);
-                ++*false_claims;
+                ++n->false_claims;
             }
         }
     }
-    return good;
 }
 
 static void test_one_pixel_noise_six_poses(void **state)
@@ -279,17 +287,23 @@ static void test_one_pixel_noise_six_poses(void **state)
     (void)state;
     int short_methods = 0, false_claims = 0;
     for (int method = 1; method <= 3; ++method) {
-        int runs = 6 * NOISE_SEEDS;
-        int good = noise_runs(method, 0.0, NOISE_SEEDS, &false_claims);
-        print_message("method %d: %d of %d runs within 0.25 m / 0.5 deg (%.1f %%, at least "
-                      "%d %% needed)\n", method, good, runs, 100.0 * good / runs,
-                      NOISE_MIN_PCT[method]);
-        if (100 * good < NOISE_MIN_PCT[method] * runs) {
+        const int runs = 6 * NOISE_SEEDS;
+        noise_count_t n = {0, 0, 0};
+        noise_runs(method, 0.0, NOISE_SEEDS, &n);
+        print_message("method %d: %d of %d runs end within 0.25 m / 0.5 deg (%.1f %%, at least "
+                      "%d %% needed), %d of them converged (at least %d %% needed)\n",
+                      method, n.home, runs, 100.0 * n.home / runs, NOISE_MIN_PCT_HOME,
+                      n.converged, NOISE_MIN_PCT_CONVERGED);
+        if (100 * n.home < NOISE_MIN_PCT_HOME * runs ||
+            100 * n.converged < NOISE_MIN_PCT_CONVERGED * runs) {
             ++short_methods;
         }
-        good = noise_runs(method, 0.2, MISMATCH_SEEDS, &false_claims);
-        print_message("method %d, 20 %% mismatches: %d of %d runs within 0.25 m / 0.5 deg\n",
-                      method, good, 6 * MISMATCH_SEEDS);
+        false_claims += n.false_claims;
+        noise_count_t m = {0, 0, 0};
+        noise_runs(method, 0.2, MISMATCH_SEEDS, &m);
+        print_message("method %d, 20 %% mismatches: %d of %d runs end within 0.25 m / 0.5 deg, "
+                      "%d converged\n", method, m.home, 6 * MISMATCH_SEEDS, m.converged);
+        false_claims += m.false_claims;
     }
     assert_int_equal(false_claims, 0);
     assert_int_equal(short_methods, 0);
@@ -342,9 +356,10 @@ static void test_focal_length_methods_2_3(void **state)
 
 /* Principal point (Figure 8, second row): the paper finds Method III
  * sensitive to x0 and Method II robust.  Over offsets of -40, -20, 20 and
- * 40 px, Method II stays within 0.15 m of the target while Method III's worst
- * final distance is at least five times Method II's.  (Measured:
- * docs/RESULTS.md, Figure 8.) */
+ * 40 px both now end converged within 0.15 m of the target: Method III's
+ * first arrival is off as in the paper, and the arrival check's parallax
+ * test sends it back until it is home (docs/CONTROL.md; docs/RESULTS.md,
+ * Figure 8). */
 static void test_principal_point_sensitivity(void **state)
 {
     (void)state;
@@ -369,7 +384,7 @@ static void test_principal_point_sensitivity(void **state)
     print_message("worst final distance: Method II %.3f m, Method III %.3f m\n",
                   worst[2], worst[3]);
     assert_true(worst[2] < 0.15);
-    assert_true(worst[3] > 5.0 * worst[2]);
+    assert_true(worst[3] < 0.15);
 }
 
 int main(void)

@@ -160,6 +160,7 @@ void spvs_control_reset(spvs_control_t *c)
     c->arriving = 0;
     c->reentries = 0;
     c->reentered = 0;
+    c->backing = 0;
     c->arrival_next = 0;
     c->arrive_n = 0;
     for (int k = 0; k < 6; k++) {
@@ -171,6 +172,9 @@ void spvs_control_reset(spvs_control_t *c)
     c->arrival_lateral_px = SPVS_R(0.0);
     c->arrival_depth_px = SPVS_R(0.0);
     c->arrival_h13_px = SPVS_R(0.0);
+    c->arrival_parallax_px = SPVS_R(0.0);
+    c->arrive_par_sum = SPVS_R(0.0);
+    c->arrive_par_n = 0;
     c->slope_sig = SPVS_R(0.0);
     c->slope_h33 = SPVS_R(0.0);
     c->reentry_d0 = SPVS_R(0.0);
@@ -270,6 +274,21 @@ static int plane_check(spvs_control_t *c, const spvs_control_params_t *p)
     return SPVS_OK;
 }
 
+/* Method I: the epipole says the robot is clearly not facing the target,
+ * as at the false zero of eq. (19), which lies 20 deg or more off the target
+ * line (docs/CONTROL.md).  In step 1 the margin is SPVS_CTL_FALSE_ZERO_LOCKS
+ * times lock_ex_px: at grazing views the image noise moves the zero of f
+ * and that of the epipole a few degrees apart, and a tighter test would
+ * hold the two laws against each other for good.  In step 2 it stays
+ * lock_ex_px, so that the epipole keeps the line. */
+static int far_from_line(const spvs_control_t *c, const spvs_control_params_t *p,
+                         const spvs_control_input_t *in)
+{
+    const spvs_real locks =
+        c->step == SPVS_STEP_ROTATE ? (spvs_real)SPVS_CTL_FALSE_ZERO_LOCKS : SPVS_R(1.0);
+    return in->e_valid && SPVS_FABS(in->e_x_px) > locks * p->lock_ex_px;
+}
+
 /* Rotation command of steps 1 and 2 for each method. */
 static spvs_real rotation(spvs_control_t *c, const spvs_control_params_t *p,
                           const spvs_control_input_t *in)
@@ -284,7 +303,7 @@ static spvs_real rotation(spvs_control_t *c, const spvs_control_params_t *p,
          * least rate, so it passes through a false zero. */
         spvs_real h13n = H[SPVS_H13] / p->alpha_x;
         spvs_real f = H[SPVS_H11] * H[SPVS_H11] + h13n * h13n - SPVS_R(1.0);
-        int misaligned = in->e_valid && SPVS_FABS(in->e_x_px) > p->lock_ex_px;
+        int misaligned = far_from_line(c, p, in);
         if (misaligned && sgn(f) != 0) {
             c->sign_w = (int8_t)(sgn(f) * sgn(in->e_x_px));
         }
@@ -299,9 +318,7 @@ static spvs_real rotation(spvs_control_t *c, const spvs_control_params_t *p,
         return -(spvs_real)c->sign_w * p->k_w * H[SPVS_H12];
     case SPVS_METHOD_III:
     default:
-        /* A re-entered step 1 turns towards the target from where the robot
-         * stands, not to the heading learnt on the first line. */
-        if (c->use_eq11 && !c->reentered) {
+        if (c->use_eq11) {
             /* Eq. (11): w = k_w11 (h11 - cos phi_t), sign of k_w11 that of
              * sin phi_t, as h11 - cos phi_t ~ -sin phi_t (phi - phi_t). */
             return (spvs_real)c->sign_sin_phit * p->k_w11 *
@@ -492,10 +509,9 @@ static int eq11_switch(spvs_control_t *c, const spvs_control_params_t *p,
     if (p->method != SPVS_METHOD_III || c->step == SPVS_STEP_ALIGN) {
         return SPVS_OK;
     }
-    /* A re-entered step 1 turns on eq. (22), a re-entered step 2 holds the
-     * heading: only the first needs the epipole. */
+    /* A re-entered step 2 holds the heading: it needs no epipole. */
     if (c->reentered) {
-        return (c->step == SPVS_STEP_ROTATE && !in->e_valid) ? SPVS_E_NO_PARALLAX : SPVS_OK;
+        return SPVS_OK;
     }
     if (c->use_eq11) {
         return SPVS_OK;
@@ -525,7 +541,7 @@ static void step_rotate(spvs_control_t *c, const spvs_control_params_t *p,
     spvs_real a = align_signal(p, in);
     int done = step_done(c, p, a, p->tol_align);
     /* Method I: a zero of eq. (19) away from the target line is false. */
-    if (p->method == SPVS_METHOD_I && in->e_valid && SPVS_FABS(in->e_x_px) > p->lock_ex_px) {
+    if (p->method == SPVS_METHOD_I && far_from_line(c, p, in)) {
         done = 0;
         /* The sign change at a false zero is spent here: only a change
          * after it counts. */
@@ -568,6 +584,30 @@ static void translate_begin(spvs_control_t *c, const spvs_control_params_t *p,
     }
 }
 
+/* Backing off for a new start (reenter above): straight back at v_max,
+ * then the controller starts over as if reset, keeping only the count of
+ * re-entries, the last check's figures and the odometry's clock. */
+static void back_off(spvs_control_t *c, const spvs_control_params_t *p, spvs_real *vc)
+{
+    const spvs_real dist_m = (spvs_real)SPVS_CTL_ARRIVAL_BACKOFF_DM * SPVS_R(0.1);
+    if (c->odo_s < dist_m) {
+        *vc = -p->v_max;
+        return;
+    }
+    const spvs_control_t keep = *c;
+    spvs_control_reset(c);
+    c->last_t = keep.last_t;
+    c->reentries = keep.reentries;
+    c->arrival_next = keep.arrival_next;
+    c->arrival_corner_px = keep.arrival_corner_px;
+    c->arrival_bound_px = keep.arrival_bound_px;
+    c->arrival_lateral_px = keep.arrival_lateral_px;
+    c->arrival_depth_px = keep.arrival_depth_px;
+    c->arrival_h13_px = keep.arrival_h13_px;
+    c->arrival_parallax_px = keep.arrival_parallax_px;
+    c->arrive_n = keep.arrive_n;
+}
+
 /* Step 2: drive straight to the target on the fitted signal. */
 /* A step 2 re-entered by the arrival check, where the first line's fit gave
  * the slope of the signal per metre driven: its size, n_z / d (Methods I,
@@ -592,6 +632,10 @@ static void step_translate_again(spvs_control_t *c, const spvs_control_params_t 
 static void step_translate(spvs_control_t *c, const spvs_control_params_t *p,
                            const spvs_control_input_t *in, spvs_real *vc, spvs_real *wc)
 {
+    if (c->backing) {
+        back_off(c, p, vc);
+        return;
+    }
     if (c->reentered && c->slope_sig != SPVS_R(0.0) && c->reentry_d0 != SPVS_R(0.0)) {
         step_translate_again(c, p, in, vc, wc);
         return;
@@ -669,24 +713,28 @@ static void arrival_begin(spvs_control_t *c)
         c->arrive_sum[k] = SPVS_R(0.0);
     }
     c->arrive_inv_n = SPVS_R(0.0);
+    c->arrive_par_sum = SPVS_R(0.0);
+    c->arrive_par_n = 0;
 }
 
 /* A failed check sends the robot back to a step from where it stands; the
- * signs of the gains stay as chosen at the start. */
-static int reenter(spvs_control_t *c, const spvs_control_params_t *p,
-                   const spvs_control_input_t *in, spvs_step_t step)
+ * signs of the gains stay as chosen at the start.  A sideways offset is the
+ * exception (step 1 in the check's verdict): beside the target the robot
+ * would have to turn about 90 deg to face it, with the scene out of view,
+ * and every step-1 signal is noise there.  It backs off instead, straight
+ * back SPVS_CTL_ARRIVAL_BACKOFF_DM decimetres by odometry, and homes again
+ * from there (back_off below): from a few metres away the same offset is a
+ * bearing of several degrees, which steps 1 and 2 resolve. */
+static int reenter(spvs_control_t *c, const spvs_control_input_t *in, spvs_step_t step)
 {
     if (c->reentries >= (uint8_t)SPVS_CTL_ARRIVAL_MAX_REENTRIES) {
-        return fail(c, SPVS_E_NOT_AT_TARGET);
-    }
-    /* Method III turns towards the target on the epipole (eq. 22). */
-    if (step == SPVS_STEP_ROTATE && p->method == SPVS_METHOD_III && !in->e_valid) {
         return fail(c, SPVS_E_NOT_AT_TARGET);
     }
     c->reentries++;
     c->reentered = 1;
     c->arriving = 0;
-    next_step(c, step, in->t_s);
+    c->backing = (uint8_t)(step == SPVS_STEP_ROTATE);
+    next_step(c, c->backing ? SPVS_STEP_TRANSLATE : step, in->t_s);
     c->trans_sign0 = 0;
     c->odo_s = SPVS_R(0.0);
     fit_clear(c);
@@ -738,22 +786,31 @@ static int arrival_decide(spvs_control_t *c, const spvs_control_params_t *p,
     corner_figures(p, r, &c->arrival_corner_px, &c->arrival_lateral_px, &c->arrival_depth_px);
     c->arrival_h13_px = r[2];
     c->arriving = 0;
-    if (c->arrival_corner_px <= c->arrival_bound_px) {
+    /* The remembered off-plane points' parallax: 0 at the target up to the
+     * noise of both images, and several pixels beside it, where H barely
+     * moves (docs/CONTROL.md). */
+    c->arrival_parallax_px = c->arrive_par_n > 0u
+                                 ? c->arrive_par_sum / (spvs_real)c->arrive_par_n
+                                 : SPVS_R(-1.0);
+    const int par_ok = c->arrival_parallax_px <=
+                       (spvs_real)SPVS_CTL_ARRIVAL_PARALLAX_X100 * SPVS_R(0.01) *
+                           SPVS_R(1.665) * p->arrival_sigma_px;
+    if (c->arrival_corner_px <= c->arrival_bound_px && par_ok) {
         c->arrival_next = 0;
         next_step(c, SPVS_STEP_DONE, in->t_s);
         return SPVS_OK;
     }
     const spvs_real lat = c->arrival_lateral_px, dep = c->arrival_depth_px;
     const spvs_real rot = SPVS_FABS(r[2]);
-    spvs_step_t step = SPVS_STEP_ROTATE;
-    if (dep >= lat && dep >= rot) {
+    spvs_step_t step = SPVS_STEP_ROTATE; /* sideways: back off (reenter) */
+    if (par_ok && dep >= lat && dep >= rot) {
         step = SPVS_STEP_TRANSLATE;
-    } else if (rot >= lat) {
+    } else if (par_ok && rot >= lat) {
         step = SPVS_STEP_ALIGN;
     }
     c->arrival_next = (uint8_t)step;
     c->reentry_d0 = reentry_signal(c, p, r);
-    return reenter(c, p, in, step);
+    return reenter(c, in, step);
 }
 
 /* Standing still after step 3: sum this frame's H - I and 1 / n_inliers. */
@@ -768,6 +825,10 @@ static int arrival_frame(spvs_control_t *c, const spvs_control_params_t *p,
     c->arrive_sum[4] += H[SPVS_H32];
     c->arrive_sum[5] += H[SPVS_H33] - SPVS_R(1.0);
     c->arrive_inv_n += SPVS_R(1.0) / (spvs_real)(in->n_inliers > 4u ? in->n_inliers : 4u);
+    if (in->parallax_px >= SPVS_R(0.0)) {
+        c->arrive_par_sum += in->parallax_px;
+        c->arrive_par_n++;
+    }
     c->arrive_n++;
     if (c->arrive_n < p->arrival_frames) {
         return SPVS_OK;
@@ -828,6 +889,13 @@ int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
         if (rc != SPVS_OK || !c->checked_plane) {
             return rc;
         }
+    }
+    /* A step 2 after a re-entry, from where the check was made or from
+     * where the robot backed off to, is at most about as long as that
+     * back-off: one that drives on is going the wrong way. */
+    if (c->step == SPVS_STEP_TRANSLATE && c->reentries > 0u &&
+        c->odo_s > SPVS_R(0.2) * (spvs_real)SPVS_CTL_ARRIVAL_BACKOFF_DM) {
+        return fail(c, SPVS_E_NOT_AT_TARGET);
     }
     int rc = eq11_switch(c, p, in);
     if (rc != SPVS_OK) {

@@ -154,6 +154,7 @@ typedef struct {
     uint8_t arriving;        /* step 3 has ended: holding still, averaging  */
     uint8_t reentries;       /* checks failed so far (each re-entered a step) */
     uint8_t reentered;       /* the steps now running are a re-entry        */
+    uint8_t backing;         /* re-entry: backing off for a new start       */
     uint8_t arrival_next;    /* step the last failed check pointed to, 0    */
     uint16_t arrive_n;       /* frames averaged so far                      */
     spvs_real arrive_sum[6]; /* sums of h11 - 1, h12, h13, h31, h32, h33 - 1 */
@@ -163,6 +164,10 @@ typedef struct {
     spvs_real arrival_lateral_px; /* row 1 without h13: sideways offset     */
     spvs_real arrival_depth_px;   /* row 3: offset along the optical axis   */
     spvs_real arrival_h13_px;     /* mean h13: heading (and sideways)       */
+    spvs_real arrival_parallax_px; /* mean parallax of the remembered
+                                     off-plane points, -1: none seen       */
+    spvs_real arrive_par_sum;     /* sum of the frames' parallax            */
+    uint16_t arrive_par_n;        /* frames with a parallax                 */
     spvs_real fit_h33, fit_sh33; /* step 2: sums of h33 and s h33       */
     spvs_real slope_sig;     /* d signal / d metre, the first step 2's fit  */
     spvs_real slope_h33;     /* d h33 / d metre, the same line              */

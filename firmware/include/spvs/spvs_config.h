@@ -264,6 +264,22 @@
 #ifndef SPVS_CTL_ARRIVAL_MAX_REENTRIES
 #define SPVS_CTL_ARRIVAL_MAX_REENTRIES 3
 #endif
+/* Method I's step 1 escapes the false zero of eq. (19) while |e_x| is
+ * over this many times lock_ex_px (control.c, far_from_line). */
+#ifndef SPVS_CTL_FALSE_ZERO_LOCKS
+#define SPVS_CTL_FALSE_ZERO_LOCKS 4
+#endif
+/* ... and the bound on the remembered off-plane points' mean parallax, in
+ * hundredths of its median at the target, 1.665 arrival_sigma_px (control.c,
+ * arrival_decide). */
+#ifndef SPVS_CTL_ARRIVAL_PARALLAX_X100
+#define SPVS_CTL_ARRIVAL_PARALLAX_X100 175
+#endif
+/* ... and how far it backs off, in decimetres, when the check finds it
+ * beside the target (control.c, reenter). */
+#ifndef SPVS_CTL_ARRIVAL_BACKOFF_DM
+#define SPVS_CTL_ARRIVAL_BACKOFF_DM 50
+#endif
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
 #endif
@@ -286,6 +302,15 @@
 #endif
 #if (SPVS_CTL_ARRIVAL_MAX_REENTRIES < 0) || (SPVS_CTL_ARRIVAL_MAX_REENTRIES > 20)
 #error "SPVS_CTL_ARRIVAL_MAX_REENTRIES must be in 0..20"
+#endif
+#if (SPVS_CTL_FALSE_ZERO_LOCKS < 1) || (SPVS_CTL_FALSE_ZERO_LOCKS > 8)
+#error "SPVS_CTL_FALSE_ZERO_LOCKS must be in 1..8"
+#endif
+#if (SPVS_CTL_ARRIVAL_PARALLAX_X100 < 100) || (SPVS_CTL_ARRIVAL_PARALLAX_X100 > 1000)
+#error "SPVS_CTL_ARRIVAL_PARALLAX_X100 must be in 100..1000"
+#endif
+#if (SPVS_CTL_ARRIVAL_BACKOFF_DM < 1) || (SPVS_CTL_ARRIVAL_BACKOFF_DM > 200)
+#error "SPVS_CTL_ARRIVAL_BACKOFF_DM must be in 1..200"
 #endif
 #if (SPVS_CTL_ARRIVAL_MAX_FRAMES < 1) || (SPVS_CTL_ARRIVAL_MAX_FRAMES > 65535)
 #error "SPVS_CTL_ARRIVAL_MAX_FRAMES must be in 1..65535"
