@@ -6,7 +6,9 @@
 #         -DCMAKE_TOOLCHAIN_FILE=cmake/toolchain-arm-none-eabi.cmake \
 #         -DSPVS_CPU=cortex-m4f -DSPVS_HOST=OFF
 #
-# SPVS_CPU names a flags file in cmake/cpu/ (default cortex-m4f).
+# SPVS_CPU names a flags file in cmake/cpu/: cortex-m4f (default; QEMU
+# mps2-an386) or cortex-m3 (no FPU, soft-float; QEMU mps2-an385).  The file
+# sets SPVS_CPU_FLAGS, SPVS_QEMU_MACHINE and SPVS_CPU_NAME.
 set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR arm)
 
@@ -26,6 +28,11 @@ find_program(CMAKE_SIZE ${SPVS_TOOLCHAIN_PREFIX}size)
 
 # Per-CPU flags (-mcpu, -mfpu, float ABI) come from one file per core.
 set(SPVS_CPU cortex-m4f CACHE STRING "CPU flags file in cmake/cpu/")
+if(NOT EXISTS ${CMAKE_CURRENT_LIST_DIR}/cpu/${SPVS_CPU}.cmake)
+  file(GLOB spvs_cpus RELATIVE ${CMAKE_CURRENT_LIST_DIR}/cpu ${CMAKE_CURRENT_LIST_DIR}/cpu/*.cmake)
+  string(REPLACE ".cmake" "" spvs_cpus "${spvs_cpus}")
+  message(FATAL_ERROR "SPVS_CPU=${SPVS_CPU}: no cmake/cpu/${SPVS_CPU}.cmake (known: ${spvs_cpus})")
+endif()
 include(${CMAKE_CURRENT_LIST_DIR}/cpu/${SPVS_CPU}.cmake)
 
 # Find headers and libraries in the cross sysroot only, programs on the host.

@@ -1,11 +1,17 @@
 /*
- * board.h - what the image knows of the mps2-an386 board and the Cortex-M4
- * system registers: CPACR, SysTick, the stack bounds, exit statuses.
+ * board.h - what the image knows of the mps2-an386 / mps2-an385 boards and
+ * the ARMv7-M system registers: CPACR (Cortex-M4F only), SysTick, the stack
+ * bounds, exit statuses.
  */
 #ifndef TARGET_BOARD_H
 #define TARGET_BOARD_H
 
 #include <stdint.h>
+
+/* The CPU's name in the images' banners (cmake/cpu/<cpu>.cmake). */
+#ifndef SPVS_TARGET_CPU_NAME
+#define SPVS_TARGET_CPU_NAME "Cortex-M4F"
+#endif
 
 #define SCB_CPACR (*(volatile uint32_t *)0xE000ED88u)
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)

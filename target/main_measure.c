@@ -1,6 +1,7 @@
 /*
  * main_measure.c - instruction counts of one spvs_update() on the
- * Cortex-M4F, run under QEMU with -icount shift=MEASURE_ICOUNT_SHIFT.
+ * Cortex-M4F or the Cortex-M3 (soft-float), run under QEMU with -icount
+ * shift=MEASURE_ICOUNT_SHIFT.
  *
  * QEMU's -icount mode advances the virtual clock by 2^shift ns per guest
  * instruction; SysTick counts the 25 MHz processor clock of that virtual
@@ -26,6 +27,14 @@
  *               RANSAC cap (it counts validation and the typical hypotheses
  *               twice);
  *   stack:      deepest stack use of the typical spvs_update(), bytes.
+ *
+ * Built with MEASURE_FP_HELPERS=1 (spvs_measure_fp.elf, soft-float CPUs
+ * only), the typical update also reports, per float helper and libm
+ * function it called, the calls and the instructions spent in them
+ * (fp_helpers.h), one "fp:" line each and an "fp_total:" line.  The
+ * wrappers cost instructions of their own, so that image's update_typ is
+ * larger than spvs_measure.elf's; compare the helpers' share with the
+ * latter.
  */
 #include <math.h>
 #include <stdint.h>
@@ -33,6 +42,13 @@
 #include "board.h"
 #include "fmt.h"
 #include "spvs/spvs.h"
+
+#ifndef MEASURE_FP_HELPERS
+#define MEASURE_FP_HELPERS 0
+#endif
+#if MEASURE_FP_HELPERS
+#include "fp_helpers.h"
+#endif
 
 #ifndef MEASURE_ICOUNT_SHIFT
 #define MEASURE_ICOUNT_SHIFT 8
@@ -170,10 +186,43 @@ static void kv(const char *key, uint32_t value)
     out_u32(value);
 }
 
+#if MEASURE_FP_HELPERS
+/* The helpers' calls and instructions in the update just measured. */
+static void report_fp(uint16_t n, uint32_t mismatch_pct, uint32_t update)
+{
+    uint32_t calls = 0u, instr = 0u;
+    for (uint32_t k = 0; k < fp_helpers_count(); ++k) {
+        const fp_helper_stat_t *h = fp_helpers_stat(k);
+        if (h->calls == 0u) {
+            continue;
+        }
+        /* fp_helpers.h: the ticks leave out one instruction per call. */
+        uint32_t hi = to_instructions(h->ticks) + h->calls;
+        out_str("fp:");
+        kv("n", n);
+        kv("mismatch_pct", mismatch_pct);
+        out_str(" name=");
+        out_str(h->name);
+        kv("calls", h->calls);
+        kv("instructions", hi);
+        out_str("\n");
+        calls += h->calls;
+        instr += hi;
+    }
+    out_str("fp_total:");
+    kv("n", n);
+    kv("mismatch_pct", mismatch_pct);
+    kv("calls", calls);
+    kv("instructions", instr);
+    kv("update_typ", update);
+    out_str("\n");
+}
+#endif
+
 int main(void)
 {
     board_ticks_start();
-    out_str("spvs Cortex-M4F measurement image (icount shift ");
+    out_str("spvs " SPVS_TARGET_CPU_NAME " measurement image (icount shift ");
     out_int(MEASURE_ICOUNT_SHIFT);
     out_str(")\n");
     /* The board-read overhead is measured with an empty region and is
@@ -203,9 +252,16 @@ int main(void)
                 return 1;
             }
             (void)measure_update(&core, n, 0.0f, &out, &st_w);
+#if MEASURE_FP_HELPERS
+            fp_helpers_start();
+#endif
             uintptr_t sp0 = board_stack_paint();
             uint32_t u_typ = measure_update(&core, n, 0.1f, &out, &st_u);
             uint32_t stack = board_stack_used_since(sp0);
+#if MEASURE_FP_HELPERS
+            fp_helpers_stop();
+            report_fp(n, bad_pct[j], u_typ);
+#endif
             uint32_t it_u = out.ransac_iters, inl = out.n_inliers;
 
             /* The estimation stage alone, same state as the measured update. */

@@ -9,7 +9,7 @@
 
 int main(void)
 {
-    out_str("spvs Cortex-M4F test image\n");
+    out_str("spvs " SPVS_TARGET_CPU_NAME " test image\n");
     int fails = golden_run();
     fails += replay_run();
     out_str(fails == 0 ? "RESULT: PASS\n" : "RESULT: FAIL\n");

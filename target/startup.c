@@ -1,6 +1,7 @@
 /*
- * startup.c - reset and exception entry of the Cortex-M4F image for QEMU's
- * mps2-an386: vector table, FPU enable, .data copy, .bss clear, stack
+ * startup.c - reset and exception entry of the images for QEMU's MPS2
+ * boards (mps2-an386 with a Cortex-M4F, mps2-an385 with a Cortex-M3):
+ * vector table, FPU enable where there is one, .data copy, .bss clear, stack
  * painting, then main(); main's return value is the semihosting exit status.
  */
 #include <stdint.h>
@@ -36,12 +37,12 @@ static void unexpected_handler(void) { fault("unexpected exception"); }
 
 typedef void (*vector_t)(void);
 
-/* External interrupt 8 of mps2-an386 is the CMSDK timer 0.  An image that
+/* External interrupt 8 of mps2-an386 and mps2-an385 is the CMSDK timer 0.  An image that
  * enables it defines board_timer0_irq (the application's watchdog clock);
  * in the others it is never enabled and lands on the fault report. */
 void board_timer0_irq(void) __attribute__((weak, alias("unexpected_handler")));
 
-/* The 16 system entries of the Cortex-M4 vector table and the external
+/* The 16 system entries of the ARMv7-M vector table and the external
  * interrupts up to timer 0 (IRQ 8); no image enables any other.  Entry 0 is
  * the initial stack pointer. */
 __attribute__((section(".vectors"), used)) static const vector_t vectors[16 + 9] = {
@@ -66,10 +67,14 @@ __attribute__((section(".vectors"), used)) static const vector_t vectors[16 + 9]
 
 void spvs_reset_handler(void)
 {
+#if defined(__ARM_FP)
     /* Grant full access to CP10 and CP11 (the FPU) before any float
-     * instruction; the barriers make the new CPACR take effect. */
+     * instruction; the barriers make the new CPACR take effect.  A build
+     * without FPU instructions (the Cortex-M3's soft-float) leaves CPACR
+     * alone: that core has none. */
     SCB_CPACR |= (0xFu << 20);
     __asm__ volatile("dsb\n\tisb" ::: "memory");
+#endif
 
     for (uint32_t *src = __data_load, *dst = __data_start; dst < __data_end;) {
         *dst++ = *src++;

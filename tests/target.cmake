@@ -1,8 +1,9 @@
-# The core on a Cortex-M4F under QEMU (mps2-an386): a cross build of the
-# core and the images of target/, then the golden vectors and the recorded
-# replay on the emulated MCU.  Only in the float32 host build (the image
-# replays what the host float32 core answered), and only when the cross
-# compiler and QEMU are installed.
+# The core on a Cortex-M4F under QEMU (mps2-an386), and the same float core
+# on a Cortex-M3 without FPU (mps2-an385, soft-float): per CPU a cross build
+# of the core and the images of target/ in its own folder, then the golden
+# vectors and the recorded replay on the emulated MCU.  Only in the float32
+# host build (the image replays what the host float32 core answered), and
+# only when the cross compiler and QEMU are installed.
 find_program(SPVS_ARM_GCC arm-none-eabi-gcc)
 find_program(SPVS_QEMU_ARM qemu-system-arm)
 if(SPVS_ARM_GCC AND SPVS_QEMU_ARM AND NOT SPVS_DOUBLE AND NOT SPVS_SANITIZE)
@@ -22,4 +23,22 @@ if(SPVS_ARM_GCC AND SPVS_QEMU_ARM AND NOT SPVS_DOUBLE AND NOT SPVS_SANITIZE)
                        FIXTURES_SETUP spvs_cross)
   set_tests_properties(target_qemu target_qemu_tamper PROPERTIES LABELS "float;target"
                        TIMEOUT 150 FIXTURES_REQUIRED spvs_cross)
+
+  # Cortex-M3, soft-float: the same three tests in <build>/cortex-m3, and
+  # the proof that the image check's no-float mode (for the fixed-point
+  # build) refuses an image that calls float helpers.
+  set(spvs_cross_m3_dir ${CMAKE_BINARY_DIR}/cortex-m3)
+  add_test(NAME target_m3_build
+           COMMAND ${spvs_target_script} --cpu cortex-m3 build ${PROJECT_SOURCE_DIR}
+                   ${spvs_cross_m3_dir} ${spvs_replay_sim})
+  add_test(NAME target_m3_qemu COMMAND ${spvs_target_script} run ${spvs_cross_m3_dir})
+  add_test(NAME target_m3_qemu_tamper COMMAND ${spvs_target_script} tamper ${spvs_cross_m3_dir})
+  add_test(NAME target_m3_float_check
+           COMMAND ${spvs_target_script} float-check ${spvs_cross_m3_dir}
+                   ${PROJECT_SOURCE_DIR}/target/check_image.cmake)
+  set_tests_properties(target_m3_build PROPERTIES LABELS "float;target" TIMEOUT 300
+                       FIXTURES_SETUP spvs_cross_m3)
+  set_tests_properties(target_m3_qemu target_m3_qemu_tamper target_m3_float_check
+                       PROPERTIES LABELS "float;target" TIMEOUT 150
+                       FIXTURES_REQUIRED spvs_cross_m3)
 endif()

@@ -14,11 +14,17 @@ Rules:
   - functions outside the .ci files (libm's sqrtf/logf, memcpy, memset) get
     their frame from the image's disassembly (push/vpush/sub sp in the
     prologue), since newlib ships without .su files; with no image they
-    count 0 and are listed.
+    count 0 and are listed;
+  - libgcc's soft-float helpers (__aeabi_*, on a CPU without FPU) are
+    assembly with no .su either: each gets every push and stack-pointer
+    decrement in its whole body plus the deepest routine it calls with bl
+    or branches into (__aeabi_fcmpgt -> __aeabi_cfrcmple -> __aeabi_cfcmple
+    -> __cmpsf2), an upper bound.
 Prints the deepest path with each frame and the total in bytes.
 """
 
 import argparse
+import bisect
 import glob
 import os
 import re
@@ -94,6 +100,68 @@ def prologue_frames(image, names):
     return out
 
 
+def helper_frames(image, names):
+    """Stack of assembly helpers: all stack-pointer decrements in the body
+    (push, str ..., [sp, #-N]!, sub sp) plus the deepest bl callee."""
+    try:
+        syms = subprocess.run(["arm-none-eabi-nm", "-n", image], check=True,
+                              capture_output=True, text=True).stdout
+        dis = subprocess.run(["arm-none-eabi-objdump", "-d", image], check=True,
+                             capture_output=True, text=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        sys.exit("stack_depth: nm/objdump failed on %s: %s" % (image, e))
+    addr_of, starts = {}, set()
+    for line in syms.splitlines():
+        f = line.split()
+        if len(f) == 3 and f[1] in "Tt" and not f[2].startswith("$"):
+            addr_of[f[2]] = int(f[0], 16) & ~1
+            starts.add(int(f[0], 16) & ~1)
+    start_set = set(starts)
+    starts = sorted(starts)
+    own, callees = {}, {}
+    insn = re.compile(r"^\s*([0-9a-f]+):\s+(?:[0-9a-f]{4}\s?){1,2}\s+(\S+)\s*(.*)$")
+    for line in dis.splitlines():
+        m = insn.match(line)
+        if not m:
+            continue
+        at = int(m.group(1), 16)
+        i = bisect.bisect_right(starts, at) - 1
+        if i < 0:
+            continue
+        fn, op, args = starts[i], m.group(2), m.group(3)
+        n = 0
+        if re.match(r"(push|stmdb)", op) and ("sp" in args or op.startswith("push")):
+            regs = re.search(r"\{([^}]*)\}", args)
+            n = 4 * len(regs.group(1).split(",")) if regs else 0
+        elif re.match(r"str", op):
+            d = re.search(r"\[sp,\s*#-(\d+)\]!", args)
+            n = int(d.group(1)) if d else 0
+        elif re.match(r"sub", op):
+            d = re.match(r"sp,\s*(?:sp,\s*)?#(\d+)", args)
+            n = int(d.group(1)) if d else 0
+        own[fn] = own.get(fn, 0) + n
+        # Calls, and branches into another routine (a tail call, or the
+        # branch of __aeabi_cfrcmple into __aeabi_cfcmple after swapping
+        # its operands).
+        if op in ("bl", "blx", "b", "b.n", "b.w"):
+            t = re.match(r"([0-9a-f]+)", args)
+            if t and (op.startswith("bl") or int(t.group(1), 16) in start_set) \
+                    and int(t.group(1), 16) != fn:
+                callees.setdefault(fn, set()).add(int(t.group(1), 16))
+    memo = {}
+
+    def deep(fn, seen=()):
+        if fn in memo:
+            return memo[fn]
+        if fn in seen:
+            sys.exit("stack_depth: helper recursion at 0x%x" % fn)
+        best = max([deep(c, seen + (fn,)) for c in callees.get(fn, ())] or [0])
+        memo[fn] = own.get(fn, 0) + best
+        return memo[fn]
+
+    return {n: deep(addr_of[n]) for n in names if n in addr_of}
+
+
 def main():
     ap = argparse.ArgumentParser(description="worst-case stack depth from .su/.ci files")
     ap.add_argument("ci_dir")
@@ -111,12 +179,15 @@ def main():
         if "__indirect_call" in calls[f]:
             calls[f].discard("__indirect_call")
             calls[f].update(indirect)
-    external = set()
+    external, helpers = set(), set()
     for f, cs in calls.items():
         for c in cs:
-            if c not in frames and not c.startswith("__aeabi_"):
-                external.add(c)
+            if c not in frames:
+                (helpers if c.startswith("__aeabi_") else external).add(c)
     lib = prologue_frames(a.image, external) if a.image else {}
+    hlp = helper_frames(a.image, helpers) if a.image and helpers else {}
+    lib.update(hlp)
+    external |= helpers
 
     memo, onpath = {}, set()
 
@@ -140,9 +211,13 @@ def main():
     bad = [f for f, _ in path if f in dyn]
     print("deepest path from %s:" % a.root)
     for f, own in path:
-        src = "su" if f in frames else ("image prologue" if f in lib else "unknown, 0")
+        src = ("su" if f in frames else "image, helper body" if f in hlp
+               else "image prologue" if f in lib else "unknown, 0")
         print("  %-28s %5d B  (%s)" % (f, own, src))
     print("total: %d bytes" % total)
+    if hlp:
+        print("float helpers' frames (bytes): %s" %
+              ", ".join("%s %d" % (n, hlp[n]) for n in sorted(hlp)))
     unknown = sorted(external - set(lib))
     if unknown:
         print("not counted (no frame size found): %s" % ", ".join(unknown))

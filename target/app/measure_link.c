@@ -68,7 +68,7 @@ static void report(const char *name, const stat_t *s)
 int main(void)
 {
     board_ticks_start();
-    out_str("spvs Cortex-M4F serial link measurement (icount shift ");
+    out_str("spvs " SPVS_TARGET_CPU_NAME " serial link measurement (icount shift ");
     out_int(MEASURE_ICOUNT_SHIFT);
     out_str(")\n");
     spvs_params_t p;
