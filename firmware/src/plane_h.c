@@ -216,27 +216,25 @@ static spvs_real sampson_cost(const spvs_plane_h_t *e, const spvs_real H[9])
 /* The final refit on the inliers in e->mask: SPVS_FINAL_STEPS steps, each
  * the joint linear fit with the Sampson weights of the current model
  * (which minimises the Sampson error to first order about it), each kept
- * only where it lowers the summed Sampson error.  The re-selection's
- * weights were the RANSAC model's; this takes them at the re-selected
- * model, so that the result is the Sampson fit of the final set. */
+ * only where it lowers the summed Sampson error (the current model's comes
+ * with the fit's sums).  The re-selection's weights were the RANSAC
+ * model's; this takes them at the re-selected model, so that the result is
+ * the Sampson fit of the final set. */
 static void final_refit(spvs_plane_h_t *e, spvs_real model[9])
 {
     const spvs_pts_in_t in = source(e);
-    spvs_real cost = sampson_cost(e, model);
     for (int step = 0; step < SPVS_FINAL_STEPS; step++) {
         spvs_real Hn[9];
         if (spvs_hf_lin_sums(&in, e->mask, e->n_plane, model, e->lin_sums) != SPVS_OK ||
             spvs_hf_lin_solve(e->lin_sums, model, Hn) != SPVS_OK) {
             break;
         }
-        const spvs_real c = sampson_cost(e, Hn);
-        if (!(c < cost)) {
+        if (!(sampson_cost(e, Hn) < e->lin_sums[SPVS_H_LIN_COST])) {
             break;
         }
         for (int k = 0; k < 9; k++) {
             model[k] = Hn[k];
         }
-        cost = c;
     }
 }
 

@@ -41,8 +41,10 @@
 extern "C" {
 #endif
 
-/* The sums of the joint linear fit (the re-selection's normal equations). */
-#define SPVS_H_LIN_SUMS 24
+/* The sums of the joint linear fit (the re-selection's normal equations),
+ * the last of them the summed squared Sampson error at the weights' H. */
+#define SPVS_H_LIN_SUMS 25
+#define SPVS_H_LIN_COST 24
 
 /* A frame's points, scaled units, in the build's layout (rows or columns:
  * read them with spvs_plane_h_point). */
