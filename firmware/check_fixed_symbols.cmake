@@ -2,6 +2,10 @@
 # helper (__aeabi_f*, __aeabi_d*, the libgcc soft-float names), a libm
 # function, the heap or stdio.
 # Usage: cmake -DNM=<nm> -DLIB=<libspvs_fixed.a or .o> -P check_fixed_symbols.cmake
+# (or included with NM and OBJ set)
+if(NOT LIB AND OBJ)
+  set(LIB ${OBJ})
+endif()
 execute_process(COMMAND ${NM} -u ${LIB} OUTPUT_VARIABLE undef RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "nm failed on ${LIB}")
