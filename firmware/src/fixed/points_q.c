@@ -119,17 +119,28 @@ void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4])
 
 /* ---- one point ----------------------------------------------------------- */
 
-/* A point's residuals under H: w = h3 . p and g = h1 . p exactly in Q53
- * (|h| < 2^31, |coordinate| <= 2^30: each product < 2^61, each sum
- * < 2^62 + 2^57), then w, g and y_tgt rounded together to 31 bits (shift
- * s1), and ex = u w - g, ey = v w - y formed exactly from those in
- * Q(79 - s1) (< 2^61). */
+/* A point's residuals under H.  w = h3 . p, g = h1 . p and y_tgt are exact
+ * in Q53 (|h| < 2^31, |coordinate| <= 2^30: each product < 2^61, each sum
+ * < 2^62 + 2^57).  The shift s1 brings the largest of them below 2^30; w
+ * is split as w1 2^s1 + wr (w1 = w rounded, |wr| <= 2^(s1 - 1) < 2^32),
+ * so that in Q(79 - s1)
+ *     ex = u w - g 2^26 = u w1 + (u wr) 2^-s1 - g 2^(26 - s1)
+ * is formed with int64 products only (u w1 < 2^60, u wr < 2^62, the last
+ * term < 2^56) and one rounding, of less than 1 unit: the residual keeps
+ * its bits however far it cancels (ey likewise with v and y). */
 typedef struct {
     int64_t w;  /* Q53, exact */
-    int32_t w1; /* w 2^-s1, Q(53 - s1) */
+    int32_t w1; /* w 2^-s1 rounded, Q(53 - s1) */
     int s1;
-    int64_t ex, ey; /* Q(79 - s1) */
+    int64_t ex, ey; /* Q(79 - s1), |.| < 2^61 */
 } q_eps_t;
+
+/* a 2^(26 - s1) for an exact Q53 a with |a| < 2^(30 + s1): exact for
+ * s1 <= 26, rounded otherwise. */
+static SPVS_Q_INLINE int64_t q_to_eps_unit(int64_t a, int s1)
+{
+    return s1 <= 26 ? a * ((int64_t)1 << (26 - s1)) : spvs_q_rshift_rnd64(a, s1 - 26);
+}
 
 static SPVS_Q_INLINE void q_eps(const int32_t *h, const int32_t *p, q_eps_t *r)
 {
@@ -140,13 +151,14 @@ static SPVS_Q_INLINE void q_eps(const int32_t *h, const int32_t *p, q_eps_t *r)
     const int s1 =
         spvs_q_norm_shift(spvs_q_abs64(w) | spvs_q_abs64(g) | spvs_q_abs64(yy), 30);
     const int32_t w1 = (int32_t)spvs_q_rshift_rnd64(w, s1);
-    const int32_t g1 = (int32_t)spvs_q_rshift_rnd64(g, s1);
-    const int32_t y1 = (int32_t)spvs_q_rshift_rnd64(yy, s1);
+    const int64_t wr = w - (int64_t)w1 * ((int64_t)1 << s1);
     r->w = w;
     r->w1 = w1;
     r->s1 = s1;
-    r->ex = (int64_t)p[2] * w1 - (int64_t)g1 * one26;
-    r->ey = (int64_t)p[3] * w1 - (int64_t)y1 * one26;
+    r->ex = (int64_t)p[2] * w1 + spvs_q_rshift_rnd64((int64_t)p[2] * wr, s1) -
+            q_to_eps_unit(g, s1);
+    r->ey = (int64_t)p[3] * w1 + spvs_q_rshift_rnd64((int64_t)p[3] * wr, s1) -
+            q_to_eps_unit(yy, s1);
 }
 
 /* The Jacobian's block P = [[u h31 - h11, u h32 - h12], [v h31, v h32 - 1]]
