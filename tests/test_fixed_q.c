@@ -68,7 +68,7 @@ typedef __int128 i128;
  * scaled units per coordinate, times |H| entries of order 1), a few 1e-6
  * of t2. */
 #define TOL_COST_F 1e-4
-#define TOL_COST_Q 2e-5
+#define TOL_COST_Q 3e-5
 /* Fit sums: error relative to the sum of the terms' magnitudes (the scale
  * any summation error is measured against; a sum that cancels to near 0
  * has no relative accuracy in either kernel).  Float: N terms of ~10
