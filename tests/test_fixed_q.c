@@ -765,6 +765,8 @@ static void test_q_inlier_arith(void **state)
                 spvs_q_pts_row(&sc.qst, i, one.v);
                 one.cur_max[0] = sc.qst.cur_max[0];
                 one.cur_max[1] = sc.qst.cur_max[1];
+                one.tgt_max[0] = sc.qst.tgt_max[0];
+                one.tgt_max[1] = sc.qst.tgt_max[1];
                 const spvs_qf_t hi = qf_from_ld(s2 * (1 + (long double)TOL_TEST_ARITH));
                 const spvs_qf_t lo = qf_from_ld(s2 * (1 - (long double)TOL_TEST_ARITH));
                 assert_int_equal(spvs_q_pts_score(&one, 1, Hq, hi, 0, m1), 1);

@@ -86,7 +86,7 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     const int32_t lim = (int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE);
     uint16_t pos = 0;
     uint32_t bad = 0;
-    int32_t um = 0, vm = 0;
+    int32_t um = 0, vm = 0, xm = 0, ym = 0;
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
         const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
@@ -98,8 +98,12 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
         r[1] = load_coord(m[i].y_tgt, px_frac, lim, &bad);
         r[2] = load_coord(m[i].x_cur, px_frac, lim, &bad);
         r[3] = load_coord(m[i].y_cur, px_frac, lim, &bad);
-        const int32_t au = r[2] < 0 ? -r[2] : r[2];
-        const int32_t av = r[3] < 0 ? -r[3] : r[3];
+        const int32_t ax = r[0] < 0 ? (r[0] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[0]) : r[0];
+        const int32_t ay = r[1] < 0 ? (r[1] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[1]) : r[1];
+        xm = ax > xm ? ax : xm;
+        ym = ay > ym ? ay : ym;
+        const int32_t au = r[2] < 0 ? (r[2] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[2]) : r[2];
+        const int32_t av = r[3] < 0 ? (r[3] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[3]) : r[3];
         um = au > um ? au : um;
         vm = av > vm ? av : vm;
     }
@@ -107,6 +111,8 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
      * meaningful anyway. */
     st->cur_max[0] = um > COORD_LIM ? COORD_LIM : um;
     st->cur_max[1] = vm > COORD_LIM ? COORD_LIM : vm;
+    st->tgt_max[0] = xm > COORD_LIM ? COORD_LIM : xm;
+    st->tgt_max[1] = ym > COORD_LIM ? COORD_LIM : ym;
     return bad;
 }
 
@@ -194,12 +200,10 @@ static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_
     *den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, pp)), qf_sq(dp));
 }
 
-/* hp_inlier: 1 for an inlier of H (w > 0, squared Sampson error at most
- * t2), with the same two shortcuts (|eps|^2 <= t2 w^2: an inlier at once;
- * |eps|^2 > t2 w^2 + c2: an outlier), exact in real arithmetic.  *e2 =
+/* The exact test of one point (the slow path): residuals exact
+ * (q_eps), the Sampson error in spvs_qf_t.  1 for an inlier; *e2 =
  * |eps|^2, scaled units^2. */
-static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs_qf_t c2,
-                                  spvs_qf_t *e2)
+static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs_qf_t *e2)
 {
     q_eps_t r;
     q_eps(h, p, &r);
@@ -211,30 +215,25 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, spvs_qf_t 
     /* eps rounded to 31 bits together (shift s2): its square sums in
      * int64 (< 2^61). */
     const int s2 = spvs_q_norm_shift(spvs_q_abs64(r.ex) | spvs_q_abs64(r.ey), 30);
-    const int64_t ex2 = spvs_q_rshift_rnd64(r.ex, s2);
-    const int64_t ey2 = spvs_q_rshift_rnd64(r.ey, s2);
+    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r.ex, s2);
+    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r.ey, s2);
     const int32_t fe = 79 - r.s1 - s2;
-    const spvs_qf_t ee = spvs_qf_from_i64(ex2 * ex2 + ey2 * ey2, -2 * fe);
+    const spvs_qf_t ee =
+        spvs_qf_from_i64((int64_t)ex2 * ex2 + (int64_t)ey2 * ey2, -2 * fe);
     *e2 = ee;
     const spvs_qf_t ww = spvs_qf_from_i64((int64_t)r.w1 * r.w1, -2 * (53 - r.s1));
-    const spvs_qf_t tw = spvs_qf_mul(t2, ww);
-    if (spvs_qf_le(ee, tw)) {
+    if (spvs_qf_le(ee, spvs_qf_mul(t2, ww))) {
         return 1;
-    }
-    if (!spvs_qf_le(ee, spvs_qf_add(tw, c2))) {
-        return 0;
     }
     spvs_qf_t P[4], num, den;
     q_jac(h, p, P);
-    const spvs_qf_t ex = spvs_qf_from_i64(ex2, -fe);
-    const spvs_qf_t ey = spvs_qf_from_i64(ey2, -fe);
-    q_sampson(P, ww, ee, ex, ey, &num, &den);
+    q_sampson(P, ww, ee, spvs_qf_from_i64(ex2, -fe), spvs_qf_from_i64(ey2, -fe), &num, &den);
     return spvs_qf_le(num, spvs_qf_mul(t2, den));
 }
 
-/* c2 of q_inlier for H on the frame (points.c, band_c2): t2 times a bound
- * of |P|_F^2 over the frame's points from their largest |u|, |v|, each
- * entry's bound exact in Q53 (< 2^62), raised by 2^-10 so that the
+/* c2 of the band test for H on the frame (points.c, band_c2): t2 times a
+ * bound of |P|_F^2 over the frame's points from their largest |u|, |v|,
+ * each entry's bound exact in Q53 (< 2^62), raised by 2^-10 so that the
  * rounding (below 2^-28 relative) cannot make it fall below the true
  * bound. */
 static spvs_qf_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
@@ -256,6 +255,155 @@ static spvs_qf_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t
     return spvs_qf_mul(t2, b);
 }
 
+/* One model's scaling for the fast test (block floating point with the
+ * model and frame as the block): from the frame's largest coordinates
+ * (tgt_max, cur_max) and |H| it bounds |w|, |h1 . p|, |eps| and t |w| over
+ * every point, and chooses shifts that bring each below 2^30, so that the
+ * per-point test runs in int32 values and int64 products with shifts fixed
+ * for the call:
+ *   w1  = floor(w 2^-sw),                    Q(53 - sw);
+ *   ex  = floor((u w1 - g 2^(26 - sw)) 2^-se), ey likewise, Q(79 - sw - se);
+ *   tw  = floor(T w1 2^-st), t |w| in the units of ex (T = t's mantissa);
+ * and the bound c2 of the band (hp_inlier) in those units squared.  The
+ * roundings move ex, ey and tw by at most D units, so E = ex^2 + ey^2 and
+ * TW = tw^2 are within slack = 2 D (|ex| + |ey| + tw) + 4 D^2 of their
+ * exact values: the fast test decides only outside that slack and leaves
+ * the rest to the exact test.  fast = 0 (every point to the exact test)
+ * where a bound does not fit (t above 8 scaled units, or c2 above int64). */
+typedef struct {
+    int fast;
+    int sw, gs, se, st;
+    int32_t T, D2;
+    int64_t D2sq, c2;
+    int32_t ee_e; /* E = ex^2 + ey^2 is in Q(-ee_e): value E 2^ee_e */
+} q_model_t;
+
+/* a 2^k for k in -63..62 (floor for k < 0); callers bound the result. */
+static SPVS_Q_INLINE int64_t q_shift(int64_t a, int k)
+{
+    return k >= 0 ? (int64_t)((uint64_t)a << k) : a >> (k < -63 ? 63 : -k);
+}
+
+static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
+{
+    q_model_t md;
+    md.fast = 0;
+    const int64_t one26 = (int64_t)1 << 26;
+    int64_t a[9];
+    for (int k = 0; k < 9; k++) {
+        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+    }
+    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
+    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    /* Exact Q53 bounds (< 2^62 + 2^57, as q_eps). */
+    const int64_t wb = a[6] * X + a[7] * Y + a[8] * one26;
+    const int64_t gb = a[0] * X + a[1] * Y + a[2] * one26;
+    const int64_t yb = Y * ((int64_t)1 << 27);
+    md.sw = spvs_q_norm_shift((uint64_t)(wb | gb | yb), 30);
+    md.gs = 26 - md.sw;
+    const int64_t w1b = (wb >> md.sw) + 1; /* <= 2^30 */
+    /* |eps| bounds in Q(79 - sw): < 2^60 + 2^56 + 2^31. */
+    const int64_t exb = U * w1b + q_shift(gb, md.gs) + 2 * ((int64_t)1 << 30);
+    const int64_t eyb = V * w1b + q_shift(yb, md.gs) + 2 * ((int64_t)1 << 30);
+    /* t = sqrt(t2) as a 31-bit mantissa T 2^-kt. */
+    if (t2.m <= 0) {
+        return md;
+    }
+    uint64_t tm = (uint64_t)t2.m;
+    int32_t te = t2.e;
+    if (te & 1) {
+        tm <<= 1;
+        te -= 1;
+    }
+    /* sqrt(tm 2^32) in [2^30.5, 2^32): halve once more into 31 bits. */
+    uint32_t root = spvs_q_isqrt64(tm << 32);
+    int32_t re = (te - 32) / 2;
+    root >>= 1;
+    re += 1;
+    md.T = (int32_t)root; /* t = T 2^re, T in [2^29.5, 2^31) */
+    const int32_t kt = -re;
+    if (kt < 27 || kt > 90) {
+        return md;
+    }
+    /* t |w| bound in Q(79 - sw): T w1b 2^-(kt - 26), below 2^61. */
+    const int64_t twb = q_shift((int64_t)md.T * w1b, 26 - (int)kt) + 2;
+    const int64_t emax = exb > eyb ? exb : eyb;
+    md.se = spvs_q_norm_shift((uint64_t)(emax > twb ? emax : twb), 30);
+    md.st = (int)kt - 26 + md.se;
+    if (md.st < 0 || md.st > 62) {
+        return md;
+    }
+    /* D: the floor of w1 moves u w1 by up to 2^30 units of Q(79 - sw),
+     * the floors of ex and of g's shift by one unit each; tw by T / 2^st
+     * plus one. */
+    const int32_t d_e = (int32_t)(((int64_t)1 << 30) >> md.se) + 2;
+    const int32_t d_t = (int32_t)(((int64_t)md.T >> md.st)) + 2;
+    const int32_t D = d_e > d_t ? d_e : d_t;
+    md.D2 = 2 * D;
+    md.D2sq = 4 * (int64_t)D * D;
+    md.ee_e = -2 * (79 - md.sw - md.se);
+    /* c2 = t2 |P|^2 bound in the units of E, raised by 2^-10 (band_c2);
+     * saturated means "no band test": every point not inside goes to the
+     * exact test. */
+    const spvs_qf_t c2 = band_c2(st, h, t2);
+    uint32_t sat = 0;
+    md.c2 = spvs_qf_to_q64(c2, -md.ee_e, &sat);
+    if (sat != 0) {
+        md.c2 = SPVS_Q_I64_MAX;
+    }
+    md.fast = 1;
+    return md;
+}
+
+/* hp_inlier: 1 for an inlier of H (w > 0, squared Sampson error at most
+ * t2).  The fast test decides the points clearly inside |eps| <= t w (an
+ * inlier, since the Sampson error is at most the transfer error) and those
+ * clearly beyond t2 (w^2 + |P|^2) (an outlier); the rest, and every point
+ * of a model without the fast scaling, go to the exact test.  Both
+ * shortcuts are exact in real arithmetic and are taken only outside the
+ * rounding slack, so the decisions are the exact test's.  *e2: |eps|^2
+ * as E 2^ee_e (fast) or from the exact test, as Q52 for the cost (only
+ * computed when want_e2). */
+static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_model_t *md,
+                                  spvs_qf_t t2, int want_e2, uint64_t *e2q52, uint32_t *sat)
+{
+    if (md->fast) {
+        const int64_t one26 = (int64_t)1 << 26;
+        const int64_t w = (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + (int64_t)h[8] * one26;
+        if (w <= 0) {
+            return 0;
+        }
+        const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + (int64_t)h[2] * one26;
+        const int32_t w1 = (int32_t)(w >> md->sw);
+        const int64_t ex64 = (int64_t)p[2] * w1 - q_shift(g, md->gs);
+        const int64_t ey64 = (int64_t)p[3] * w1 - q_shift((int64_t)p[1] * ((int64_t)1 << 27), md->gs);
+        const int32_t ex = (int32_t)(ex64 >> md->se);
+        const int32_t ey = (int32_t)(ey64 >> md->se);
+        const int32_t tw = (int32_t)(((int64_t)md->T * w1) >> md->st);
+        const int64_t E = (int64_t)ex * ex + (int64_t)ey * ey;
+        const int64_t TW = (int64_t)tw * tw;
+        const int64_t mag = (int64_t)(ex < 0 ? -ex : ex) + (ey < 0 ? -ey : ey) + tw;
+        const int64_t slack = md->D2 * mag + md->D2sq;
+        if (E + slack <= TW) {
+            if (want_e2) {
+                const int k = 52 + md->ee_e;
+                *e2q52 = (uint64_t)(k >= 0 ? spvs_q_lshift_sat64(E, k > 62 ? 63 : k, sat)
+                                           : E >> (k < -63 ? 63 : -k));
+            }
+            return 1;
+        }
+        if (E - slack - TW > md->c2) {
+            return 0;
+        }
+    }
+    spvs_qf_t e;
+    const int in = q_inlier_exact(h, p, t2, &e);
+    if (in && want_e2) {
+        *e2q52 = (uint64_t)spvs_qf_to_q64(e, SPVS_QCOST, sat);
+    }
+    return in;
+}
+
 /* ---- the inlier count ------------------------------------------------------ */
 
 /* The bail-out test after m points with inl inliers (points.c, bails), in
@@ -273,11 +421,13 @@ static int bails(int64_t need, int64_t n, int64_t m, int64_t inl)
  * score_points); 0 at the first point that leaves more than max_out
  * outliers. */
 static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
-                        spvs_qf_t t2, spvs_qf_t c2, int32_t max_out, uint8_t *mask, int32_t *inl)
+                        const q_model_t *md, spvs_qf_t t2, int32_t max_out, uint8_t *mask,
+                        int32_t *inl)
 {
     for (size_t r = i; r < end; r++) {
-        spvs_qf_t e;
-        const int ok = q_inlier(h, &st->v[4u * r], t2, c2, &e);
+        uint64_t e;
+        uint32_t sat = 0;
+        const int ok = q_inlier(h, &st->v[4u * r], md, t2, 0, &e, &sat);
         *inl += ok;
         if (mask) {
             mask[r] = (uint8_t)ok;
@@ -295,35 +445,34 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
     /* need > n: the float test's p = 1 (points.c), as need = n here. */
     const int64_t need_b = need <= n ? (int64_t)need : (int64_t)n;
-    const spvs_qf_t c2 = band_c2(st, Hq, t2);
     int32_t h[9];
     for (int k = 0; k < 9; k++) {
         h[k] = Hq[k];
     }
+    const q_model_t md = model_prep(st, h, t2);
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
      * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        if (!score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, max_out, mask, &inl) ||
+        if (!score_points(st, h, i, i + SPVS_SCORE_BLOCK, &md, t2, max_out, mask, &inl) ||
             bails(need_b, (int64_t)n, (int64_t)(i + SPVS_SCORE_BLOCK), inl)) {
             return (uint16_t)inl;
         }
     }
-    (void)score_points(st, h, i, n, t2, c2, max_out, mask, &inl);
+    (void)score_points(st, h, i, n, &md, t2, max_out, mask, &inl);
     return (uint16_t)inl;
 }
 
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
                          spvs_qf_t t2, uint32_t *sat)
 {
-    const spvs_qf_t c2 = band_c2(st, Hq, t2);
+    const q_model_t md = model_prep(st, Hq, t2);
     uint64_t sum = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {
-        spvs_qf_t e;
-        if (q_inlier(Hq, &st->v[4u * i], t2, c2, &e)) {
-            const uint64_t t = (uint64_t)spvs_qf_to_q64(e, SPVS_QCOST, sat);
+        uint64_t t = 0;
+        if (q_inlier(Hq, &st->v[4u * i], &md, t2, 1, &t, sat)) {
             /* Saturate on the unsigned sum's carry. */
             const uint64_t s = sum + t;
             if (s < sum) {

@@ -49,10 +49,13 @@ _Static_assert(SPVS_MAX_COORD_PX <= 16 * SPVS_COORD_SCALE,
                "scaled coordinates must stay within 16 (Q26 with 2^30 as the bound)");
 
 /* A frame's points in scaled units, Q26, rows; cur_max: the largest |x_cur|
- * and |y_cur| (Q26), which bound the Sampson error's Jacobian. */
+ * and |y_cur| (Q26), which bound the Sampson error's Jacobian; tgt_max:
+ * the largest |x_tgt| and |y_tgt|, which with cur_max bound every
+ * per-point quantity of a model (the inlier test's per-model scaling). */
 typedef struct {
     int32_t v[4u * SPVS_MAX_MATCHES];
     int32_t cur_max[2];
+    int32_t tgt_max[2];
 } spvs_q_store_t;
 
 /* The sums of a linear fit in block floating point: term k is
