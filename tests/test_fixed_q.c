@@ -713,6 +713,23 @@ static long double exact_sampson_q(const spvs_q_store_t *st, uint16_t i, const i
     return (b * ex * ex - 2 * c * ex * ey + a * ey * ey) / (a * b - c * c);
 }
 
+/* |eps|^2 of Q store point i under Hq, long double. */
+static long double exact_e2_q(const spvs_q_store_t *st, uint16_t i, const int32_t Hq[9])
+{
+    int32_t r[4];
+    spvs_q_pts_row(st, i, r);
+    long double h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = ldexpl((long double)Hq[k], -SPVS_QH);
+    }
+    const long double x = ldexpl(r[0], -SPVS_QC), y = ldexpl(r[1], -SPVS_QC);
+    const long double u = ldexpl(r[2], -SPVS_QC), v = ldexpl(r[3], -SPVS_QC);
+    const long double w = h[6] * x + h[7] * y + h[8];
+    const long double ex = u * w - (h[0] * x + h[1] * y + h[2]);
+    const long double ey = v * w - y;
+    return ex * ex + ey * ey;
+}
+
 static spvs_qf_t qf_from_ld(long double v)
 {
     int e;
@@ -779,6 +796,159 @@ static void test_q_inlier_arith(void **state)
                   "s2 (1 +- %.0e)\n",
                   tested, TOL_TEST_ARITH);
     assert_true(tested > 10000);
+}
+
+/* ---- kernels: the whole documented range ----------------------------------- */
+
+/* A random H exactly representable both as float and in Q27: a 24-bit
+ * mantissa at a random exponent, |h| < 16, with the planar row (0, 1, 0). */
+static void rnd_exact_h(uint64_t *s, spvs_real H[9])
+{
+    for (int k = 0; k < 9; k++) {
+        const int64_t m = (int64_t)(rng_u64(s) >> 40) - ((int64_t)1 << 23);
+        const int sh = (int)(rng_u64(s) % 28u); /* 2^-27 .. 2^0 */
+        H[k] = (spvs_real)ldexp((double)m, sh - 27 - 23 + 4);
+        if (fabs((double)H[k]) >= 16.0) {
+            H[k] = (spvs_real)(H[k] * 0.5f);
+        }
+    }
+    H[3] = 0;
+    H[4] = 1;
+    H[5] = 0;
+    /* Mostly in front: h33 positive and not tiny for half the models. */
+    if (rng_u64(s) & 1u) {
+        H[8] = (spvs_real)(0.5 + (double)(rng_u64(s) >> 11) * 0x1p-53 * 8);
+    }
+}
+
+/* Frames with coordinates over the whole accepted range (up to
+ * SPVS_MAX_COORD_PX, the limit itself included), H entries over (-16, 16)
+ * at every magnitude, thresholds from 1e-4 px to 1600 px: nothing
+ * overflows (the sanitizer build runs this too), the block sums keep their
+ * invariant, and every inlier decision is the exact one on the Q inputs
+ * (long double) except within TOL_EXTREME_BAND of t2, counted. */
+#define TOL_EXTREME_BAND 1e-6
+static void test_q_extremes(void **state)
+{
+    (void)state;
+    static scene_t sc;
+    uint64_t s = 123;
+    long pts = 0, band = 0, in_total = 0, sums_checked = 0, sat_costs = 0;
+    double worst = 0, worst_sum = 0;
+    for (int c = 0; c < 300; c++) {
+        sc.n = (uint16_t)(16 + rng_u64(&s) % 200u);
+        const double scale = ldexp(1.0, -(int)(rng_u64(&s) % 8u)); /* frames 64..8192 px */
+        for (uint16_t i = 0; i < sc.n; i++) {
+            spvs_real *c4 = &sc.m[i].x_tgt;
+            for (int k = 0; k < 4; k++) {
+                const double r = (double)(rng_u64(&s) >> 11) * 0x1p-53 * 2 - 1;
+                c4[k] = (spvs_real)(r * SPVS_MAX_COORD_PX * scale);
+            }
+            sc.m[i].feature = i;
+        }
+        sc.m[0].x_cur = (spvs_real)SPVS_MAX_COORD_PX;
+        sc.m[1].y_tgt = -(spvs_real)SPVS_MAX_COORD_PX;
+        load_both(&sc);
+        spvs_real H[9];
+        rnd_exact_h(&s, H);
+        int32_t Hq[9];
+        assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+        const double t_px = ldexp(1.0, (int)(rng_u64(&s) % 25u) - 13) * 1.3; /* 1e-4 .. 1.1e4 px */
+        const spvs_real t = (spvs_real)(t_px / S);
+        uint32_t sat = 0;
+        const spvs_qf_t qt2 = spvs_q_t2_from_real(t * t, &sat);
+        assert_int_equal(sat, 0);
+        const long double t2l = qf_val(qt2);
+        uint8_t mq[NMAX];
+        const uint16_t cq = spvs_q_pts_score(&sc.qst, sc.n, Hq, qt2, 0, mq);
+        uint16_t cnt = 0;
+        for (uint16_t i = 0; i < sc.n; i++) {
+            long double w;
+            const long double s2 = exact_sampson_q(&sc.qst, i, Hq, &w);
+            const int ref = w > 0 && s2 <= t2l;
+            cnt = (uint16_t)(cnt + mq[i]);
+            pts++;
+            if (ref != mq[i]) {
+                const double rel = (double)fabsl(s2 / t2l - 1);
+                band++;
+                worst = fmax(worst, rel);
+                assert_true(rel <= TOL_EXTREME_BAND);
+            }
+        }
+        assert_int_equal(cq, cnt);
+        in_total += cq;
+        /* The cost: the inliers' summed squared residuals within 1e-6
+         * relative plus 2^-50 per inlier (the Q52 rounding), or, beyond
+         * its range (2^12), saturated with the flag. */
+        sat = 0;
+        const uint64_t cost = spvs_q_pts_cost(&sc.qst, sc.n, Hq, qt2, &sat);
+        long double cref = 0;
+        for (uint16_t i = 0; i < sc.n; i++) {
+            cref += mq[i] ? exact_e2_q(&sc.qst, i, Hq) : 0;
+        }
+        if (cref >= 4096) {
+            assert_int_equal(sat, SPVS_Q_SAT);
+            sat_costs++;
+        } else if (sat == 0) {
+            const long double got = ldexpl((long double)cost, -SPVS_QCOST);
+            if (!(fabsl(got - cref) <= 1e-6L * cref + 0x1p-50L * cq)) {
+                print_message("cost %Lg ref %Lg n_in %u t2 %Lg\n", got, cref, cq, t2l);
+            }
+            assert_true(fabsl(got - cref) <= 1e-6L * cref + 0x1p-50L * cq);
+        } else {
+            /* Saturated just below the limit by a rounded term: only near
+             * 2^12. */
+            assert_true(cref > 4000);
+        }
+        /* The sums over the points in front (w > SPVS_W_EPS): every
+         * mantissa below 2^62, each sum against long double. */
+        uint8_t use[NMAX];
+        for (uint16_t i = 0; i < sc.n; i++) {
+            long double w;
+            (void)exact_sampson_q(&sc.qst, i, Hq, &w);
+            use[i] = (uint8_t)(w > 1e-5L);
+        }
+        spvs_q_sums_t q;
+        const int32_t rq = spvs_q_pts_sum(SPVS_T_FIT_X, Hq, &sc.qst, use, sc.n, &q);
+        assert_int_equal(rq, 0);
+        for (int j = 0; j < SPVS_NT_FIT; j++) {
+            assert_true(spvs_q_abs64(q.m[j]) < ((uint64_t)1 << 62));
+        }
+        /* FIT_X's q q^T with q = (x, y, 1) / w: checked against long double. */
+        long double ref[3] = {0}, mag[3] = {0};
+        for (uint16_t i = 0; i < sc.n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            long double w;
+            (void)exact_sampson_q(&sc.qst, i, Hq, &w);
+            int32_t r[4];
+            spvs_q_pts_row(&sc.qst, i, r);
+            const long double x = ldexpl(r[0], -SPVS_QC);
+            const long double t0 = (x / w) * (x / w), t5 = 1 / (w * w), t6 = (x / w) * ldexpl(r[2], -SPVS_QC);
+            ref[0] += t0;
+            mag[0] += t0;
+            ref[1] += t5;
+            mag[1] += t5;
+            ref[2] += t6;
+            mag[2] += fabsl(t6);
+        }
+        const int idx[3] = {0, 5, 6};
+        for (int j = 0; j < 3; j++) {
+            if (mag[j] == 0) {
+                continue;
+            }
+            const double e = (double)(fabsl(ldexpl((long double)q.m[idx[j]], q.e[idx[j] >= q.split]) - ref[j]) / mag[j]);
+            worst_sum = fmax(worst_sum, e);
+            sums_checked++;
+            assert_true(e <= 1e-8);
+        }
+    }
+    print_message("extremes: %ld points, %ld inliers; %ld decisions differ from exact (largest "
+                  "|s2/t2 - 1| %.3g, tolerance %.0e); %ld sums, largest error / sum of |terms| "
+                  "%.3g (1e-8); %ld costs saturated (flagged)\n",
+                  pts, in_total, band, worst, TOL_EXTREME_BAND, sums_checked, worst_sum, sat_costs);
+    assert_true(in_total > 1000 && in_total < pts);
 }
 
 /* ---- kernels: fit sums ------------------------------------------------------ */
@@ -1000,6 +1170,7 @@ int main(void)
         cmocka_unit_test(test_q_load_checks),   cmocka_unit_test(test_q_score_random),
         cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_sums_behind),
         cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
+        cmocka_unit_test(test_q_extremes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

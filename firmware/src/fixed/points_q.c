@@ -275,7 +275,6 @@ typedef struct {
     int sw, gs, se, st;
     int32_t T, D2;
     int64_t D2sq, c2;
-    int32_t ee_e; /* E = ex^2 + ey^2 is in Q(-ee_e): value E 2^ee_e */
 } q_model_t;
 
 /* a 2^k for k in -63..62 (floor for k < 0); callers bound the result. */
@@ -341,13 +340,13 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_
     const int32_t D = d_e > d_t ? d_e : d_t;
     md.D2 = 2 * D;
     md.D2sq = 4 * (int64_t)D * D;
-    md.ee_e = -2 * (79 - md.sw - md.se);
+    const int ee_e = -2 * (79 - md.sw - md.se); /* E's unit: 2^ee_e */
     /* c2 = t2 |P|^2 bound in the units of E, raised by 2^-10 (band_c2);
      * saturated means "no band test": every point not inside goes to the
      * exact test. */
     const spvs_qf_t c2 = band_c2(st, h, t2);
     uint32_t sat = 0;
-    md.c2 = spvs_qf_to_q64(c2, -md.ee_e, &sat);
+    md.c2 = spvs_qf_to_q64(c2, -ee_e, &sat);
     if (sat != 0) {
         md.c2 = SPVS_Q_I64_MAX;
     }
@@ -361,11 +360,9 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_
  * clearly beyond t2 (w^2 + |P|^2) (an outlier); the rest, and every point
  * of a model without the fast scaling, go to the exact test.  Both
  * shortcuts are exact in real arithmetic and are taken only outside the
- * rounding slack, so the decisions are the exact test's.  *e2: |eps|^2
- * as E 2^ee_e (fast) or from the exact test, as Q52 for the cost (only
- * computed when want_e2). */
+ * rounding slack, so the decisions are the exact test's. */
 static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_model_t *md,
-                                  spvs_qf_t t2, int want_e2, uint64_t *e2q52, uint32_t *sat)
+                                  spvs_qf_t t2)
 {
     if (md->fast) {
         const int64_t one26 = (int64_t)1 << 26;
@@ -376,7 +373,8 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_mo
         const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + (int64_t)h[2] * one26;
         const int32_t w1 = (int32_t)(w >> md->sw);
         const int64_t ex64 = (int64_t)p[2] * w1 - q_shift(g, md->gs);
-        const int64_t ey64 = (int64_t)p[3] * w1 - q_shift((int64_t)p[1] * ((int64_t)1 << 27), md->gs);
+        const int64_t ey64 =
+            (int64_t)p[3] * w1 - q_shift((int64_t)p[1] * ((int64_t)1 << 27), md->gs);
         const int32_t ex = (int32_t)(ex64 >> md->se);
         const int32_t ey = (int32_t)(ey64 >> md->se);
         const int32_t tw = (int32_t)(((int64_t)md->T * w1) >> md->st);
@@ -385,11 +383,6 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_mo
         const int64_t mag = (int64_t)(ex < 0 ? -ex : ex) + (ey < 0 ? -ey : ey) + tw;
         const int64_t slack = md->D2 * mag + md->D2sq;
         if (E + slack <= TW) {
-            if (want_e2) {
-                const int k = 52 + md->ee_e;
-                *e2q52 = (uint64_t)(k >= 0 ? spvs_q_lshift_sat64(E, k > 62 ? 63 : k, sat)
-                                           : E >> (k < -63 ? 63 : -k));
-            }
             return 1;
         }
         if (E - slack - TW > md->c2) {
@@ -397,11 +390,19 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_mo
         }
     }
     spvs_qf_t e;
-    const int in = q_inlier_exact(h, p, t2, &e);
-    if (in && want_e2) {
-        *e2q52 = (uint64_t)spvs_qf_to_q64(e, SPVS_QCOST, sat);
-    }
-    return in;
+    return q_inlier_exact(h, p, t2, &e);
+}
+
+/* |eps|^2 of one point, from the exact residuals (q_eps): the cost's term,
+ * as a spvs_qf_t (relative error <= 2^-30). */
+static spvs_qf_t q_e2(const int32_t *h, const int32_t *p)
+{
+    q_eps_t r;
+    q_eps(h, p, &r);
+    const int s2 = spvs_q_norm_shift(spvs_q_abs64(r.ex) | spvs_q_abs64(r.ey), 30);
+    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r.ex, s2);
+    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r.ey, s2);
+    return spvs_qf_from_i64((int64_t)ex2 * ex2 + (int64_t)ey2 * ey2, -2 * (79 - r.s1 - s2));
 }
 
 /* ---- the inlier count ------------------------------------------------------ */
@@ -425,9 +426,7 @@ static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, si
                         int32_t *inl)
 {
     for (size_t r = i; r < end; r++) {
-        uint64_t e;
-        uint32_t sat = 0;
-        const int ok = q_inlier(h, &st->v[4u * r], md, t2, 0, &e, &sat);
+        const int ok = q_inlier(h, &st->v[4u * r], md, t2);
         *inl += ok;
         if (mask) {
             mask[r] = (uint8_t)ok;
@@ -471,8 +470,10 @@ uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[
     uint64_t sum = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {
-        uint64_t t = 0;
-        if (q_inlier(Hq, &st->v[4u * i], &md, t2, 1, &t, sat)) {
+        const int32_t *p = &st->v[4u * i];
+        if (q_inlier(Hq, p, &md, t2)) {
+            /* The cost breaks ties only: its term from the exact residuals. */
+            const uint64_t t = (uint64_t)spvs_qf_to_q64(q_e2(Hq, p), SPVS_QCOST, sat);
             /* Saturate on the unsigned sum's carry. */
             const uint64_t s = sum + t;
             if (s < sum) {
