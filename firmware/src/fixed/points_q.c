@@ -341,7 +341,11 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_
     md.D2 = 2 * D;
     md.D2sq = 4 * (int64_t)D * D;
     const int ee_e = -2 * (79 - md.sw - md.se); /* E's unit: 2^ee_e */
-    /* c2 = t2 |P|^2 bound in the units of E, raised by 2^-10 (band_c2);
+    /* T is t rounded down, so TW can fall short of t^2 w^2 by 2^-29 of
+     * it; the outlier shortcut stays sound because c2's 2^-10 margin, at
+     * least t2 2^-10 (its |P|^2 bound is at least 1), exceeds t2 w^2 2^-29
+     * for every |w| < 528.
+     * c2 = t2 |P|^2 bound in the units of E, raised by 2^-10 (band_c2);
      * saturated means "no band test": every point not inside goes to the
      * exact test. */
     const spvs_qf_t c2 = band_c2(st, h, t2);
