@@ -299,10 +299,28 @@ static inline spvs_qf_t spvs_qf_from_i64(int64_t v, int32_t e)
     return r;
 }
 
-/* a b, relative error <= 2^-31. */
+/* a b, relative error <= 2^-31.  Both mantissas normalised, so |a.m b.m|
+ * is in [2^60, 2^62): one of two fixed shifts normalises it, with no
+ * count of leading zeros. */
 static inline spvs_qf_t spvs_qf_mul(spvs_qf_t a, spvs_qf_t b)
 {
-    return spvs_qf_from_i64((int64_t)a.m * b.m, a.e + b.e);
+    spvs_qf_t r;
+    if (a.m == 0 || b.m == 0) {
+        r.m = 0;
+        r.e = SPVS_QF_ZERO_E;
+        return r;
+    }
+    const int64_t p = (int64_t)a.m * b.m;
+    int s = 30 + (int)(spvs_q_abs64(p) >> 61);
+    int64_t v = (p >> s) + ((p >> (s - 1)) & 1);
+    /* Rounding may reach 2^31 in magnitude: keep |m| < 2^31. */
+    if (v >= ((int64_t)1 << 31) || v <= -((int64_t)1 << 31)) {
+        v /= 2;
+        s++;
+    }
+    r.m = (int32_t)v;
+    r.e = a.e + b.e + s;
+    return r;
 }
 
 /* a + b: both aligned to the larger exponent with 30 extra bits, so the
