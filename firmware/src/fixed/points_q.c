@@ -1,0 +1,634 @@
+/*
+ * points_q.c - the estimator's per-point kernels in fixed point
+ * (points_q.h; formats, ranges and error bounds in docs/FIXED.md).
+ *
+ * The per-point arithmetic is that of h_point.inc, rewritten for integers:
+ * the stages whose range a Q format holds are exact (w and h1 . p in int64
+ * Q53), the residuals are formed exactly from those rounded to 31 bits,
+ * and the stages whose range grows without bound (the Sampson error's
+ * terms, the fits' weights 1 / w and (J J^T)^-1) are in spvs_qf_t.
+ */
+#include <string.h>
+
+#include "points_q.h"
+
+/* Scaled coordinates are below 2^30 in Q26 (points_q.h). */
+#define COORD_LIM ((int32_t)1 << 30)
+/* SPVS_W_EPS (1e-6) in Q53, rounded down. */
+#define W_EPS_Q53 ((int64_t)9007199254)
+
+/* ---- conversions --------------------------------------------------------- */
+
+static spvs_q_ieee_t real_parts(spvs_real x)
+{
+#if SPVS_USE_DOUBLE
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f64(b);
+#else
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f32(b);
+#endif
+}
+
+uint32_t spvs_q_h_from_real(const spvs_real H[9], int32_t Hq[9])
+{
+    uint32_t sat = 0;
+    for (int k = 0; k < 9; k++) {
+        Hq[k] = spvs_q_from_ieee(real_parts(H[k]), SPVS_QH, &sat, 0);
+        /* +-16 itself is outside (-16, 16): it would clamp to 2^31 - 1. */
+        sat |= (Hq[k] == SPVS_Q_I32_MAX || Hq[k] == SPVS_Q_I32_MIN) ? SPVS_Q_SAT : 0u;
+    }
+    return sat;
+}
+
+spvs_qf_t spvs_q_t2_from_real(spvs_real t2, uint32_t *sat)
+{
+    return spvs_qf_from_ieee(real_parts(t2), sat);
+}
+
+/* ---- the loader ---------------------------------------------------------- */
+
+/* The input index of stored slot k (points.c, slot_source): the plane
+ * matches in spread order, the others through order[]. */
+static uint16_t slot_source(uint16_t k, uint16_t n_plane, const uint16_t *order, uint16_t stride,
+                            uint16_t *pos)
+{
+    if (order != 0 && k >= n_plane) {
+        return order[k];
+    }
+    const uint16_t p = *pos;
+    const uint16_t q = (uint16_t)(p + stride);
+    *pos = (uint16_t)(q >= n_plane ? q - n_plane : q);
+    return order != 0 ? order[p] : p;
+}
+
+/* A pixel coordinate as Q26 scaled units: pixels in Q(26 - log2 scale) are
+ * the same integers.  Flags a coordinate above SPVS_MAX_COORD_PX (compared
+ * before rounding: a value just above the limit that rounds down to it is
+ * still out) with SPVS_Q_SAT, NaN or infinity with SPVS_Q_NONFINITE. */
+static int32_t load_coord(spvs_real c, int px_frac, int32_t lim, uint32_t *bad)
+{
+    uint32_t f = 0;
+    int below = 0;
+    const int32_t q = spvs_q_from_ieee(real_parts(c), px_frac, &f, &below);
+    const int32_t a = q < 0 ? (q == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -q) : q;
+    *bad |= (f & SPVS_Q_NONFINITE) | ((a > lim || (a == lim && below)) ? SPVS_Q_SAT : 0u);
+    return q;
+}
+
+uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t *m, uint16_t n,
+                         uint16_t n_plane, const uint16_t *order, uint16_t stride)
+{
+    const int px_frac = SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE));
+    /* SPVS_MAX_COORD_PX in pixels Q(px_frac) = in scaled Q26, <= 2^30. */
+    const int32_t lim = (int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE);
+    uint16_t pos = 0;
+    uint32_t bad = 0;
+    int32_t um = 0, vm = 0, xm = 0, ym = 0;
+    /* Bound: n slots. */
+    for (uint16_t k = 0; k < n; k++) {
+        const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
+        const uint16_t f = m[i].feature;
+        bad |= f >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
+        feat[k] = f;
+        int32_t *const r = &st->v[4u * k];
+        r[0] = load_coord(m[i].x_tgt, px_frac, lim, &bad);
+        r[1] = load_coord(m[i].y_tgt, px_frac, lim, &bad);
+        r[2] = load_coord(m[i].x_cur, px_frac, lim, &bad);
+        r[3] = load_coord(m[i].y_cur, px_frac, lim, &bad);
+        const int32_t ax = r[0] < 0 ? (r[0] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[0]) : r[0];
+        const int32_t ay = r[1] < 0 ? (r[1] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[1]) : r[1];
+        xm = ax > xm ? ax : xm;
+        ym = ay > ym ? ay : ym;
+        const int32_t au = r[2] < 0 ? (r[2] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[2]) : r[2];
+        const int32_t av = r[3] < 0 ? (r[3] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[3]) : r[3];
+        um = au > um ? au : um;
+        vm = av > vm ? av : vm;
+    }
+    /* On a bad frame the clamped values are not in range: keep the bound
+     * meaningful anyway. */
+    st->cur_max[0] = um > COORD_LIM ? COORD_LIM : um;
+    st->cur_max[1] = vm > COORD_LIM ? COORD_LIM : vm;
+    st->tgt_max[0] = xm > COORD_LIM ? COORD_LIM : xm;
+    st->tgt_max[1] = ym > COORD_LIM ? COORD_LIM : ym;
+    return bad;
+}
+
+void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4])
+{
+    for (int k = 0; k < 4; k++) {
+        row[k] = st->v[4u * i + (unsigned)k];
+    }
+}
+
+/* ---- one point ----------------------------------------------------------- */
+
+/* A point's residuals under H.  w = h3 . p, g = h1 . p and y_tgt are exact
+ * in Q53 (|h| < 2^31, |coordinate| <= 2^30: each product < 2^61, each sum
+ * < 2^62 + 2^57).  The shift s1 brings the largest of them below 2^30; w
+ * is split as w1 2^s1 + wr (w1 = w rounded, |wr| <= 2^(s1 - 1) < 2^32),
+ * so that in Q(79 - s1)
+ *     ex = u w - g 2^26 = u w1 + (u wr) 2^-s1 - g 2^(26 - s1)
+ * is formed with int64 products only (u w1 < 2^60, u wr < 2^62, the last
+ * term < 2^56) and one rounding, of less than 1 unit: the residual keeps
+ * its bits however far it cancels (ey likewise with v and y). */
+typedef struct {
+    int64_t w;  /* Q53, exact */
+    int32_t w1; /* w 2^-s1 rounded, Q(53 - s1) */
+    int s1;
+    int64_t ex, ey; /* Q(79 - s1), |.| < 2^61 */
+} q_eps_t;
+
+/* a 2^(26 - s1) for an exact Q53 a with |a| < 2^(30 + s1): exact for
+ * s1 <= 26, rounded otherwise. */
+static SPVS_Q_INLINE int64_t q_to_eps_unit(int64_t a, int s1)
+{
+    return s1 <= 26 ? a * ((int64_t)1 << (26 - s1)) : spvs_q_rshift_rnd64(a, s1 - 26);
+}
+
+static SPVS_Q_INLINE void q_eps(const int32_t *h, const int32_t *p, q_eps_t *r)
+{
+    const int64_t one26 = (int64_t)1 << 26;
+    const int64_t w = (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + (int64_t)h[8] * one26;
+    const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + (int64_t)h[2] * one26;
+    const int64_t yy = (int64_t)p[1] * ((int64_t)1 << 27);
+    const int s1 =
+        spvs_q_norm_shift(spvs_q_abs64(w) | spvs_q_abs64(g) | spvs_q_abs64(yy), 30);
+    const int32_t w1 = (int32_t)spvs_q_rshift_rnd64(w, s1);
+    const int64_t wr = w - (int64_t)w1 * ((int64_t)1 << s1);
+    r->w = w;
+    r->w1 = w1;
+    r->s1 = s1;
+    r->ex = (int64_t)p[2] * w1 + spvs_q_rshift_rnd64((int64_t)p[2] * wr, s1) -
+            q_to_eps_unit(g, s1);
+    r->ey = (int64_t)p[3] * w1 + spvs_q_rshift_rnd64((int64_t)p[3] * wr, s1) -
+            q_to_eps_unit(yy, s1);
+}
+
+/* The Jacobian's block P = [[u h31 - h11, u h32 - h12], [v h31, v h32 - 1]]
+ * (h_point.inc), each entry exact in Q53 (< 2^62), as spvs_qf_t. */
+static SPVS_Q_INLINE void q_jac(const int32_t *h, const int32_t *p, spvs_qf_t P[4])
+{
+    const int64_t one26 = (int64_t)1 << 26;
+    P[0] = spvs_qf_from_i64((int64_t)p[2] * h[6] - (int64_t)h[0] * one26, -53);
+    P[1] = spvs_qf_from_i64((int64_t)p[2] * h[7] - (int64_t)h[1] * one26, -53);
+    P[2] = spvs_qf_from_i64((int64_t)p[3] * h[6], -53);
+    P[3] = spvs_qf_from_i64((int64_t)p[3] * h[7] - ((int64_t)1 << 53), -53);
+}
+
+static SPVS_Q_INLINE spvs_qf_t qf_sq(spvs_qf_t a)
+{
+    return spvs_qf_mul(a, a);
+}
+
+/* The squared Sampson error as num / den without cancellation: with
+ * J J^T = w^2 I + P P^T,
+ *   num = eps^T adj(J J^T) eps = w^2 |eps|^2 + |adj(P) eps|^2,
+ *   den = det(J J^T) = w^4 + w^2 |P|_F^2 + det(P)^2,
+ * sums of squares, the same quantities as h_point.inc's hp_sampson. */
+static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_t ee,
+                                    spvs_qf_t ex, spvs_qf_t ey, spvs_qf_t *num, spvs_qf_t *den)
+{
+    const spvs_qf_t a0 = spvs_qf_sub(spvs_qf_mul(P[3], ex), spvs_qf_mul(P[1], ey));
+    const spvs_qf_t a1 = spvs_qf_sub(spvs_qf_mul(P[0], ey), spvs_qf_mul(P[2], ex));
+    *num = spvs_qf_add(spvs_qf_mul(ww, ee), spvs_qf_add(qf_sq(a0), qf_sq(a1)));
+    const spvs_qf_t pp =
+        spvs_qf_add(spvs_qf_add(qf_sq(P[0]), qf_sq(P[1])), spvs_qf_add(qf_sq(P[2]), qf_sq(P[3])));
+    const spvs_qf_t dp = spvs_qf_sub(spvs_qf_mul(P[0], P[3]), spvs_qf_mul(P[1], P[2]));
+    *den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, pp)), qf_sq(dp));
+}
+
+/* The exact test of one point (the slow path): residuals exact
+ * (q_eps), the Sampson error in spvs_qf_t.  1 for an inlier; *e2 =
+ * |eps|^2, scaled units^2. */
+static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs_qf_t *e2)
+{
+    q_eps_t r;
+    q_eps(h, p, &r);
+    if (r.w <= 0) {
+        e2->m = 0;
+        e2->e = SPVS_QF_ZERO_E;
+        return 0;
+    }
+    /* eps rounded to 31 bits together (shift s2): its square sums in
+     * int64 (< 2^61). */
+    const int s2 = spvs_q_norm_shift(spvs_q_abs64(r.ex) | spvs_q_abs64(r.ey), 30);
+    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r.ex, s2);
+    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r.ey, s2);
+    const int32_t fe = 79 - r.s1 - s2;
+    const spvs_qf_t ee =
+        spvs_qf_from_i64((int64_t)ex2 * ex2 + (int64_t)ey2 * ey2, -2 * fe);
+    *e2 = ee;
+    const spvs_qf_t ww = spvs_qf_from_i64((int64_t)r.w1 * r.w1, -2 * (53 - r.s1));
+    if (spvs_qf_le(ee, spvs_qf_mul(t2, ww))) {
+        return 1;
+    }
+    spvs_qf_t P[4], num, den;
+    q_jac(h, p, P);
+    q_sampson(P, ww, ee, spvs_qf_from_i64(ex2, -fe), spvs_qf_from_i64(ey2, -fe), &num, &den);
+    return spvs_qf_le(num, spvs_qf_mul(t2, den));
+}
+
+/* c2 of the band test for H on the frame (points.c, band_c2): t2 times a
+ * bound of |P|_F^2 over the frame's points from their largest |u|, |v|,
+ * each entry's bound exact in Q53 (< 2^62), raised by 2^-10 so that the
+ * rounding (below 2^-28 relative) cannot make it fall below the true
+ * bound. */
+static spvs_qf_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
+{
+    const int64_t one26 = (int64_t)1 << 26;
+    const int64_t um = st->cur_max[0], vm = st->cur_max[1];
+    int64_t a[9];
+    for (int k = 0; k < 9; k++) {
+        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+    }
+    const spvs_qf_t p = spvs_qf_from_i64(um * a[6] + a[0] * one26, -53);
+    const spvs_qf_t q = spvs_qf_from_i64(um * a[7] + a[1] * one26, -53);
+    const spvs_qf_t r = spvs_qf_from_i64(vm * a[6], -53);
+    const spvs_qf_t s = spvs_qf_from_i64(vm * a[7] + ((int64_t)1 << 53), -53);
+    spvs_qf_t b = spvs_qf_add(spvs_qf_add(qf_sq(p), qf_sq(q)), spvs_qf_add(qf_sq(r), qf_sq(s)));
+    spvs_qf_t margin = b;
+    margin.e -= 10;
+    b = spvs_qf_add(b, margin);
+    return spvs_qf_mul(t2, b);
+}
+
+/* One model's scaling for the fast test (block floating point with the
+ * model and frame as the block): from the frame's largest coordinates
+ * (tgt_max, cur_max) and |H| it bounds |w|, |h1 . p|, |eps| and t |w| over
+ * every point, and chooses shifts that bring each below 2^30, so that the
+ * per-point test runs in int32 values and int64 products with shifts fixed
+ * for the call:
+ *   w1  = floor(w 2^-sw),                    Q(53 - sw);
+ *   ex  = floor((u w1 - g 2^(26 - sw)) 2^-se), ey likewise, Q(79 - sw - se);
+ *   tw  = floor(T w1 2^-st), t |w| in the units of ex (T = t's mantissa);
+ * and the bound c2 of the band (hp_inlier) in those units squared.  The
+ * roundings move ex, ey and tw by at most D units, so E = ex^2 + ey^2 and
+ * TW = tw^2 are within slack = 2 D (|ex| + |ey| + tw) + 4 D^2 of their
+ * exact values: the fast test decides only outside that slack and leaves
+ * the rest to the exact test.  fast = 0 (every point to the exact test)
+ * where a bound does not fit (t above 8 scaled units, or c2 above int64). */
+typedef struct {
+    int fast;
+    int sw, gs, se, st;
+    int32_t T, D2;
+    int64_t D2sq, c2;
+} q_model_t;
+
+/* a 2^k for k in -63..62 (floor for k < 0); callers bound the result. */
+static SPVS_Q_INLINE int64_t q_shift(int64_t a, int k)
+{
+    return k >= 0 ? (int64_t)((uint64_t)a << k) : a >> (k < -63 ? 63 : -k);
+}
+
+static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
+{
+    q_model_t md;
+    md.fast = 0;
+    const int64_t one26 = (int64_t)1 << 26;
+    int64_t a[9];
+    for (int k = 0; k < 9; k++) {
+        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+    }
+    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
+    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    /* Exact Q53 bounds (< 2^62 + 2^57, as q_eps). */
+    const int64_t wb = a[6] * X + a[7] * Y + a[8] * one26;
+    const int64_t gb = a[0] * X + a[1] * Y + a[2] * one26;
+    const int64_t yb = Y * ((int64_t)1 << 27);
+    md.sw = spvs_q_norm_shift((uint64_t)(wb | gb | yb), 30);
+    md.gs = 26 - md.sw;
+    const int64_t w1b = (wb >> md.sw) + 1; /* <= 2^30 */
+    /* |eps| bounds in Q(79 - sw): < 2^60 + 2^56 + 2^31. */
+    const int64_t exb = U * w1b + q_shift(gb, md.gs) + 2 * ((int64_t)1 << 30);
+    const int64_t eyb = V * w1b + q_shift(yb, md.gs) + 2 * ((int64_t)1 << 30);
+    /* t = sqrt(t2) as a 31-bit mantissa T 2^-kt. */
+    if (t2.m <= 0) {
+        return md;
+    }
+    uint64_t tm = (uint64_t)t2.m;
+    int32_t te = t2.e;
+    if (te & 1) {
+        tm <<= 1;
+        te -= 1;
+    }
+    /* sqrt(tm 2^32) in [2^30.5, 2^32): halve once more into 31 bits. */
+    uint32_t root = spvs_q_isqrt64(tm << 32);
+    int32_t re = (te - 32) / 2;
+    root >>= 1;
+    re += 1;
+    md.T = (int32_t)root; /* t = T 2^re, T in [2^29.5, 2^31) */
+    const int32_t kt = -re;
+    if (kt < 27 || kt > 90) {
+        return md;
+    }
+    /* t |w| bound in Q(79 - sw): T w1b 2^-(kt - 26), below 2^61. */
+    const int64_t twb = q_shift((int64_t)md.T * w1b, 26 - (int)kt) + 2;
+    const int64_t emax = exb > eyb ? exb : eyb;
+    md.se = spvs_q_norm_shift((uint64_t)(emax > twb ? emax : twb), 30);
+    md.st = (int)kt - 26 + md.se;
+    if (md.st < 0 || md.st > 62) {
+        return md;
+    }
+    /* D: the floor of w1 moves u w1 by up to 2^30 units of Q(79 - sw),
+     * the floors of ex and of g's shift by one unit each; tw by T / 2^st
+     * plus one. */
+    const int32_t d_e = (int32_t)(((int64_t)1 << 30) >> md.se) + 2;
+    const int32_t d_t = (int32_t)(((int64_t)md.T >> md.st)) + 2;
+    const int32_t D = d_e > d_t ? d_e : d_t;
+    md.D2 = 2 * D;
+    md.D2sq = 4 * (int64_t)D * D;
+    const int ee_e = -2 * (79 - md.sw - md.se); /* E's unit: 2^ee_e */
+    /* T is t rounded down, so TW can fall short of t^2 w^2 by 2^-29 of
+     * it; the outlier shortcut stays sound because c2's 2^-10 margin, at
+     * least t2 2^-10 (its |P|^2 bound is at least 1), exceeds t2 w^2 2^-29
+     * for every |w| < 528.
+     * c2 = t2 |P|^2 bound in the units of E, raised by 2^-10 (band_c2);
+     * saturated means "no band test": every point not inside goes to the
+     * exact test. */
+    const spvs_qf_t c2 = band_c2(st, h, t2);
+    uint32_t sat = 0;
+    md.c2 = spvs_qf_to_q64(c2, -ee_e, &sat);
+    if (sat != 0) {
+        md.c2 = SPVS_Q_I64_MAX;
+    }
+    md.fast = 1;
+    return md;
+}
+
+/* hp_inlier: 1 for an inlier of H (w > 0, squared Sampson error at most
+ * t2).  The fast test decides the points clearly inside |eps| <= t w (an
+ * inlier, since the Sampson error is at most the transfer error) and those
+ * clearly beyond t2 (w^2 + |P|^2) (an outlier); the rest, and every point
+ * of a model without the fast scaling, go to the exact test.  Both
+ * shortcuts are exact in real arithmetic and are taken only outside the
+ * rounding slack, so the decisions are the exact test's. */
+static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_model_t *md,
+                                  spvs_qf_t t2)
+{
+    if (md->fast) {
+        const int64_t one26 = (int64_t)1 << 26;
+        const int64_t w = (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + (int64_t)h[8] * one26;
+        if (w <= 0) {
+            return 0;
+        }
+        const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + (int64_t)h[2] * one26;
+        const int32_t w1 = (int32_t)(w >> md->sw);
+        const int64_t ex64 = (int64_t)p[2] * w1 - q_shift(g, md->gs);
+        const int64_t ey64 =
+            (int64_t)p[3] * w1 - q_shift((int64_t)p[1] * ((int64_t)1 << 27), md->gs);
+        const int32_t ex = (int32_t)(ex64 >> md->se);
+        const int32_t ey = (int32_t)(ey64 >> md->se);
+        const int32_t tw = (int32_t)(((int64_t)md->T * w1) >> md->st);
+        const int64_t E = (int64_t)ex * ex + (int64_t)ey * ey;
+        const int64_t TW = (int64_t)tw * tw;
+        const int64_t mag = (int64_t)(ex < 0 ? -ex : ex) + (ey < 0 ? -ey : ey) + tw;
+        const int64_t slack = md->D2 * mag + md->D2sq;
+        if (E + slack <= TW) {
+            return 1;
+        }
+        if (E - slack - TW > md->c2) {
+            return 0;
+        }
+    }
+    spvs_qf_t e;
+    return q_inlier_exact(h, p, t2, &e);
+}
+
+/* |eps|^2 of one point, from the exact residuals (q_eps): the cost's term,
+ * as a spvs_qf_t (relative error <= 2^-30). */
+static spvs_qf_t q_e2(const int32_t *h, const int32_t *p)
+{
+    q_eps_t r;
+    q_eps(h, p, &r);
+    const int s2 = spvs_q_norm_shift(spvs_q_abs64(r.ex) | spvs_q_abs64(r.ey), 30);
+    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r.ex, s2);
+    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r.ey, s2);
+    return spvs_qf_from_i64((int64_t)ex2 * ex2 + (int64_t)ey2 * ey2, -2 * (79 - r.s1 - s2));
+}
+
+/* ---- the inlier count ------------------------------------------------------ */
+
+/* The bail-out test after m points with inl inliers (points.c, bails), in
+ * integers: with p = need / n the float test d = p m - inl > 0 and
+ * d^2 > SPVS_BAIL_SIGMAS^2 p (1 - p) m becomes, times n^2,
+ * D = need m - inl n > 0 and D^2 > SPVS_BAIL_SIGMAS^2 need (n - need) m
+ * (need, n, m <= 4096: D^2 < 2^48, the right side < 2^43). */
+static int bails(int64_t need, int64_t n, int64_t m, int64_t inl)
+{
+    const int64_t d = need * m - inl * n;
+    return d > 0 && d * d > (int64_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * need * (n - need) * m;
+}
+
+/* Counts the inliers among points [i, end) into *inl (points.c,
+ * score_points); 0 at the first point that leaves more than max_out
+ * outliers. */
+static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
+                        const q_model_t *md, spvs_qf_t t2, int32_t max_out, uint8_t *mask,
+                        int32_t *inl)
+{
+    for (size_t r = i; r < end; r++) {
+        const int ok = q_inlier(h, &st->v[4u * r], md, t2);
+        *inl += ok;
+        if (mask) {
+            mask[r] = (uint8_t)ok;
+        }
+        if ((int32_t)(r + 1) - *inl > max_out) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9], spvs_qf_t t2,
+                          uint16_t need, uint8_t *mask)
+{
+    const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
+    /* need > n: the float test's p = 1 (points.c), as need = n here. */
+    const int64_t need_b = need <= n ? (int64_t)need : (int64_t)n;
+    int32_t h[9];
+    for (int k = 0; k < 9; k++) {
+        h[k] = Hq[k];
+    }
+    const q_model_t md = model_prep(st, h, t2);
+    int32_t inl = 0;
+    size_t i = 0;
+    /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
+     * points. */
+    for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
+        if (!score_points(st, h, i, i + SPVS_SCORE_BLOCK, &md, t2, max_out, mask, &inl) ||
+            bails(need_b, (int64_t)n, (int64_t)(i + SPVS_SCORE_BLOCK), inl)) {
+            return (uint16_t)inl;
+        }
+    }
+    (void)score_points(st, h, i, n, &md, t2, max_out, mask, &inl);
+    return (uint16_t)inl;
+}
+
+uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
+                         spvs_qf_t t2, uint32_t *sat)
+{
+    const q_model_t md = model_prep(st, Hq, t2);
+    uint64_t sum = 0;
+    /* Bound: n points. */
+    for (uint16_t i = 0; i < n; i++) {
+        const int32_t *p = &st->v[4u * i];
+        if (q_inlier(Hq, p, &md, t2)) {
+            /* The cost breaks ties only: its term from the exact residuals. */
+            const uint64_t t = (uint64_t)spvs_qf_to_q64(q_e2(Hq, p), SPVS_QCOST, sat);
+            /* Saturate on the unsigned sum's carry. */
+            const uint64_t s = sum + t;
+            if (s < sum) {
+                *sat |= SPVS_Q_SAT;
+                return UINT64_MAX;
+            }
+            sum = s;
+        }
+    }
+    return sum;
+}
+
+/* ---- the sums of the linear fits ------------------------------------------ */
+
+/* Adds term t to sum k of a block-floating-point accumulator.  Invariant:
+ * every |m| < 2^62.  A term more than 2^30 above the block's unit first
+ * shifts the block right (raising its exponent), so the term's share is
+ * below 2^61 and the sum below 2^63; a sum that reaches 2^62 shifts the
+ * block by one.  Terms below the unit are rounded to it (the block keeps
+ * 62 bits of its largest sum). */
+static void acc_add(spvs_q_sums_t *s, int k, spvs_qf_t t)
+{
+    if (t.m == 0) {
+        return;
+    }
+    const int b = k >= s->split;
+    const int lo = b ? s->split : 0, hi = b ? s->nt : s->split;
+    int32_t d = t.e - s->e[b];
+    if (d > 30) {
+        const int32_t sh = d - 30;
+        for (int j = lo; j < hi; j++) {
+            s->m[j] = spvs_q_rshift_rnd64(s->m[j], sh > 63 ? 63 : (int)sh);
+        }
+        s->e[b] += sh;
+        d = 30;
+    }
+    const int64_t add = d >= 0 ? (int64_t)t.m * ((int64_t)1 << d)
+                               : spvs_q_rshift_rnd64(t.m, d < -63 ? 63 : (int)-d);
+    const int64_t r = s->m[k] + add;
+    s->m[k] = r;
+    if (spvs_q_abs64(r) >= ((uint64_t)1 << 62)) {
+        for (int j = lo; j < hi; j++) {
+            s->m[j] = spvs_q_rshift_rnd64(s->m[j], 1);
+        }
+        s->e[b] += 1;
+    }
+}
+
+static spvs_qf_t qf_c(int32_t q) /* a Q26 coordinate */
+{
+    return spvs_qf_from_i64(q, -SPVS_QC);
+}
+
+/* SPVS_T_FIT_Y and SPVS_T_FIT_X terms of one point (h_point.inc):
+ * q = sc (x, y, 1), sc = v / w or 1 / w, r = y / w or u. */
+static void terms_fit(int kind, const q_eps_t *r, const int32_t *p, spvs_q_sums_t *s)
+{
+    uint32_t z = 0;
+    const spvs_qf_t iw = spvs_qf_recip(spvs_qf_from_i64(r->w, -53), &z);
+    const spvs_qf_t x = qf_c(p[0]), y = qf_c(p[1]);
+    const spvs_qf_t sc = kind == SPVS_T_FIT_Y ? spvs_qf_mul(qf_c(p[3]), iw) : iw;
+    const spvs_qf_t rr = kind == SPVS_T_FIT_Y ? spvs_qf_mul(y, iw) : qf_c(p[2]);
+    const spvs_qf_t q0 = spvs_qf_mul(sc, x), q1 = spvs_qf_mul(sc, y), q2 = sc;
+    acc_add(s, 0, qf_sq(q0));
+    acc_add(s, 1, spvs_qf_mul(q0, q1));
+    acc_add(s, 2, spvs_qf_mul(q0, q2));
+    acc_add(s, 3, qf_sq(q1));
+    acc_add(s, 4, spvs_qf_mul(q1, q2));
+    acc_add(s, 5, qf_sq(q2));
+    acc_add(s, 6, spvs_qf_mul(q0, rr));
+    acc_add(s, 7, spvs_qf_mul(q1, rr));
+    acc_add(s, 8, spvs_qf_mul(q2, rr));
+}
+
+/* SPVS_T_LIN terms of one point (h_point.inc): the joint fit of rows 1
+ * and 3 at the Sampson weights W = (J J^T)^-1 = adj(J J^T) / det of H. */
+static void terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p, spvs_q_sums_t *s)
+{
+    uint32_t z = 0;
+    const spvs_qf_t x = qf_c(p[0]), y = qf_c(p[1]), u = qf_c(p[2]), v = qf_c(p[3]);
+    const spvs_qf_t w = spvs_qf_from_i64(r->w, -53);
+    const spvs_qf_t ex = spvs_qf_from_i64(r->ex, -(79 - r->s1));
+    const spvs_qf_t ey = spvs_qf_from_i64(r->ey, -(79 - r->s1));
+    spvs_qf_t P[4];
+    q_jac(h, p, P);
+    const spvs_qf_t ww = qf_sq(w);
+    const spvs_qf_t pq = spvs_qf_add(qf_sq(P[0]), qf_sq(P[1]));
+    const spvs_qf_t rs = spvs_qf_add(qf_sq(P[2]), qf_sq(P[3]));
+    const spvs_qf_t ja = spvs_qf_add(pq, ww), jb = spvs_qf_add(rs, ww);
+    const spvs_qf_t jc = spvs_qf_add(spvs_qf_mul(P[0], P[2]), spvs_qf_mul(P[1], P[3]));
+    /* det(J J^T) without cancellation (q_sampson). */
+    const spvs_qf_t dp = spvs_qf_sub(spvs_qf_mul(P[0], P[3]), spvs_qf_mul(P[1], P[2]));
+    const spvs_qf_t den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, spvs_qf_add(pq, rs))),
+                                      qf_sq(dp));
+    const spvs_qf_t id = spvs_qf_recip(den, &z);
+    const spvs_qf_t w11 = spvs_qf_mul(jb, id), w12 = spvs_qf_neg(spvs_qf_mul(jc, id));
+    const spvs_qf_t w22 = spvs_qf_mul(ja, id);
+    const spvs_qf_t uw = spvs_qf_add(spvs_qf_mul(u, w11), spvs_qf_mul(v, w12));
+    const spvs_qf_t vw = spvs_qf_add(spvs_qf_mul(u, w12), spvs_qf_mul(v, w22));
+    const spvs_qf_t a[3] = {w11, spvs_qf_neg(uw),
+                            spvs_qf_add(spvs_qf_mul(u, uw), spvs_qf_mul(v, vw))};
+    const spvs_qf_t q[5] = {qf_sq(x), spvs_qf_mul(x, y), x, qf_sq(y), y};
+    for (int m = 0; m < 3; m++) {
+        for (int k = 0; k < 5; k++) {
+            acc_add(s, 6 * m + k, spvs_qf_mul(a[m], q[k]));
+        }
+        acc_add(s, 6 * m + 5, a[m]);
+    }
+    const spvs_qf_t b1 = spvs_qf_add(spvs_qf_mul(w11, ex), spvs_qf_mul(w12, ey));
+    const spvs_qf_t c1 = spvs_qf_add(spvs_qf_mul(w12, ex), spvs_qf_mul(w22, ey));
+    const spvs_qf_t b3 = spvs_qf_neg(spvs_qf_add(spvs_qf_mul(u, b1), spvs_qf_mul(v, c1)));
+    acc_add(s, 18, spvs_qf_mul(b1, x));
+    acc_add(s, 19, spvs_qf_mul(b1, y));
+    acc_add(s, 20, b1);
+    acc_add(s, 21, spvs_qf_mul(b3, x));
+    acc_add(s, 22, spvs_qf_mul(b3, y));
+    acc_add(s, 23, b3);
+}
+
+int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
+                       const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
+{
+    if (kind != SPVS_T_FIT_Y && kind != SPVS_T_FIT_X && kind != SPVS_T_LIN) {
+        return -2;
+    }
+    const int lin = kind == SPVS_T_LIN;
+    out->nt = (uint8_t)(lin ? SPVS_H_LIN_SUMS : SPVS_NT_FIT);
+    out->split = (uint8_t)(lin ? 18 : 6);
+    /* A block starts far below any term, so the first term sets its unit. */
+    out->e[0] = out->e[1] = -4000;
+    for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
+        out->m[k] = 0;
+    }
+    int32_t used = 0;
+    /* Bound: n points. */
+    for (uint16_t i = 0; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        const int32_t *p = &st->v[4u * i];
+        q_eps_t r;
+        q_eps(Hq, p, &r);
+        if (r.w <= W_EPS_Q53) {
+            return -1;
+        }
+        if (lin) {
+            terms_lin(Hq, &r, p, out);
+        } else {
+            terms_fit((int)kind, &r, p, out);
+        }
+        used++;
+    }
+    return kind == SPVS_T_FIT_X ? 0 : used;
+}

@@ -1,0 +1,126 @@
+/*
+ * points_q.h - the estimator's per-point kernels in fixed point (private:
+ * not installed, not part of the API; the formats and their ranges are in
+ * docs/FIXED.md).
+ *
+ * The same contracts as the float kernels of points.h, on a Q point store:
+ * loading a frame's matches, the Sampson-error inlier count with its early
+ * stop and bail-out, RANSAC's tie-break cost, and the sums of the linear
+ * fits (SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_LIN).  Nothing here reads a
+ * float or double except through its bits (fixed/q.h), so the object links
+ * no floating-point helper.
+ *
+ * Formats (value = integer 2^-f):
+ *   coordinates  scaled units (pixels / SPVS_COORD_SCALE, as the float
+ *                store), int32 Q26 (SPVS_QC): |c| <= SPVS_MAX_COORD_PX /
+ *                SPVS_COORD_SCALE <= 16 (checked at compile time), the
+ *                loader rejects larger; resolution 2^-26 scaled units
+ *                (7.6e-6 px at the default scale 512);
+ *   H            scaled units, planar form, int32 Q27 (SPVS_QH): every
+ *                entry in (-16, 16); resolution 7.5e-9;
+ *   w, h1 . p    exact in int64 Q53 (|.| < 528, no rounding);
+ *   residuals, Sampson terms, weights, per-point fit terms: spvs_qf_t
+ *                (a 31-bit mantissa with its own exponent), since their
+ *                range is unbounded as w -> 0 and grows with |H|;
+ *   t2           the squared threshold in scaled units, spvs_qf_t;
+ *   cost         uint64 Q52 (SPVS_QCOST), saturating (flagged) at 4096;
+ *   fit sums     block floating point: int64 mantissas with one exponent
+ *                for the normal matrix and one for the right side
+ *                (spvs_q_sums_t).
+ * The store is in rows (point i at v[4 i .. 4 i + 3]) on every target:
+ * the kernels read one point at a time.
+ */
+#ifndef SPVS_FIXED_POINTS_Q_H
+#define SPVS_FIXED_POINTS_Q_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../points.h"
+#include "q.h"
+
+#define SPVS_QC 26
+#define SPVS_QH 27
+#define SPVS_QCOST 52
+
+_Static_assert((SPVS_COORD_SCALE & (SPVS_COORD_SCALE - 1)) == 0,
+               "the Q store scales pixels by a power of two");
+_Static_assert(SPVS_MAX_COORD_PX <= 16 * SPVS_COORD_SCALE,
+               "scaled coordinates must stay within 16 (Q26 with 2^30 as the bound)");
+
+/* A frame's points in scaled units, Q26, rows; cur_max: the largest |x_cur|
+ * and |y_cur| (Q26), which bound the Sampson error's Jacobian; tgt_max:
+ * the largest |x_tgt| and |y_tgt|, which with cur_max bound every
+ * per-point quantity of a model (the inlier test's per-model scaling). */
+typedef struct {
+    int32_t v[4u * SPVS_MAX_MATCHES];
+    int32_t cur_max[2];
+    int32_t tgt_max[2];
+} spvs_q_store_t;
+
+/* The sums of a linear fit in block floating point: term k is
+ * m[k] 2^e[k >= split ? 1 : 0].  split = 6 of nt = 9 for SPVS_T_FIT_Y and
+ * SPVS_T_FIT_X (q q^T, then q r), 18 of 24 for SPVS_T_LIN (the normal
+ * matrix, then the right side): each block has its own exponent, so a
+ * small right side keeps its precision beside a large normal matrix.
+ * Every |m[k]| < 2^62. */
+typedef struct {
+    int64_t m[SPVS_H_LIN_SUMS];
+    int32_t e[2];
+    uint8_t nt;
+    uint8_t split;
+} spvs_q_sums_t;
+
+/* H (scaled units, h22 = 1) from the float build's scalar to Q27, rnd
+ * (|error| <= 2^-28).  Returns 0, or SPVS_Q_SAT (an entry outside
+ * (-16, 16), clamped) and/or SPVS_Q_NONFINITE: such an H is outside the
+ * kernels' range and must not be passed to them. */
+SPVS_NODISCARD uint32_t spvs_q_h_from_real(const spvs_real H[9], int32_t Hq[9]);
+
+/* The squared inlier threshold t2 (scaled units^2, spvs_plane_h_t.t2) as a
+ * spvs_qf_t.  *sat gets SPVS_Q_NONFINITE for a NaN or infinite t2. */
+spvs_qf_t spvs_q_t2_from_real(spvs_real t2, uint32_t *sat);
+
+/* spvs_pts_load (points.h) into the Q store: slot k takes match src(k) in
+ * the same spread order, coordinates rounded to Q26 scaled units (|error|
+ * <= 2^-27 scaled = 3.8e-6 px).  Returns 0, or a nonzero mask of
+ * SPVS_Q_NONFINITE (a NaN or infinite coordinate) and SPVS_Q_SAT (a
+ * coordinate above SPVS_MAX_COORD_PX in magnitude, or a feature index
+ * SPVS_MAX_FEATURES or more); the store is then meaningless.  Bound: n
+ * slots. */
+uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t *m, uint16_t n,
+                         uint16_t n_plane, const uint16_t *order, uint16_t stride);
+
+/* Point i as a row (x_tgt, y_tgt, x_cur, y_cur), Q26. */
+void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4]);
+
+/* spvs_pts_score on the Q store: the inliers of Hq (Q27) among the first
+ * n points, marked in mask[] when it is not NULL: w > 0 and the squared
+ * Sampson error at most t2.  The same early stop (a count below `need`
+ * once `need` cannot be reached, tested at every point as in the rows
+ * layout) and the same bail-out test after every SPVS_SCORE_BLOCK points,
+ * made in integers (exact).  The test's relative error on the squared
+ * Sampson error is below 1e-7 (docs/FIXED.md), so only points that close
+ * to the threshold can be decided otherwise than by exact arithmetic.
+ * Bound: n points. */
+uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9], spvs_qf_t t2,
+                          uint16_t need, uint8_t *mask);
+
+/* spvs_pts_cost on the Q store: the summed squared algebraic residual
+ * |p_cur w - H p_tgt|^2 (scaled units^2) of Hq's inliers among the first
+ * n points, uint64 Q52.  A sum above 2^12 saturates and ORs SPVS_Q_SAT
+ * into *sat.  Bound: n. */
+uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
+                         spvs_qf_t t2, uint32_t *sat);
+
+/* spvs_pts_sum for kind SPVS_T_FIT_Y, SPVS_T_FIT_X or SPVS_T_LIN on the Q
+ * store: the terms of the first n points flagged in use[] under Hq into
+ * *out.  Returns the number of flagged points for SPVS_T_FIT_Y and
+ * SPVS_T_LIN (0 for SPVS_T_FIT_X), -1 when a flagged point has
+ * w <= SPVS_W_EPS, or -2 for another kind.  Each term's relative error is
+ * at most about 2^-26 and each sum's error at most about 2^-26 of the sum
+ * of its terms' magnitudes (docs/FIXED.md).  Bound: n points. */
+int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
+                       const uint8_t *use, uint16_t n, spvs_q_sums_t *out);
+
+#endif /* SPVS_FIXED_POINTS_Q_H */

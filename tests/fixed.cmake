@@ -1,0 +1,25 @@
+# The fixed-point arithmetic and the Q-format kernels (firmware/src/fixed,
+# docs/FIXED.md): against exact and double references and the float
+# kernels, on random scenes and the golden vectors.
+spvs_add_test(NAME test_fixed_q SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_q.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_q PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
+# The kernels compiled for a Cortex-M3 (no FPU, soft-float ABI) with the
+# core's warnings reference no floating-point helper, in both scalar
+# builds of the core's headers (the loader reads a float's or a double's
+# bits).
+find_program(SPVS_ARM_GCC arm-none-eabi-gcc)
+find_program(SPVS_ARM_NM arm-none-eabi-nm)
+if(SPVS_ARM_GCC AND SPVS_ARM_NM)
+  foreach(dbl 0 1)
+    add_test(NAME fixed_m3_no_float_${dbl}
+             COMMAND ${CMAKE_COMMAND} -DCC=${SPVS_ARM_GCC} -DNM=${SPVS_ARM_NM}
+                     -DSRC=${PROJECT_SOURCE_DIR}/firmware/src/fixed/points_q.c
+                     -DINC=${PROJECT_SOURCE_DIR}/firmware/include
+                     -DOBJ=${CMAKE_CURRENT_BINARY_DIR}/points_q_m3_${dbl}.o -DDOUBLE=${dbl}
+                     -DCHECK=${PROJECT_SOURCE_DIR}/firmware/check_fixed_symbols.cmake
+                     -P ${PROJECT_SOURCE_DIR}/firmware/check_fixed_m3.cmake)
+    set_tests_properties(fixed_m3_no_float_${dbl} PROPERTIES LABELS "unit;fixed" TIMEOUT 60)
+  endforeach()
+endif()

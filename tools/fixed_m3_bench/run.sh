@@ -1,0 +1,41 @@
+#!/bin/sh
+# Instruction counts of the estimator's per-point kernels, float and Q
+# (firmware/src/fixed/points_q.h), on an emulated Cortex-M3 (QEMU
+# mps2-an385, soft float) and Cortex-M4F (mps2-an386, FPU), one frame per
+# (N, mismatch share).  docs/FIXED.md, "Instruction counts".
+#
+#   tools/fixed_m3_bench/run.sh BUILD_DIR   (a host float build with
+#                                            spvs_fixed and spvs_core built)
+#
+# QEMU's -icount shift=6 advances the virtual clock 64 ns per instruction;
+# SysTick counts the 25 MHz clock (40 ns), so instructions = ticks * 40 / 64
+# (an instruction count, not cycles: QEMU models no pipeline).
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:?usage: run.sh BUILD_DIR}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+src=$root/firmware/src
+cc -O2 -std=c11 -I"$root/firmware/include" -I"$src" -I"$root/tests" "$here/gen.c" -o "$work/gen" \
+   "$build/firmware/libspvs_fixed.a" "$build/firmware/libspvs_core.a" -lm
+for cpu in m3 m4f; do
+  if [ $cpu = m3 ]; then
+    flags="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft"; machine=mps2-an385; fpu=0
+  else
+    flags="-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16"; machine=mps2-an386; fpu=1
+  fi
+  for n in 64 128 256; do
+    for out in 0 0.2 0.4; do
+      "$work/gen" $n $out > "$work/data.h"
+      arm-none-eabi-gcc $flags -Os -std=c11 -ffunction-sections -fdata-sections \
+        -I"$root/firmware/include" -I"$src" -I"$work" -DSPVS_USE_DOUBLE=0 -DNDEBUG -DENABLE_FPU=$fpu \
+        -nostartfiles -T "$here/m3.ld" -Wl,--gc-sections "$here/m3.c" "$src/fixed/points_q.c" \
+        "$src/points.c" "$src/homography.c" --specs=nano.specs -lm -lc -lgcc -lnosys -o "$work/k.elf"
+      printf '%s N=%s out=%s ' $cpu $n $out
+      timeout 120 qemu-system-arm -M $machine -nographic -monitor none -serial null \
+        -semihosting-config enable=on,target=native -icount shift=6 -kernel "$work/k.elf" 2>&1 |
+        awk '/^cnt/ {printf "%s=%s ", $1, $2; next} {printf "%s=%d ", $1, $2 * 40 / 64} END {print ""}'
+    done
+  done
+done
