@@ -966,7 +966,7 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
     assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
     const spvs_pts_in_t in = {0, &sc->fst};
     for (int k = 0; k < 3; k++) {
-        const int nt = kinds[k] == SPVS_T_LIN ? SPVS_H_LIN_SUMS : SPVS_NT_FIT;
+        const int nt = kinds[k] == SPVS_T_LIN ? SPVS_H_LIN_COST : SPVS_NT_FIT;
         spvs_real f[SPVS_H_LIN_SUMS];
         spvs_q_sums_t q;
         const int32_t rf = spvs_pts_sum(kinds[k], H, &in, use, sc->n, f);
