@@ -433,6 +433,7 @@ int spvs_serial_encode_result(const spvs_serial_result_t *r, uint8_t *out,
     enc_f32(&e, (float)o->arrival_lateral_px);
     enc_f32(&e, (float)o->arrival_depth_px);
     enc_f32(&e, (float)o->arrival_h13_px);
+    enc_f32(&e, (float)o->arrival_parallax_px);
     enc_u16(&e, o->arrival_frames);
     enc_u8(&e, o->arrival_reentries);
     enc_u8(&e, o->arrival_next);
@@ -473,9 +474,10 @@ int spvs_serial_parse_result(const spvs_serial_frame_t *f,
     o->arrival_lateral_px = (spvs_real)rd_f32(p + 84);
     o->arrival_depth_px = (spvs_real)rd_f32(p + 88);
     o->arrival_h13_px = (spvs_real)rd_f32(p + 92);
-    o->arrival_frames = rd_u16(p + 96);
-    o->arrival_reentries = p[98];
-    o->arrival_next = p[99];
+    o->arrival_parallax_px = (spvs_real)rd_f32(p + 96);
+    o->arrival_frames = rd_u16(p + 100);
+    o->arrival_reentries = p[102];
+    o->arrival_next = p[103];
     o->h_valid = (r->flags & SPVS_SERIAL_F_H_VALID) ? 1u : 0u;
     o->e_valid = (r->flags & SPVS_SERIAL_F_E_VALID) ? 1u : 0u;
     o->eq11 = (r->flags & SPVS_SERIAL_F_EQ11) ? 1u : 0u;

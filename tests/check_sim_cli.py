@@ -5,7 +5,8 @@ usage: check_sim_cli.py MODE -- COMMAND [ARGS...]
 
 MODE
   json       exit 0; the last stdout line is one JSON object with the required
-             keys, status "converged" and a final error under 0.05 m / 0.2 deg
+             keys, status "converged" and a final error under 0.05 m / 0.2 deg,
+             and an "arrival" object whose figures passed the check
   usage      exit 2; stderr is exactly one line starting "spvs-sim: "
   help       exit 0; stdout describes every option of the contract
   failed     exit 0 (the run took place); status "failed" with a reason
@@ -79,6 +80,36 @@ def check_converged(obj):
                                                obj["time_s"]))
 
 
+ARRIVAL_KEYS = ("corner_px", "bound_px", "lateral_px", "depth_px", "h13_px",
+                "parallax_px", "frames", "reentries", "next_step")
+# The arrival check's parallax limit (control.c, arrival_decide):
+# SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x 1.665 x arrival_sigma_px, with the
+# defaults 175 and 1 px.
+ARRIVAL_PARALLAX_MAX_PX = 1.75 * 1.665 * 1.0
+
+
+def check_arrival(obj):
+    """A converged run's last check accepted: its figures are under their
+    limits (docs/CONTROL.md, "A verified arrival")."""
+    a = obj.get("arrival")
+    if not isinstance(a, dict):
+        fail("JSON lacks the arrival object: %r" % a)
+    for k in ARRIVAL_KEYS:
+        if not isinstance(a.get(k), (int, float)):
+            fail("arrival.%s missing or not a number: %s" % (k, a))
+    if not a["corner_px"] <= a["bound_px"]:
+        fail("converged with corner transfer %g px over its bound %g px"
+             % (a["corner_px"], a["bound_px"]))
+    # -1: no remembered off-plane point was seen over the hold.
+    par = a["parallax_px"]
+    if not (par == -1 or 0.0 <= par <= ARRIVAL_PARALLAX_MAX_PX):
+        fail("converged with off-plane parallax %g px (limit %g px, -1 none)"
+             % (par, ARRIVAL_PARALLAX_MAX_PX))
+    if a["frames"] < 20 or a["next_step"] != 0:
+        fail("converged after %d frames averaged, next step %d"
+             % (a["frames"], a["next_step"]))
+
+
 def option_value(cmd, name):
     i = cmd.index(name)
     return cmd[i + 1]
@@ -112,7 +143,9 @@ def main():
     if mode == "json":
         if p.returncode != 0:
             fail("exit %d, expected 0; stderr: %s" % (p.returncode, p.stderr))
-        check_converged(last_json(p))
+        obj = last_json(p)
+        check_converged(obj)
+        check_arrival(obj)
     elif mode == "failed":
         if p.returncode != 0:
             fail("exit %d, expected 0 for a failed run" % p.returncode)

@@ -77,6 +77,13 @@ static void expect_stop(const spvs_match_t *m, uint16_t n, double t_s, int want)
     assert_int_equal(out.status, want);
     assert_true(out.v == SPVS_R(0.0));
     assert_true(out.w == SPVS_R(0.0));
+    /* Input and estimation errors leave the arrival check's figures at
+     * their "no check" zeros, not the caller's stale bytes. */
+    if (want >= SPVS_E_STALE) {
+        assert_true(out.arrival_corner_px == SPVS_R(0.0));
+        assert_true(out.arrival_parallax_px == SPVS_R(0.0));
+        assert_int_equal(out.arrival_frames, 0);
+    }
     /* Input and estimation errors leave no estimate; control errors (no
      * parallax, plane, step timeout) come after a valid H. */
     if (want >= SPVS_E_STALE) {

@@ -171,12 +171,42 @@ static void test_result_status_config(void **state)
     r.out.v = (spvs_real)0.123456789; r.out.w = (spvs_real)-0.0625; r.out.status = SPVS_E_NO_PARALLAX;
     r.out.step = 2; r.out.n_matches = 125; r.out.n_inliers = 90; r.out.n_offplane = 20;
     for (int k = 0; k < 9; ++k) r.out.H[k] = (spvs_real)(0.1 * k - 0.3);
+    r.out.arrival_corner_px = (spvs_real)0.75; r.out.arrival_bound_px = (spvs_real)0.61311;
+    r.out.arrival_lateral_px = (spvs_real)0.5; r.out.arrival_depth_px = (spvs_real)0.25;
+    r.out.arrival_h13_px = (spvs_real)-0.125; r.out.arrival_parallax_px = (spvs_real)2.9;
+    r.out.arrival_frames = 21; r.out.arrival_reentries = 2; r.out.arrival_next = 1;
     int len = spvs_serial_encode_result(&r, wire, sizeof(wire));
-    assert_int_equal(len, 1 + 108 + 1); /* 100-byte body: 110 B on the wire, no zeros to spare */
+    assert_int_equal(len, 1 + 112 + 1); /* 104-byte body: 114 B on the wire, no zeros to spare */
     spvs_serial_frame_t f;
     spvs_serial_rx_init(&rx);
     assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);
+    assert_int_equal(f.len, SPVS_SERIAL_RESULT_BODY);
     assert_int_equal(spvs_serial_parse_result(&f, &rb), SPVS_SERIAL_OK);
+    /* The arrival check's figures, float32 at 76..99 (docs/SERIAL.md). */
+    assert_true((float)rb.out.arrival_corner_px == 0.75f);
+    assert_true((float)rb.out.arrival_bound_px == (float)r.out.arrival_bound_px);
+    assert_true((float)rb.out.arrival_lateral_px == 0.5f);
+    assert_true((float)rb.out.arrival_depth_px == 0.25f);
+    assert_true((float)rb.out.arrival_h13_px == -0.125f);
+    assert_true((float)rb.out.arrival_parallax_px == (float)r.out.arrival_parallax_px);
+    /* The parallax is the sixth figure, at body offset 96, little-endian. */
+    const uint8_t *b = f.body + 96;
+    const uint32_t par_bits = (uint32_t)b[0] | (uint32_t)b[1] << 8 |
+                              (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+    float par_f32;
+    memcpy(&par_f32, &par_bits, sizeof(par_f32));
+    assert_true(par_f32 == (float)r.out.arrival_parallax_px);
+    assert_int_equal(rb.out.arrival_frames, 21);
+    assert_int_equal(rb.out.arrival_reentries, 2);
+    assert_int_equal(rb.out.arrival_next, 1);
+    /* No off-plane point seen over the hold: -1 goes through as it is. */
+    r.out.arrival_parallax_px = (spvs_real)-1.0;
+    len = spvs_serial_encode_result(&r, wire, sizeof(wire));
+    spvs_serial_rx_init(&rx);
+    assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);
+    assert_int_equal(spvs_serial_parse_result(&f, &rb), SPVS_SERIAL_OK);
+    assert_true((float)rb.out.arrival_parallax_px == -1.0f);
+    assert_int_equal(rb.out.arrival_frames, 21);
     assert_true((float)rb.out.v == (float)r.out.v && (float)rb.out.w == (float)r.out.w);
     assert_int_equal(rb.out.status, SPVS_E_NO_PARALLAX);
     assert_int_equal(rb.out.step, 2);

@@ -60,6 +60,7 @@ set(fleet_cases
   "fleet_isolation|240|isolation"
   "fleet_router_restart|300|router"
   "fleet_station|150|station"
+  "fleet_station_decode|60|decode"
   "fleet_cleanup|120|cleanup"
   "fleet_bad_method|60|usage --case method"
   "fleet_bad_pose|60|usage --case pose"

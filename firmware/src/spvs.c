@@ -99,6 +99,7 @@ static void clear_output(spvs_output_t *out, uint16_t n)
     out->arrival_lateral_px = SPVS_R(0.0);
     out->arrival_depth_px = SPVS_R(0.0);
     out->arrival_h13_px = SPVS_R(0.0);
+    out->arrival_parallax_px = SPVS_R(0.0);
     out->arrival_frames = 0;
     out->arrival_reentries = 0;
     out->arrival_next = 0;
@@ -270,6 +271,7 @@ static int after_h(spvs_t *s, spvs_real t_s, spvs_output_t *out)
     out->arrival_lateral_px = s->ctl.arrival_lateral_px;
     out->arrival_depth_px = s->ctl.arrival_depth_px;
     out->arrival_h13_px = s->ctl.arrival_h13_px;
+    out->arrival_parallax_px = s->ctl.arrival_parallax_px;
     out->arrival_frames = s->ctl.arrive_n;
     out->arrival_reentries = s->ctl.reentries;
     out->arrival_next = s->ctl.arrival_next;

@@ -365,7 +365,8 @@ static void json_string(FILE *f, const char *s)
 }
 
 /* The arrival check after step 3 (docs/CONTROL.md): the figures of the last
- * check, pixels of mean corner transfer. */
+ * check, pixels of mean corner transfer, and the mean parallax of the
+ * remembered off-plane points (pixels, -1: none seen). */
 static void print_json_arrival(const sinks_t *s)
 {
     const spvs_output_t *a = &s->last;
@@ -374,11 +375,12 @@ static void print_json_arrival(const sinks_t *s)
         return;
     }
     printf(",\"arrival\":{\"corner_px\":%.6g,\"bound_px\":%.6g,\"lateral_px\":%.6g"
-           ",\"depth_px\":%.6g,\"h13_px\":%.6g,\"frames\":%u,\"reentries\":%u"
-           ",\"next_step\":%u}",
+           ",\"depth_px\":%.6g,\"h13_px\":%.6g,\"parallax_px\":%.6g"
+           ",\"frames\":%u,\"reentries\":%u,\"next_step\":%u}",
            (double)a->arrival_corner_px, (double)a->arrival_bound_px,
            (double)a->arrival_lateral_px, (double)a->arrival_depth_px,
-           (double)a->arrival_h13_px, (unsigned)a->arrival_frames,
+           (double)a->arrival_h13_px, (double)a->arrival_parallax_px,
+           (unsigned)a->arrival_frames,
            (unsigned)a->arrival_reentries, (unsigned)a->arrival_next);
 }
 

@@ -124,6 +124,7 @@ void spvs_wire_state_from_output(spvs_state_t *st, int64_t seq, int64_t utime,
     st->arrival_lateral_px = (double)out->arrival_lateral_px;
     st->arrival_depth_px = (double)out->arrival_depth_px;
     st->arrival_h13_px = (double)out->arrival_h13_px;
+    st->arrival_parallax_px = (double)out->arrival_parallax_px;
     st->arrival_frames = (int16_t)out->arrival_frames;
     st->arrival_reentries = (int8_t)out->arrival_reentries;
     st->arrival_next = (int8_t)out->arrival_next;
@@ -167,6 +168,7 @@ void spvs_wire_output_from_msgs(spvs_output_t *out, const spvs_cmd_t *cmd,
     out->arrival_lateral_px = (spvs_real)st->arrival_lateral_px;
     out->arrival_depth_px = (spvs_real)st->arrival_depth_px;
     out->arrival_h13_px = (spvs_real)st->arrival_h13_px;
+    out->arrival_parallax_px = (spvs_real)st->arrival_parallax_px;
     out->arrival_frames = (uint16_t)st->arrival_frames;
     out->arrival_reentries = (uint8_t)st->arrival_reentries;
     out->arrival_next = (uint8_t)st->arrival_next;

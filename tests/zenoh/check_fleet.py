@@ -17,6 +17,9 @@ usage: check_fleet.py CHECK --build DIR --root DIR [--tol-m M --tol-deg D]
           in process.
   station spvs-station shows every robot live and flags the one whose node
           died as stale; SIGTERM ends the fleet and all its processes.
+  decode  spvs-station's state_t layout is lcm-gen's: same fingerprint and
+          size, and an encoded state_t unpacks to its fields, the arrival
+          check's figures included (no network).
   cleanup SIGKILL of spvs-fleet itself still leaves no process behind.
   usage --case method|pose|seed|name|twice|help: a malformed --robot is
           refused (one line, status 2) before anything starts.
@@ -586,10 +589,66 @@ def check_usage(env, a):
           "started, e.g. %s" % (len(shown), shown[0]))
 
 
+def check_decode(env, a):
+    sys.path.insert(0, os.path.join(env.build, "lcm_types", "python"))
+    sys.path.insert(0, os.path.join(env.root, "sim_host", "zenoh"))
+    import spvs
+    import station
+    fp = spvs.state_t._get_packed_fingerprint()
+    expect(station.STATE_FINGERPRINT == fp,
+           "station fingerprint %s, lcm-gen's state_t %s"
+           % (station.STATE_FINGERPRINT.hex(), fp.hex()))
+    expect(fp.hex() == "d837a84b24213a12" and station.STATE_SIZE == 193,
+           "state_t fingerprint %s, station size %d (docs/ZENOH.md: "
+           "d837a84b24213a12, 193 B)" % (fp.hex(), station.STATE_SIZE))
+    s = spvs.state_t()
+    s.seq, s.utime, s.step, s.status = 41, 4100000, 4, -14
+    s.n_matches, s.n_inliers = 125, 97
+    s.v, s.w = 0.0, 0.0
+    s.arrival_corner_px, s.arrival_bound_px = 0.75, 0.61311
+    s.arrival_lateral_px, s.arrival_depth_px = 0.5, 0.25
+    s.arrival_h13_px, s.arrival_parallax_px = -0.125, 2.9
+    s.arrival_frames, s.arrival_reentries = 21, 3
+    s.arrival_next, s.arriving = 1, 0
+    data = s.encode()
+    expect(len(data) == station.STATE_SIZE,
+           "an encoded state_t has %d bytes, the station expects %d"
+           % (len(data), station.STATE_SIZE))
+    f = station.STATE_FIELDS.unpack(data[8:])
+    # The arrival check's figures follow status (index 22).
+    want = (0.75, 0.61311, 0.5, 0.25, -0.125, 2.9, 21, 3, 1, 0)
+    expect(tuple(f[23:33]) == want, "arrival figures unpacked as %r, want %r"
+           % (tuple(f[23:33]), want))
+    s.arrival_parallax_px = -1.0
+    f = station.STATE_FIELDS.unpack(s.encode()[8:])
+    expect(f[28] == -1.0 and f[29] == 21,
+           "parallax -1 (none seen) unpacked as %r, frames %r" % (f[28], f[29]))
+
+    class Sample:
+        def __init__(self, key, payload):
+            self.key_expr = key
+            self.payload = self
+
+            def to_bytes():
+                return payload
+            self.to_bytes = to_bytes
+    fleet = station.Fleet()
+    fleet.on_state(Sample("spvs/r1/state", s.encode()))
+    fleet.on_state(Sample("spvs/r2/state", data[:-8]))
+    rows, bad = fleet.snapshot(1.0)
+    expect(bad == 1 and len(rows) == 1, "%d rows, %d bad from one good and "
+           "one short payload" % (len(rows), bad))
+    r = rows[0]
+    expect(r["seq"] == 41 and r["step"] == 4 and r["n_inliers"] == 97 and
+           r["status_name"] == "not_at_target", "station row %r" % r)
+    print("ok: station state_t %s, %d B, arrival figures (parallax %.2f px, "
+          "-1 none) unpacked as encoded" % (fp.hex(), station.STATE_SIZE, 2.9))
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("check", choices=("equal", "isolation", "router",
-                                     "station", "cleanup", "usage"))
+                                     "station", "decode", "cleanup", "usage"))
     p.add_argument("--build", required=True)
     p.add_argument("--root", required=True)
     p.add_argument("--robots", type=int, default=4)

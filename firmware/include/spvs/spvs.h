@@ -70,6 +70,8 @@ typedef struct {
     spvs_real arrival_lateral_px; /* row 1 without h13 (sideways offset)    */
     spvs_real arrival_depth_px;   /* row 3 (offset along the optical axis)  */
     spvs_real arrival_h13_px;     /* mean h13, pixels (heading)             */
+    spvs_real arrival_parallax_px; /* mean median parallax of the remembered
+                                      off-plane points, pixels; -1: none seen */
     uint16_t arrival_frames;      /* frames averaged (so far, while holding) */
     uint8_t arrival_reentries;    /* failed checks that re-entered a step   */
     uint8_t arrival_next;         /* the step the last failed check chose   */
