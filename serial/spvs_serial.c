@@ -547,7 +547,7 @@ int spvs_serial_encode_config(const spvs_serial_config_t *c, uint8_t *out,
     enc_header(&e, (uint8_t)SPVS_SERIAL_T_CONFIG, (uint16_t)SPVS_SERIAL_CONFIG_BODY);
     enc_u8(&e, c->method);
     enc_u8(&e, 0u);
-    enc_u16(&e, 0u);
+    enc_u16(&e, c->watchdog_ms);
     enc_u32(&e, c->seed);
     enc_f32(&e, c->alpha_px);
     enc_f32(&e, c->alpha_px);
@@ -565,13 +565,16 @@ int spvs_serial_parse_config(const spvs_serial_frame_t *f,
     }
     const uint8_t *p = f->body;
     c->method = p[0];
+    c->watchdog_ms = rd_u16(p + 2);
     c->seed = rd_u32(p + 4);
     c->alpha_px = rd_f32(p + 8);
     /* x and y focal lengths travel apart for a later non-square camera;
      * this version takes square pixels only. */
     float alpha_y = rd_f32(p + 12);
     if (c->method < 1u || c->method > 3u || !(c->alpha_px >= 1.0f && c->alpha_px <= 1.0e5f) ||
-        !(alpha_y == c->alpha_px)) {
+        !(alpha_y == c->alpha_px) ||
+        (c->watchdog_ms != 0u && (c->watchdog_ms < SPVS_SERIAL_WATCHDOG_MIN_MS ||
+                                  c->watchdog_ms > SPVS_SERIAL_WATCHDOG_MAX_MS))) {
         return SPVS_SERIAL_E_RANGE;
     }
     return SPVS_SERIAL_OK;

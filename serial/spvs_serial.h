@@ -152,13 +152,22 @@ typedef struct {
     uint32_t watchdog_stops; /* stops commanded by the watchdog               */
 } spvs_serial_status_frame_t;
 
+/* The watchdog time a CONFIG frame may choose, milliseconds: 0 means the
+ * MCU's own default (APP_WATCHDOG_MS, 300 ms); anything else must lie in
+ * this range (more than a frame's link time at capacity, 28 ms, plus an
+ * update; at most 10 s of silence before the robot is stopped). */
+#define SPVS_SERIAL_WATCHDOG_MIN_MS 50u
+#define SPVS_SERIAL_WATCHDOG_MAX_MS 10000u
+
 /* The controller's set-up, sent by the host before the first frame and
- * after every boot of the MCU.  A set-up that differs from the one in force
- * re-initialises the controller. */
+ * after every boot of the MCU.  A set-up whose method, seed or focal
+ * length differs from the one in force re-initialises the controller; the
+ * watchdog time alone does not. */
 typedef struct {
     uint8_t method;   /* 1, 2 or 3                                 */
     uint32_t seed;    /* RANSAC seed                               */
     float alpha_px;   /* assumed focal length, pixels (x and y)    */
+    uint16_t watchdog_ms; /* 0: the MCU's default, else 50..10000  */
 } spvs_serial_config_t;
 
 /* A decoded frame: its type and body, pointing into the caller's buffer. */
@@ -187,7 +196,8 @@ int spvs_serial_parse_result(const spvs_serial_frame_t *f,
                              spvs_serial_result_t *r);
 int spvs_serial_parse_status(const spvs_serial_frame_t *f,
                              spvs_serial_status_frame_t *s);
-/* Checks the method (1..3) and the focal length (finite, 1..1e5 px):
+/* Checks the method (1..3), the focal length (finite, 1..1e5 px) and the
+ * watchdog time (0, or SPVS_SERIAL_WATCHDOG_MIN_MS .. _MAX_MS):
  * SPVS_SERIAL_E_RANGE otherwise. */
 int spvs_serial_parse_config(const spvs_serial_frame_t *f,
                              spvs_serial_config_t *c);

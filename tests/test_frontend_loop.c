@@ -8,7 +8,10 @@
  * final pose error is within 0.10 m in x and z and 1 deg in heading.
  * Reported: match counts and mismatch rates along the way (a mismatch is a
  * match more than 3 px from the true projection of its target feature's 3D
- * point), and the wall-clock time of the run.
+ * point), and the wall-clock time of the run.  The wall time is printed,
+ * never asserted: it measures the host and its load, not the loop (the
+ * figures for an unloaded machine are in docs/RESULTS_IMAGES.md; ctest's
+ * TIMEOUT in tests/frontend.cmake allows a host three times slower).
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -36,14 +39,6 @@
  * regression docs/RESULTS_IMAGES.md records and leaves open. */
 #define POS_TOL_M 0.12
 #define PHI_TOL_DEG 1.0
-/* Wall-clock bound of one run, two runs at a time on two cores (seconds):
- * about 45 s in the RelWithDebInfo build.  AddressSanitizer's interception
- * of OpenCV's allocations makes a run about 2.5 times slower (47 s alone). */
-#if defined(__SANITIZE_ADDRESS__)
-#define RUN_TIME_BOUND_S 150.0
-#else
-#define RUN_TIME_BOUND_S 60.0
-#endif
 /* Simulated time bound: the exact-point runs take 30..60 s. */
 #define MAX_SIM_TIME_S 100.0
 
@@ -163,7 +158,6 @@ static void closed_loop_from_images(void **state)
     assert_true(fabs(r.err_x_m) <= POS_TOL_M);
     assert_true(fabs(r.err_z_m) <= POS_TOL_M);
     assert_true(fabs(r.err_phi_deg) <= PHI_TOL_DEG);
-    assert_true(wall <= RUN_TIME_BOUND_S);
 }
 
 int main(int argc, char **argv)

@@ -230,13 +230,35 @@ static void test_result_status_config(void **state)
     assert_int_equal(sb.watchdog_stops, 5);
     assert_int_equal(sb.crc_errors, 3);
 
-    spvs_serial_config_t c = { 1, 4000000000u, 400.0f }, cb;
+    spvs_serial_config_t c = { 1, 4000000000u, 400.0f, 0u }, cb;
     len = spvs_serial_encode_config(&c, wire, sizeof(wire));
     spvs_serial_rx_init(&rx);
     assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);
     assert_int_equal(spvs_serial_parse_config(&f, &cb), SPVS_SERIAL_OK);
     assert_int_equal(cb.method, 1);
     assert_int_equal(cb.seed, 4000000000u);
+    assert_int_equal(cb.watchdog_ms, 0); /* 0: the MCU's default */
+    /* The watchdog time travels in bytes 2..3; 0 or 50..10000 ms. */
+    const uint16_t wd_ok[] = { SPVS_SERIAL_WATCHDOG_MIN_MS, 300u, SPVS_SERIAL_WATCHDOG_MAX_MS };
+    for (size_t i = 0; i < sizeof(wd_ok) / sizeof(wd_ok[0]); ++i) {
+        c.watchdog_ms = wd_ok[i];
+        len = spvs_serial_encode_config(&c, wire, sizeof(wire));
+        spvs_serial_rx_init(&rx);
+        assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);
+        assert_int_equal(spvs_serial_parse_config(&f, &cb), SPVS_SERIAL_OK);
+        assert_int_equal(cb.watchdog_ms, wd_ok[i]);
+        assert_int_equal(f.body[2] | (f.body[3] << 8), wd_ok[i]);
+    }
+    const uint16_t wd_bad[] = { 1u, SPVS_SERIAL_WATCHDOG_MIN_MS - 1u,
+                                SPVS_SERIAL_WATCHDOG_MAX_MS + 1u, 65535u };
+    for (size_t i = 0; i < sizeof(wd_bad) / sizeof(wd_bad[0]); ++i) {
+        c.watchdog_ms = wd_bad[i];
+        len = spvs_serial_encode_config(&c, wire, sizeof(wire));
+        spvs_serial_rx_init(&rx);
+        assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);
+        assert_int_equal(spvs_serial_parse_config(&f, &cb), SPVS_SERIAL_E_RANGE);
+    }
+    c.watchdog_ms = 0u;
     c.method = 4;
     len = spvs_serial_encode_config(&c, wire, sizeof(wire));
     spvs_serial_rx_init(&rx);

@@ -17,7 +17,8 @@
  * RESULT becomes SPVS_STATE then SPVS_CMD (a REJECTED one a stop command
  * only), a WATCHDOG status a stop with seq -1 and SPVS_E_STALE, a BOOT
  * status (the MCU started or was reset) makes the agent send the
- * controller's set-up (CONFIG) again.  Frames that fail COBS, CRC, version
+ * controller's set-up (CONFIG: method, seed, focal length, watchdog time)
+ * again.  Frames that fail COBS, CRC, version
  * or length are counted and logged, never acted on.
  *
  * Exit status: 0 after SIGINT/SIGTERM, 1 when the device or LCM fails for
@@ -36,6 +37,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <termios.h>
@@ -46,7 +48,8 @@
 #include "wire.h"
 
 #define DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
-/* A repeat of the frame in flight is held back this long, seconds. */
+/* A repeat of the frame in flight is held back while the earlier copy is
+ * still in the device's output queue, and this long after it left, seconds. */
 #define REPEAT_HOLD_S 0.5
 
 static volatile sig_atomic_t g_stop = 0;
@@ -72,6 +75,7 @@ typedef struct {
     uint32_t connects;        /* device (re)opened                           */
     uint32_t held;            /* repeats of an unanswered frame held back    */
     uint32_t write_timeouts;  /* frames dropped: the device took no bytes    */
+    uint32_t partial_at_open; /* a frame's tail read first after an open     */
 } agent_stats_t;
 
 typedef struct {
@@ -87,6 +91,7 @@ typedef struct {
 
     int fd;
     int need_delim;           /* a partial frame went out: end it first      */
+    int fresh;                /* no delimiter read since the device opened   */
     lcm_t *lcm;
     spvs_serial_rx_t rx;
     agent_stats_t st;
@@ -96,6 +101,8 @@ typedef struct {
     int64_t fwd_seq, fwd_utime;     /* last frame forwarded           */
     int64_t fwd_run;
     double fwd_t;                   /* when it went out               */
+    double fwd_left_t;              /* when it had left the output
+                                       queue (< 0: not seen yet)      */
     int fwd_answered;               /* the MCU has answered it        */
     double last_config_s;
     spvs_matches_t msg;
@@ -228,6 +235,9 @@ static int open_tty(const char *path, long baud, char *err, size_t err_len)
         close(fd);
         return -2;
     }
+    /* What arrived before raw mode was taken through the line discipline
+     * (echo, CR-LF mapping): not the MCU's bytes as sent. */
+    (void)tcflush(fd, TCIFLUSH);
     return fd;
 }
 
@@ -245,6 +255,26 @@ static int open_device(agent_t *a, char *err, size_t err_len)
     if (fd >= 0)
         fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
     return fd;
+}
+
+/* Bytes written to the device that its far end has not taken yet: the tty
+ * driver's output queue (TIOCOUTQ), or what the peer of a Unix socket has
+ * not read (SIOCOUTQ, the same request on Linux).  0 where the driver
+ * cannot say (a pty; TCP, whose count ends at the peer's kernel). */
+static int device_outq(const agent_t *a)
+{
+    int n = 0;
+    if (a->fd < 0 || ioctl(a->fd, TIOCOUTQ, &n) != 0 || n < 0)
+        return 0;
+    return n;
+}
+
+/* The frame in flight has left the output queue: note when, once. */
+static void note_frame_left(agent_t *a, double t)
+{
+    if (a->fwd_seq >= 0 && !a->fwd_answered && a->fwd_left_t < 0.0 &&
+        device_outq(a) == 0)
+        a->fwd_left_t = t;
 }
 
 static void close_device(agent_t *a, const char *why)
@@ -302,9 +332,9 @@ static void send_config(agent_t *a)
     if (len > 0 && write_all(a, a->wire, (size_t)len) == 0) {
         a->st.configs++;
         a->last_config_s = now_s();
-        logf_(a, 2, "sent set-up: method %u, seed %u, alpha %g px",
+        logf_(a, 2, "sent set-up: method %u, seed %u, alpha %g px, watchdog %u ms",
               (unsigned)a->cfg.method, (unsigned)a->cfg.seed,
-              (double)a->cfg.alpha_px);
+              (double)a->cfg.alpha_px, (unsigned)a->cfg.watchdog_ms);
     }
 }
 
@@ -366,15 +396,22 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
         return;
     }
     /* The sender repeats a frame it has no answer for (spvs-sim every
-     * 0.25 s).  While the MCU may still be working through the first copy,
-     * a second one only queues behind it on the line, so it is held back
-     * for REPEAT_HOLD_S; after that it goes out, in case the first was
+     * 0.25 s).  While the first copy is still on its way (in the device's
+     * output queue: a slow line, or an emulated UART that takes a byte at
+     * a time) or the MCU may still be working on it, a second copy would
+     * only queue behind it, and the next frame behind both: when copies
+     * come faster than the line drains, the queue grows without end.  So a
+     * repeat is held back until the first copy has left the queue and
+     * REPEAT_HOLD_S more; after that it goes out, in case the first was
      * damaged on the way. */
     double t = now_s();
     if (a->msg.seq == a->fwd_seq && a->msg.run_id == a->fwd_run &&
-        !a->fwd_answered && t - a->fwd_t < REPEAT_HOLD_S) {
-        a->st.held++;
-        return;
+        !a->fwd_answered) {
+        note_frame_left(a, t);
+        if (a->fwd_left_t < 0.0 || t - a->fwd_left_t < REPEAT_HOLD_S) {
+            a->st.held++;
+            return;
+        }
     }
     if (a->fd < 0) {
         a->st.dropped_offline++;
@@ -385,6 +422,7 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
     a->fwd_utime = a->msg.utime;
     a->fwd_run = a->msg.run_id;
     a->fwd_t = t;
+    a->fwd_left_t = -1.0;
     a->fwd_answered = 0;
     if (write_all(a, a->wire, (size_t)len) == 0) {
         a->st.to_mcu++;
@@ -450,7 +488,8 @@ static void on_status(agent_t *a, const spvs_serial_status_frame_t *s)
         publish_stop(a, -1, 0, SPVS_E_STALE);
     }
     int same = s->method == a->cfg.method && s->seed == a->cfg.seed &&
-               s->alpha_px == a->cfg.alpha_px;
+               s->alpha_px == a->cfg.alpha_px &&
+               s->watchdog_ms == a->cfg.watchdog_ms;
     if (!same && now_s() - a->last_config_s > 0.2)
         send_config(a);
     if (same && a->ready_path && !a->ready_done) {
@@ -489,6 +528,17 @@ static void on_device_frame(agent_t *a)
 {
     spvs_serial_frame_t f;
     int st = spvs_serial_unpack(a->rx.buf, a->rx.n, &f);
+    int first = a->fresh;
+    a->fresh = 0;
+    if (st != SPVS_SERIAL_OK && first) {
+        /* The device was opened while the MCU was sending (a port or pty
+         * opened mid-frame): the first bytes are the tail of a frame, not
+         * a damaged one. */
+        a->st.partial_at_open++;
+        logf_(a, 2, "the first %u bytes after opening %s end a frame sent "
+              "before; dropped", (unsigned)a->rx.n, a->device);
+        return;
+    }
     if (st != SPVS_SERIAL_OK) {
         bad_frame(a, st);
         return;
@@ -549,11 +599,12 @@ static void write_summary(const agent_t *a)
              "\"dropped_offline\":%u,\"results\":%u,\"rejected\":%u,"
              "\"repeats\":%u,\"watchdog\":%u,\"boots\":%u,\"configs\":%u,"
              "\"bad_crc\":%u,\"bad_framing\":%u,\"connects\":%u,"
-             "\"held\":%u,\"write_timeouts\":%u,\"mcu\":",
+             "\"held\":%u,\"write_timeouts\":%u,\"partial_at_open\":%u,"
+             "\"mcu\":",
              s->to_mcu, s->refused, s->undecodable, s->dropped_offline,
              s->results, s->rejected, s->repeats, s->watchdog, s->boots,
              s->configs, s->bad_crc, s->bad_framing, s->connects, s->held,
-             s->write_timeouts);
+             s->write_timeouts, s->partial_at_open);
     char mcu[512] = "null";
     if (a->have_mcu) {
         const spvs_serial_status_frame_t *m = &a->mcu;
@@ -587,6 +638,8 @@ static void usage(FILE *f)
           "  --method 1|2|3     controller method sent to the MCU (3)\n"
           "  --seed S           RANSAC seed, 0..4294967295 (0)\n"
           "  --alpha PX         assumed focal length, pixels (800)\n"
+          "  --watchdog-ms MS   the MCU stops the robot after MS ms without\n"
+          "                     a valid frame, 50..10000 (300)\n"
           "  --lcm-url URL      LCM provider ($LCM_DEFAULT_URL or\n"
           "                     " DEFAULT_URL ")\n"
           "  --reconnect S      keep trying to (re)open the device for S s (10)\n"
@@ -627,6 +680,7 @@ int main(int argc, char **argv)
     a.cfg.method = 3;
     a.cfg.seed = 0;
     a.cfg.alpha_px = 800.0f;
+    a.cfg.watchdog_ms = 300u;
     a.reconnect_s = 10.0;
     a.log_level = 1;
     a.fwd_seq = -1;
@@ -661,6 +715,11 @@ int main(int argc, char **argv)
             if (parse_num(v, 1, 1e5, &d) != 0)
                 return bad_opt("--alpha: not a focal length in 1..1e5 px", v);
             a.cfg.alpha_px = (float)d;
+        } else if (strcmp(o, "--watchdog-ms") == 0) {
+            if (parse_num(v, SPVS_SERIAL_WATCHDOG_MIN_MS, SPVS_SERIAL_WATCHDOG_MAX_MS,
+                          &d) != 0 || d != floor(d))
+                return bad_opt("--watchdog-ms: not an integer in 50..10000", v);
+            a.cfg.watchdog_ms = (uint16_t)d;
         } else if (strcmp(o, "--lcm-url") == 0) {
             a.url = v;
         } else if (strcmp(o, "--reconnect") == 0) {
@@ -719,6 +778,7 @@ int main(int argc, char **argv)
                 }
                 if (fd >= 0) {
                     a.fd = fd;
+                    a.fresh = 1;
                     a.st.connects++;
                     logf_(&a, 2, "device %s open", a.device);
                     send_config(&a);
@@ -745,6 +805,7 @@ int main(int argc, char **argv)
         }
         if (np == 2 && pr > 0 && (pf[1].revents & (POLLIN | POLLHUP | POLLERR)))
             read_device(&a);
+        note_frame_left(&a, now_s());
         if (a.fd >= 0)
             offline_since = now_s();
     }

@@ -25,7 +25,7 @@ static void send_status(app_t *a, uint8_t reason, uint32_t now_ms)
     s->last_seq = a->last_seq;
     s->age_ms = a->has_valid ? now_ms - a->last_valid_ms : 0xFFFFFFFFu;
     s->uptime_ms = now_ms - a->boot_ms;
-    s->watchdog_ms = APP_WATCHDOG_MS;
+    s->watchdog_ms = a->watchdog_ms;
     send(a, spvs_serial_encode_status(s, a->tx, sizeof(a->tx)));
 }
 
@@ -56,6 +56,8 @@ static void on_config(app_t *a, const spvs_serial_frame_t *f)
         ++a->st.rejected;
         return;
     }
+    a->watchdog_ms = c.watchdog_ms ? c.watchdog_ms : APP_WATCHDOG_MS;
+    a->cfg.watchdog_ms = c.watchdog_ms;
     if (!a->configured || c.method != a->cfg.method || c.seed != a->cfg.seed ||
         !(c.alpha_px == a->cfg.alpha_px)) {
         spvs_params_t p;
@@ -163,6 +165,7 @@ void app_init(app_t *a, app_write_fn write, void *write_ctx, uint32_t now_ms)
     a->write = write;
     a->write_ctx = write_ctx;
     spvs_serial_rx_init(&a->rx);
+    a->watchdog_ms = APP_WATCHDOG_MS;
     a->boot_ms = now_ms;
     a->last_stop_ms = now_ms;
     a->last_status_ms = now_ms;
@@ -191,7 +194,7 @@ void app_on_overrun(app_t *a)
 void app_tick(app_t *a, uint32_t now_ms)
 {
     uint32_t since = a->has_valid ? now_ms - a->last_valid_ms : now_ms - a->boot_ms;
-    if (since >= APP_WATCHDOG_MS && now_ms - a->last_stop_ms >= APP_WATCHDOG_MS) {
+    if (since >= a->watchdog_ms && now_ms - a->last_stop_ms >= a->watchdog_ms) {
         a->last_stop_ms = now_ms;
         ++a->st.watchdog_stops;
         send_status(a, SPVS_SERIAL_S_WATCHDOG, now_ms);

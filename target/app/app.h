@@ -16,9 +16,10 @@
  *     is not run twice;
  *   - an older seq: a stop with SPVS_E_STALE (REJECTED);
  *   - otherwise spvs_update() at t = t_ms / 1000 s, and its RESULT.
- * Watchdog: while no MATCHES frame has been accepted for APP_WATCHDOG_MS, a
- * STATUS frame with reason WATCHDOG, which commands a stop, goes out every
- * APP_WATCHDOG_MS.  A STATUS with the counters goes out every
+ * Watchdog: while no MATCHES frame has been accepted for the watchdog time
+ * (the CONFIG frame's, or APP_WATCHDOG_MS when it names none), a STATUS
+ * frame with reason WATCHDOG, which commands a stop, goes out once per
+ * watchdog time.  A STATUS with the counters goes out every
  * APP_STATUS_PERIOD_MS, and one with reason BOOT at start.
  */
 #ifndef TARGET_APP_APP_H
@@ -30,9 +31,14 @@
 #include "spvs/spvs.h"
 #include "spvs_serial.h"
 
-/* The watchdog time: three control periods of a 10 Hz camera. */
+/* The default watchdog time: three control periods of a 10 Hz camera.  A
+ * CONFIG frame may choose another (SPVS_SERIAL_WATCHDOG_MIN_MS ..
+ * _MAX_MS); a reset brings this one back. */
 #ifndef APP_WATCHDOG_MS
 #define APP_WATCHDOG_MS 300u
+#endif
+#if APP_WATCHDOG_MS < SPVS_SERIAL_WATCHDOG_MIN_MS || APP_WATCHDOG_MS > SPVS_SERIAL_WATCHDOG_MAX_MS
+#error "APP_WATCHDOG_MS must lie in SPVS_SERIAL_WATCHDOG_MIN_MS .. _MAX_MS"
 #endif
 #ifndef APP_STATUS_PERIOD_MS
 #define APP_STATUS_PERIOD_MS 1000u
@@ -61,6 +67,7 @@ typedef struct {
     uint32_t last_seq;
     spvs_serial_result_t last; /* answer of the last update                 */
 
+    uint32_t watchdog_ms;       /* the watchdog time in force               */
     uint8_t has_valid;
     uint32_t boot_ms;
     uint32_t last_valid_ms;     /* last accepted MATCHES frame              */

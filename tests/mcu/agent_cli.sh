@@ -24,6 +24,9 @@ check 2 "baud not a standard rate" "$agent" --device /dev/null --baud 12345
 check 2 "method 4" "$agent" --device tcp:127.0.0.1:1 --method 4
 check 2 "seed negative" "$agent" --device tcp:127.0.0.1:1 --seed -1
 check 2 "alpha zero" "$agent" --device tcp:127.0.0.1:1 --alpha 0
+check 2 "watchdog below 50 ms" "$agent" --device tcp:127.0.0.1:1 --watchdog-ms 49
+check 2 "watchdog above 10 s" "$agent" --device tcp:127.0.0.1:1 --watchdog-ms 10001
+check 2 "watchdog not an integer" "$agent" --device tcp:127.0.0.1:1 --watchdog-ms 300.5
 check 2 "option without value" "$agent" --device
 check 2 "stray argument" "$agent" foo
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT

@@ -3,15 +3,23 @@
 
 One link fault in the closed loop through the emulated MCU.  QEMU runs the
 controller application; a relay in this script sits on the serial line
-between spvs-serial-agent (which reaches it at tcp:127.0.0.1:PORT) and QEMU's
-UART socket, reads every frame in both directions with its own decoder
+between spvs-serial-agent (which reaches it at unix:WORK/relay.sock) and
+QEMU's UART socket, reads every frame in both directions with its own decoder
 (COBS and zlib's CRC-32, written apart from serial/spvs_serial.c) and damages
 the host -> MCU frames of a window; spvs-sim drives the loop over LCM
 (--transport lcm, lock-step: an unanswered frame goes out again every
 0.25 s).  Everything runs in a loopback-only network namespace.
 
-Faults (the window is the K-th to (K+R-1)-th matches frame on the wire,
-repeats included):
+The relay passes the agent's bytes on no faster than QEMU's UART takes them
+(it reads more only once its socket to QEMU is drained), so the backlog
+stays where the agent sees it, as on a serial port's output queue.
+
+Faults (the window starts at the K-th matches frame on the wire and holds R
+of them, repeats included; for the faults that silence the link, flip,
+drop, truncate and garbage, it lasts on until the MCU has reported its
+watchdog stop: the MCU's clock counts executed instructions, so how many
+frames 300 ms of it takes depends on the host's speed, and the test sets
+the pace instead of assuming one):
   flip      one bit flipped in each frame of the window
   drop      ten bytes cut out of the middle of each
   truncate  each cut in half, then the delimiter
@@ -36,7 +44,7 @@ Asserted, from what the relay saw on the wire:
   - the agent never crashes: it exits 0 on SIGTERM with its summary written.
 Exit 77 (skipped) without qemu-system-arm or the image.
 """
-import json, os, random, select, signal, socket, subprocess, sys, tempfile, threading, time, zlib, struct
+import array, fcntl, json, os, random, select, signal, socket, subprocess, sys, tempfile, termios, threading, time, zlib, struct
 
 FAULT, SIM, AGENT, IMAGE = sys.argv[1:5]
 FAULTS = ("flip", "drop", "truncate", "garbage", "count", "range", "agent_restart", "mcu_reset")
@@ -55,6 +63,11 @@ ARGS = ["--method", "3", "--pose", "0.8,-6,-20", "--noise", "0.5", "--outliers",
         "--seed", "5", "--dt", "0.2"]
 URL = "udpm://239.255.76.67:%d?ttl=0" % (20000 + os.getpid() % 20000)
 K, R = 20, (1 if FAULT in ("agent_restart", "mcu_reset") else 6)
+SILENCING = ("flip", "drop", "truncate", "garbage")
+# The watchdog time the agent sets up (the documented default, given
+# explicitly), and how long a silencing window may wait for its stop.
+WATCHDOG_MS = 300
+WINDOW_MAX_S = 45.0
 T_MATCHES, T_RESULT, T_STATUS = 1, 2, 3
 work = tempfile.mkdtemp(prefix="spvs-faults-")
 procs = []
@@ -102,6 +115,8 @@ class Relay:
         self.events = []          # (t, kind, fields)
         self.fault_t = None
         self.damaged = 0
+        self.window_over = False
+        self.wd_seen = False
         self.agent_sock = None
         self.rng = random.Random(1)
         self.up = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -110,8 +125,9 @@ class Relay:
                 self.up.connect(os.path.join(work, "uart.sock")); break
             except OSError:
                 time.sleep(0.05)
-        self.ls = socket.socket(); self.ls.bind(("127.0.0.1", 0)); self.ls.listen(1)
-        self.port = self.ls.getsockname()[1]
+        self.path = os.path.join(work, "relay.sock")
+        self.ls = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        self.ls.bind(self.path); self.ls.listen(1)
         self.buf_dn, self.buf_up = bytearray(), bytearray()
         threading.Thread(target=self.run, daemon=True).start()
 
@@ -123,6 +139,8 @@ class Relay:
         if ftype == T_STATUS:
             reason = body[0]
             age, wd = struct.unpack("<I", body[24:28])[0], struct.unpack("<I", body[32:36])[0]
+            if reason == 1 and self.fault_t is not None:
+                self.wd_seen = True
             self.events.append((time.monotonic(), "status", dict(
                 reason=reason, age_ms=age, watchdog_ms=wd,
                 counters=struct.unpack("<8I", body[36:68]))))
@@ -140,7 +158,7 @@ class Relay:
         if FAULT == "garbage":
             junk = bytes(self.rng.randrange(256) for _ in range(self.rng.randrange(1, 40)))
             out = frame + junk + b"\x00"
-        if not (K <= idx < K + R):
+        if not self.in_window(idx):
             return out
         if self.fault_t is None:
             self.fault_t = time.monotonic()
@@ -170,10 +188,29 @@ class Relay:
             return b""
         return frame
 
+    def in_window(self, idx):
+        if idx < K or self.window_over:
+            return False
+        if self.damaged < R or (FAULT in SILENCING and not self.wd_seen and
+                                time.monotonic() - self.fault_t < WINDOW_MAX_S):
+            return True
+        self.window_over = True
+        return False
+
+    def up_backlog(self):
+        """Bytes QEMU has not read from the relay yet (SIOCOUTQ)."""
+        b = array.array("i", [0])
+        try:
+            fcntl.ioctl(self.up.fileno(), termios.TIOCOUTQ, b)
+        except OSError:
+            return 0
+        return b[0]
+
     def run(self):
         while True:
-            socks = [self.ls, self.up] + ([self.agent_sock] if self.agent_sock else [])
-            r, _, _ = select.select(socks, [], [], 0.2)
+            busy = self.up_backlog() > 0
+            socks = [self.ls, self.up] + ([self.agent_sock] if self.agent_sock and not busy else [])
+            r, _, _ = select.select(socks, [], [], 0.005 if busy else 0.2)
             if self.ls in r:
                 s, _ = self.ls.accept()
                 if self.agent_sock: self.agent_sock.close()
@@ -196,7 +233,9 @@ class Relay:
                     if f: self.on_mcu_frame(f)
             if self.agent_sock and self.agent_sock in r:
                 try:
-                    data = self.agent_sock.recv(65536)
+                    # A little at a time: what QEMU has not taken stays
+                    # queued on the agent's side.
+                    data = self.agent_sock.recv(256)
                 except OSError:
                     data = b""
                 if not data:
@@ -222,8 +261,9 @@ def qmp(cmd):
 agents = []
 def start_agent(n):
     log = open(os.path.join(work, "agent%d.log" % n), "w")
-    p = subprocess.Popen([AGENT, "--device", "tcp:127.0.0.1:%d" % relay.port, "--lcm-url", URL,
-                          "--method", "3", "--seed", "5", "--alpha", "800", "--log-level", "2",
+    p = subprocess.Popen([AGENT, "--device", "unix:%s" % relay.path, "--lcm-url", URL,
+                          "--method", "3", "--seed", "5", "--alpha", "800",
+                          "--watchdog-ms", str(WATCHDOG_MS), "--log-level", "2",
                           "--ready-file", os.path.join(work, "ready%d" % n),
                           "--summary", os.path.join(work, "agent%d.json" % n)], stderr=log)
     agents.append(p); procs.append(p)
@@ -273,7 +313,7 @@ try:
     while not os.path.exists(os.path.join(work, "ready0")):
         if time.monotonic() - t0 > 30: fail("the MCU never reported ready")
         time.sleep(0.05)
-    run = subprocess.run([SIM] + ARGS + ["--transport", "lcm", "--lcm-url", URL, "--timeout", "30",
+    run = subprocess.run([SIM] + ARGS + ["--transport", "lcm", "--lcm-url", URL, "--timeout", "60",
                                          "--json", "--quiet"], capture_output=True, text=True, timeout=600)
     if run.returncode != 0:
         fail("spvs-sim exit %d: %s" % (run.returncode, run.stderr.strip()))
@@ -315,9 +355,9 @@ try:
         if seqs != list(range(got["frames"])):
             fail("computed answers are not one per frame 0..%d" % (got["frames"] - 1))
         mcu = summary["mcu"]
-        if FAULT != "agent_restart" and mcu["crc_errors"] + mcu["framing_errors"] < R:
+        if FAULT != "agent_restart" and mcu["crc_errors"] + mcu["framing_errors"] < max(R, relay.damaged):
             fail("the MCU counted %d bad frames, fewer than the %d damaged" %
-                 (mcu["crc_errors"] + mcu["framing_errors"], R))
+                 (mcu["crc_errors"] + mcu["framing_errors"], relay.damaged))
     if FAULT in ("count", "range"):
         want = -5 if FAULT == "count" else -4
         bad = [r for r in rejected if r["status"] == want and r["v"] == 0.0 and r["w"] == 0.0]
@@ -344,6 +384,8 @@ try:
             if not wd:
                 fail("no watchdog stop after the fault")
             w = wd[0]
+            if w["watchdog_ms"] != WATCHDOG_MS:
+                fail("the MCU runs a %d ms watchdog, not the %d ms set up" % (w["watchdog_ms"], WATCHDOG_MS))
             if not (w["watchdog_ms"] <= w["age_ms"] <= w["watchdog_ms"] + 5):
                 fail("the first watchdog stop came %d ms after the last valid frame (watchdog %d ms)"
                      % (w["age_ms"], w["watchdog_ms"]))
