@@ -99,4 +99,22 @@ static inline void spvs_sort_small(spvs_real *v, uint16_t n)
     }
 }
 
+/* The input index of stored slot k (spvs_pts_load, and the Q loader of
+ * fixed/points_q.c): the plane matches' slots 0..n_plane take them in
+ * spread order, the position among them advancing by `stride` (mod
+ * n_plane) from slot to slot, through order[] when it is given; the other
+ * slots take order[k]. */
+static SPVS_ALWAYS_INLINE uint16_t spvs_slot_source(uint16_t k, uint16_t n_plane,
+                                                    const uint16_t *order, uint16_t stride,
+                                                    uint16_t *pos)
+{
+    if (order != 0 && k >= n_plane) {
+        return order[k];
+    }
+    const uint16_t p = *pos;
+    const uint16_t q = (uint16_t)(p + stride);
+    *pos = (uint16_t)(q >= n_plane ? q - n_plane : q);
+    return order != 0 ? order[p] : p;
+}
+
 #endif /* SPVS_CORE_UTIL_H */

@@ -95,23 +95,6 @@ int spvs_pts_lin_move(const spvs_real H[9], const spvs_real pt[4], int add,
     return 1;
 }
 
-/* The input index of stored slot k (spvs_pts_load): the plane matches'
- * slots 0..n_plane take them in spread order, the position among them
- * advancing by `stride` (mod n_plane) from slot to slot, through order[]
- * when it is given; the other slots take order[k]. */
-static SPVS_ALWAYS_INLINE uint16_t slot_source(uint16_t k, uint16_t n_plane,
-                                               const uint16_t *order, uint16_t stride,
-                                               uint16_t *pos)
-{
-    if (order != 0 && k >= n_plane) {
-        return order[k];
-    }
-    const uint16_t p = *pos;
-    const uint16_t q = (uint16_t)(p + stride);
-    *pos = (uint16_t)(q >= n_plane ? q - n_plane : q);
-    return order != 0 ? order[p] : p;
-}
-
 /* spvs_pts_score's bail-out test after m points with inl inliers: a
  * shortfall d = p m - inl fails when d > 0 and d^2 > bail_var m, where
  * bail_var = SPVS_BAIL_SIGMAS^2 p (1 - p) (integers of points, no root). */
@@ -286,7 +269,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     for (; k + SPVS_VLANES <= n; k = (uint16_t)(k + SPVS_VLANES)) {
         spvs_v4 r[SPVS_VLANES];
         for (uint16_t j = 0; j < SPVS_VLANES; j++) {
-            const uint16_t i = slot_source((uint16_t)(k + j), n_plane, order, stride, &pos);
+            const uint16_t i = spvs_slot_source((uint16_t)(k + j), n_plane, order, stride, &pos);
             const uint16_t f = m[i].feature;
             bad |= f >= SPVS_MAX_FEATURES;
             feat[k + j] = f;
@@ -311,7 +294,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     spvs_real um = amax[2], vm = amax[3];
     /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
     for (; k < n; k++) {
-        const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
+        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
         const uint16_t f = m[i].feature;
         bad |= f >= SPVS_MAX_FEATURES;
         feat[k] = f;
@@ -435,7 +418,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     spvs_real um = SPVS_R(0.0), vm = SPVS_R(0.0);
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
-        const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
+        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
         const uint16_t f = m[i].feature;
         bad |= f >= SPVS_MAX_FEATURES;
         feat[k] = f;

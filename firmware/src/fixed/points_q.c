@@ -10,6 +10,7 @@
  */
 #include <string.h>
 
+#include "../core_util.h"
 #include "points_q.h"
 
 /* Scaled coordinates are below 2^30 in Q26 (points_q.h). */
@@ -50,20 +51,6 @@ spvs_qf_t spvs_q_t2_from_real(spvs_real t2, uint32_t *sat)
 
 /* ---- the loader ---------------------------------------------------------- */
 
-/* The input index of stored slot k (points.c, slot_source): the plane
- * matches in spread order, the others through order[]. */
-static uint16_t slot_source(uint16_t k, uint16_t n_plane, const uint16_t *order, uint16_t stride,
-                            uint16_t *pos)
-{
-    if (order != 0 && k >= n_plane) {
-        return order[k];
-    }
-    const uint16_t p = *pos;
-    const uint16_t q = (uint16_t)(p + stride);
-    *pos = (uint16_t)(q >= n_plane ? q - n_plane : q);
-    return order != 0 ? order[p] : p;
-}
-
 /* A pixel coordinate as Q26 scaled units: pixels in Q(26 - log2 scale) are
  * the same integers.  Flags a coordinate above SPVS_MAX_COORD_PX (compared
  * before rounding: a value just above the limit that rounds down to it is
@@ -89,7 +76,7 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     int32_t um = 0, vm = 0, xm = 0, ym = 0;
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
-        const uint16_t i = slot_source(k, n_plane, order, stride, &pos);
+        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
         const uint16_t f = m[i].feature;
         bad |= f >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
         feat[k] = f;
