@@ -428,8 +428,12 @@ def exp_fig7(runner, outdir, quick):
     lines += ["", "### 1 px noise from the six Figure 5 poses, seeds 0..%d" % (len(six_seeds) - 1), "",
               "Each seed changes the scene, the noise and the RANSAC stream. "
               "`tests/test_scenarios.c` asserts the first 20 seeds (120 runs per "
-              "method) against bounds about three standard deviations below these "
-              "rates.", "",
+              "method): no run `converged` outside 0.25 m / 0.5 deg, at least 97 % "
+              "of the runs ending within them whatever their status, at least "
+              "60 % ending there converged. Here, as in every section, a run "
+              "counts as within only when it is also converged; the others end "
+              "`not_at_target` at home or short of it (docs/CONTROL.md, \"A "
+              "verified arrival\").", "",
               "| method | within %.2f m and %.1f deg | converged > 1 m away | worst run |" % TOL_NOISE,
               "| --- | ---: | ---: | --- |"]
     for m in METHODS:
@@ -529,10 +533,14 @@ def exp_fig8(runner, outdir, quick):
               "- Method III: converges over the whole focal range; with a "
               "principal-point offset of 40 px its worst final distance is "
               "%.3f m, %.0fx Method II's. The paper's claim (Method III sensitive "
-              "to the principal point, Method II robust) %s here. Method III "
-              "is sensitive because the offset moves the epipole it steers on "
-              "(e_x = 0 no longer means facing the target), so step 2 drives a "
-              "line that misses the target, and eq. (11) cannot tell." % (
+              "to the principal point, Method II robust) %s in the final "
+              "distance here. The offset moves the epipole Method III steers on "
+              "(e_x = 0 no longer means facing the target), so its step 2 "
+              "drives a line that misses the target and eq. (11) cannot tell; "
+              "the arrival check's parallax test sees that miss and sends the "
+              "robot back to home again (docs/CONTROL.md), so the sensitivity "
+              "shows in the time a run takes and in its re-entries rather than "
+              "where it ends." % (
                   max(m3) if m3 else math.nan, ratio,
                   "**holds**" if holds else "**does not hold**"), ""]
     return "\n".join(lines), fres + pres
@@ -972,10 +980,17 @@ def main(argv):
             "reports `converged` farther than %.0f m from the target is counted "
             "as a false claim wherever it happens." % FAR_M, ""]
     false_total = sum(false_claim(r) for r in all_res)
-    near_total = sum(r["status"] == "converged" and dist(r) > TOL_NOISE[0] for r in all_res)
+    near = [r for r in all_res if r["status"] == "converged" and dist(r) > TOL_NOISE[0]]
     head += ["Across all %d runs, %d report `converged` farther than %.0f m "
              "from the target, and %d farther than %.2f m (see the sections for "
-             "where)." % (len(all_res), false_total, FAR_M, near_total, TOL_NOISE[0]), ""]
+             "where)." % (len(all_res), false_total, FAR_M, len(near), TOL_NOISE[0])]
+    for r in near:
+        head.append("- %s: method %d from %s, seed %d, %.2f m off (%s)" % (
+            "within the box |x|, |z| < %.2f m of its section" % TOL_NOISE[0]
+            if at_pose(r, TOL_NOISE) else "outside its section's tolerance",
+            r["job"]["method"], tuple(r["job"]["pose"]), r["job"]["seed"], dist(r),
+            "x %+.4f m, z %+.4f m, phi %+.3f deg" % err(r)))
+    head.append("")
     body = "\n".join(head + sections)
     images = os.path.join(args.out, "RESULTS_IMAGES.md")
     if os.path.exists(images):
