@@ -584,7 +584,7 @@ static void translate_begin(spvs_control_t *c, const spvs_control_params_t *p,
     }
 }
 
-/* Backing off for a new start (reenter above): straight back at v_max,
+/* Backing off for a new start (reenter, below): straight back at v_max,
  * then the controller starts over as if reset, keeping only the count of
  * re-entries, the last check's figures and the odometry's clock. */
 static void back_off(spvs_control_t *c, const spvs_control_params_t *p, spvs_real *vc)
@@ -723,7 +723,7 @@ static void arrival_begin(spvs_control_t *c)
  * would have to turn about 90 deg to face it, with the scene out of view,
  * and every step-1 signal is noise there.  It backs off instead, straight
  * back SPVS_CTL_ARRIVAL_BACKOFF_DM decimetres by odometry, and homes again
- * from there (back_off below): from a few metres away the same offset is a
+ * from there (back_off, above): from a few metres away the same offset is a
  * bearing of several degrees, which steps 1 and 2 resolve. */
 static int reenter(spvs_control_t *c, const spvs_control_input_t *in, spvs_step_t step)
 {
