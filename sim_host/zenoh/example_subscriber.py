@@ -17,6 +17,7 @@ import signal
 import struct
 import sys
 import threading
+import time
 
 import zenoh
 
@@ -53,17 +54,21 @@ def main():
         if a.count and seen[0] >= a.count:
             done.set()
 
-    # Ctrl-C and SIGTERM only end the wait: an exception raised inside
+    # Ctrl-C and SIGTERM only set a flag: an exception raised inside
     # session.close() (a second Ctrl-C) would leave the session open and
-    # the process hanging at exit.
+    # the process hanging at exit.  The handler must not call done.set():
+    # it runs in the main thread, which may hold the Event's lock just then.
+    signalled = []
     for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: done.set())
+        signal.signal(sig, lambda signum, _frame: signalled.append(signum))
     session = zenoh.open(cfg)
     try:
         session.declare_subscriber("spvs/%s/cmd" % a.robot, on_cmd)
-        while not done.wait(0.2):
-            pass
+        while not signalled and not done.is_set():
+            time.sleep(0.1)
     finally:
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
         session.close()
 
 

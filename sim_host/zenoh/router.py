@@ -12,9 +12,7 @@ example the port is taken), 2 on bad options.
 
 import argparse
 import os
-import signal
 import sys
-import threading
 
 import spvs_zenoh_common as common
 
@@ -33,11 +31,9 @@ def main(argv):
             sys.stderr.write("%s: %s\n" % (PROG, why))
             return 2
 
-    done = threading.Event()
     # A signal only ends the wait: raised inside session.close() it would
     # leave the session open and the process hanging.
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: done.set())
+    stop = common.StopSignals()
     try:
         import zenoh
     except ImportError as e:
@@ -62,11 +58,10 @@ def main(argv):
     try:
         sys.stdout.write("ready\n")
         sys.stdout.flush()
-        while not done.wait(0.2):
+        while not stop.wait(1.0):
             pass
     finally:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        stop.ignore()
         session.close()
     return 0
 

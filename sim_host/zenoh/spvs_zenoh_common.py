@@ -10,7 +10,9 @@ import atexit
 import json
 import os
 import re
+import select
 import shutil
+import signal
 import struct
 import subprocess
 import sys
@@ -27,6 +29,43 @@ ROBOT_RE = re.compile(r"^[A-Za-z0-9_.-]{1,64}$")
 
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__))))
+
+
+class StopSignals:
+    """SIGINT and SIGTERM end a wait; the handler takes no lock.
+
+    threading.Event.set() must not be called from a signal handler: the
+    handler runs in the main thread, and if that thread is just leaving
+    Event.wait() it holds the Event's lock, so the process hangs on its own
+    lock.  Here the handler only stores the signal and writes a byte to a
+    pipe, and wait() selects on that pipe.
+    """
+
+    def __init__(self):
+        self.signum = None
+        self._r, self._w = os.pipe()
+        os.set_blocking(self._w, False)
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, self._on_signal)
+
+    def _on_signal(self, signum, frame):
+        self.signum = signum
+        try:
+            os.write(self._w, b"x")
+        except BlockingIOError:
+            pass  # a wake-up is already pending
+
+    def wait(self, timeout):
+        """Sleep up to timeout s; True once a stop signal has come."""
+        if self.signum is None:
+            select.select([self._r], [], [], timeout)
+        return self.signum is not None
+
+    def ignore(self):
+        """From here on the signals are ignored (while closing a session:
+        an exception raised inside session.close() would leave it open)."""
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            signal.signal(sig, signal.SIG_IGN)
 
 
 def key_expr(robot, what):

@@ -20,7 +20,6 @@ import argparse
 import json
 import math
 import os
-import signal
 import struct
 import sys
 import threading
@@ -160,9 +159,7 @@ def main(argv):
     except UsageError as e:
         sys.stderr.write("%s: %s (see --help)\n" % (PROG, e))
         return 2
-    done = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: done.set())
+    stop = common.StopSignals()
     try:
         import zenoh
     except ImportError as e:
@@ -185,7 +182,7 @@ def main(argv):
             sys.stderr.write("%s: listening on spvs/*/state at %s for %g s\n"
                              % (PROG, ",".join(a.connect), a.wait))
             sys.stderr.flush()
-            done.wait(a.wait)
+            stop.wait(a.wait)
             rows, bad = fleet.snapshot(a.stale)
             if a.json:
                 for r in rows:
@@ -198,7 +195,7 @@ def main(argv):
                 rc = 1
         else:
             tty = sys.stdout.isatty()
-            while not done.is_set():
+            while stop.signum is None:
                 rows, bad = fleet.snapshot(a.stale)
                 text = render(rows, bad, a.stale, a.connect)
                 if tty:
@@ -206,10 +203,9 @@ def main(argv):
                 else:
                     sys.stdout.write(text + "\n\n")
                 sys.stdout.flush()
-                done.wait(a.refresh)
+                stop.wait(a.refresh)
     finally:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        stop.ignore()
         session.close()
     return rc
 
