@@ -565,7 +565,8 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
     assert_int_equal(sat, 0);
     uint8_t mf[NMAX], mq[NMAX];
     const uint16_t cf = spvs_pts_score(&sc->fst, sc->n, H, t2, 0, mf);
-    const uint16_t cq = spvs_q_pts_score(&sc->qst, sc->n, Hq, qt2, 0, mq);
+    const spvs_q_thr_t thr = spvs_q_thr(qt2);
+    const uint16_t cq = spvs_q_pts_score(&sc->qst, sc->n, Hq, &thr, 0, mq);
     int diff = 0;
     double cost_ref = 0;
     for (uint16_t i = 0; i < sc->n; i++) {
@@ -593,7 +594,7 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
     /* The cost over the Q kernel's inliers, against the double sum over
      * the same set; the float cost over its own set, corrected by the
      * points the two sets do not share. */
-    const uint64_t cqq = spvs_q_pts_cost(&sc->qst, sc->n, Hq, qt2, &sat);
+    const uint64_t cqq = spvs_q_pts_cost(&sc->qst, sc->n, Hq, &thr, &sat);
     assert_int_equal(sat, 0);
     const double cqd = ldexp((double)cqq, -SPVS_QCOST);
     double cfd = (double)spvs_pts_cost(&sc->fst, sc->n, H, t2);
@@ -631,7 +632,7 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
             break;
         }
         const uint16_t a = spvs_pts_score(&sc->fst, sc->n, H, t2, needs[k], NULL);
-        const uint16_t b = spvs_q_pts_score(&sc->qst, sc->n, Hq, qt2, needs[k], NULL);
+        const uint16_t b = spvs_q_pts_score(&sc->qst, sc->n, Hq, &thr, needs[k], NULL);
         assert_int_equal(a >= needs[k], b >= needs[k]);
         if (a >= needs[k]) {
             assert_int_equal(a, b);
@@ -786,8 +787,9 @@ static void test_q_inlier_arith(void **state)
                 one.tgt_max[1] = sc.qst.tgt_max[1];
                 const spvs_qf_t hi = qf_from_ld(s2 * (1 + (long double)TOL_TEST_ARITH));
                 const spvs_qf_t lo = qf_from_ld(s2 * (1 - (long double)TOL_TEST_ARITH));
-                assert_int_equal(spvs_q_pts_score(&one, 1, Hq, hi, 0, m1), 1);
-                assert_int_equal(spvs_q_pts_score(&one, 1, Hq, lo, 0, m2), 0);
+                const spvs_q_thr_t thr_hi = spvs_q_thr(hi), thr_lo = spvs_q_thr(lo);
+                assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_hi, 0, m1), 1);
+                assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_lo, 0, m2), 0);
                 tested++;
             }
         }
@@ -860,7 +862,8 @@ static void test_q_extremes(void **state)
         assert_int_equal(sat, 0);
         const long double t2l = qf_val(qt2);
         uint8_t mq[NMAX];
-        const uint16_t cq = spvs_q_pts_score(&sc.qst, sc.n, Hq, qt2, 0, mq);
+        const spvs_q_thr_t thr = spvs_q_thr(qt2);
+        const uint16_t cq = spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, mq);
         uint16_t cnt = 0;
         for (uint16_t i = 0; i < sc.n; i++) {
             long double w;
@@ -881,7 +884,7 @@ static void test_q_extremes(void **state)
          * relative plus 2^-50 per inlier (the Q52 rounding), or, beyond
          * its range (2^12), saturated with the flag. */
         sat = 0;
-        const uint64_t cost = spvs_q_pts_cost(&sc.qst, sc.n, Hq, qt2, &sat);
+        const uint64_t cost = spvs_q_pts_cost(&sc.qst, sc.n, Hq, &thr, &sat);
         long double cref = 0;
         for (uint16_t i = 0; i < sc.n; i++) {
             cref += mq[i] ? exact_e2_q(&sc.qst, i, Hq) : 0;
@@ -1066,8 +1069,8 @@ static void test_q_sums_behind(void **state)
     /* And no point in front: no inliers. */
     uint32_t sat = 0;
     const spvs_real t = (spvs_real)(INLIER_PX / S);
-    assert_int_equal(spvs_q_pts_score(&sc.qst, sc.n, Hq, spvs_q_t2_from_real(t * t, &sat), 0, NULL),
-                     0);
+    const spvs_q_thr_t thr = spvs_q_thr(spvs_q_t2_from_real(t * t, &sat));
+    assert_int_equal(spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, NULL), 0);
 }
 
 /* ---- kernels: golden vectors ------------------------------------------------ */
@@ -1106,8 +1109,8 @@ static void test_q_golden(void **state)
         uint32_t sat = 0;
         int32_t Hq[9];
         assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
-        assert_int_equal(spvs_q_pts_score(&sc.qst, sc.n, Hq, spvs_q_t2_from_real(t * t, &sat), 0,
-                                          NULL),
+        const spvs_q_thr_t thr = spvs_q_thr(spvs_q_t2_from_real(t * t, &sat));
+        assert_int_equal(spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, NULL),
                          spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, NULL));
     }
     print_message("golden: %ld models, float/Q differ at %ld points, Q/double at %ld; cost error "

@@ -39,6 +39,7 @@ int main(int argc, char **argv)
     float t = 3.0348f / 512; float t2 = t * t;
     uint32_t sat = 0;
     spvs_qf_t qt2 = spvs_q_t2_from_real(t2, &sat);
+    const spvs_q_thr_t thr = spvs_q_thr(qt2);
     uint8_t mask[256];
     printf("#define N %u\n", n);
     printf("static const uint32_t fbits[] = {");
@@ -54,6 +55,6 @@ int main(int argc, char **argv)
     for (int k = 0; k < 9; k++) printf("%d,", Hq[k]);
     uint32_t tb; memcpy(&tb, &t2, 4);
     printf("};\nstatic const uint32_t t2bits = %uu;\nstatic const int32_t qt2m = %d, qt2e = %d;\n", tb, qt2.m, qt2.e);
-    printf("#define EXPECT_F %u\n#define EXPECT_Q %u\n", spvs_pts_score(&fs, n, Hs, t2, 0, mask), spvs_q_pts_score(&qs, n, Hq, qt2, 0, mask));
+    printf("#define EXPECT_F %u\n#define EXPECT_Q %u\n", spvs_pts_score(&fs, n, Hs, t2, 0, mask), spvs_q_pts_score(&qs, n, Hq, &thr, 0, mask));
     return 0;
 }

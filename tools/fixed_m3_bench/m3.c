@@ -34,10 +34,11 @@ int main(void)
     memcpy(qs.v, qv, sizeof qv); qs.cur_max[0] = qmax[0]; qs.cur_max[1] = qmax[1]; qs.tgt_max[0] = tmax[0]; qs.tgt_max[1] = tmax[1];
     float H[9], t2; memcpy(H, hbits, sizeof H); memcpy(&t2, &t2bits, 4);
     spvs_qf_t qt2 = {qt2m, qt2e};
+    const spvs_q_thr_t thr = spvs_q_thr(qt2);
     uint32_t t0, t1;
     t0 = now(); uint16_t cf = spvs_pts_score(&fs, N, H, t2, 0, mask); t1 = now();
     putu("score_f ", t1 - t0); putu("cnt_f ", cf);
-    t0 = now(); uint16_t cq = spvs_q_pts_score(&qs, N, hq, qt2, 0, mask); t1 = now();
+    t0 = now(); uint16_t cq = spvs_q_pts_score(&qs, N, hq, &thr, 0, mask); t1 = now();
     putu("score_q ", t1 - t0); putu("cnt_q ", cq);
     for (int i = 0; i < N; i++) use[i] = mask[i];
     const spvs_pts_in_t in = {0, &fs};
@@ -53,7 +54,7 @@ int main(void)
     uint32_t sat = 0;
     t0 = now(); (void)spvs_pts_cost(&fs, N, H, t2); t1 = now();
     putu("cost_f ", t1 - t0);
-    t0 = now(); (void)spvs_q_pts_cost(&qs, N, hq, qt2, &sat); t1 = now();
+    t0 = now(); (void)spvs_q_pts_cost(&qs, N, hq, &thr, &sat); t1 = now();
     putu("cost_q ", t1 - t0);
     static const int exit_args[2] = {0x20026, 0};
     semi(0x18, exit_args);

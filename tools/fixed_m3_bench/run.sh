@@ -4,8 +4,10 @@
 # mps2-an385, soft float) and Cortex-M4F (mps2-an386, FPU), one frame per
 # (N, mismatch share).  docs/FIXED.md, "Instruction counts".
 #
-#   tools/fixed_m3_bench/run.sh BUILD_DIR   (a host float build with
-#                                            spvs_fixed and spvs_core built)
+#   tools/fixed_m3_bench/run.sh BUILD_DIR [CPU N SHARE]
+#     BUILD_DIR  a host float build with spvs_fixed and spvs_core built
+#     CPU N SHARE  one case only (m3 or m4f, matches, mismatch share);
+#                  default: both CPUs, N = 64, 128, 256, shares 0, 0.2, 0.4
 #
 # QEMU's -icount shift=6 advances the virtual clock 64 ns per instruction;
 # SysTick counts the 25 MHz clock (40 ns), so instructions = ticks * 40 / 64
@@ -13,20 +15,27 @@
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-build=${1:?usage: run.sh BUILD_DIR}
+build=${1:?usage: run.sh BUILD_DIR [CPU N SHARE]}
+cpus="m3 m4f"; ns="64 128 256"; shares="0 0.2 0.4"
+if [ $# -ge 4 ]; then
+  case $2 in m3|m4f) ;; *) echo "run.sh: CPU must be m3 or m4f, not '$2'" >&2; exit 2 ;; esac
+  cpus=$2; ns=$3; shares=$4
+elif [ $# -ne 1 ]; then
+  echo "usage: run.sh BUILD_DIR [CPU N SHARE]" >&2; exit 2
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 src=$root/firmware/src
 cc -O2 -std=c11 -I"$root/firmware/include" -I"$src" -I"$root/tests" "$here/gen.c" -o "$work/gen" \
    "$build/firmware/libspvs_fixed.a" "$build/firmware/libspvs_core.a" -lm
-for cpu in m3 m4f; do
+for cpu in $cpus; do
   if [ $cpu = m3 ]; then
     flags="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft"; machine=mps2-an385; fpu=0
   else
     flags="-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16"; machine=mps2-an386; fpu=1
   fi
-  for n in 64 128 256; do
-    for out in 0 0.2 0.4; do
+  for n in $ns; do
+    for out in $shares; do
       "$work/gen" $n $out > "$work/data.h"
       arm-none-eabi-gcc $flags -Os -std=c11 -ffunction-sections -fdata-sections \
         -I"$root/firmware/include" -I"$src" -I"$work" -DSPVS_USE_DOUBLE=0 -DNDEBUG -DENABLE_FPU=$fpu \

@@ -218,12 +218,15 @@ static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs
     return spvs_qf_le(num, spvs_qf_mul(t2, den));
 }
 
-/* c2 of the band test for H on the frame (points.c, band_c2): t2 times a
- * bound of |P|_F^2 over the frame's points from their largest |u|, |v|,
- * each entry's bound exact in Q53 (< 2^62), raised by 2^-10 so that the
- * rounding (below 2^-28 relative) cannot make it fall below the true
- * bound. */
-static spvs_qf_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
+/* c2 of the band test for H on the frame (points.c, band_c2) in Q42, the
+ * units of the fast test's E: t2 times a bound of |P|_F^2 over the frame's
+ * points from their largest |u|, |v|.  Each entry's bound is exact in Q53
+ * (< 2^62); its high word, rounded up, is a Q21 bound (<= 2^30), so the
+ * squares sum to a Q42 bound below 2^62 without rounding down.  The one
+ * product with t2 is a spvs_qf_t multiply (relative error 2^-31), raised
+ * by 2^-20 and one unit so that it stays a bound.  Saturates at 2^62 (no
+ * band test: E never exceeds it). */
+static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
 {
     const int64_t one26 = (int64_t)1 << 26;
     const int64_t um = st->cur_max[0], vm = st->cur_max[1];
@@ -231,70 +234,33 @@ static spvs_qf_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t
     for (int k = 0; k < 9; k++) {
         a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
     }
-    const spvs_qf_t p = spvs_qf_from_i64(um * a[6] + a[0] * one26, -53);
-    const spvs_qf_t q = spvs_qf_from_i64(um * a[7] + a[1] * one26, -53);
-    const spvs_qf_t r = spvs_qf_from_i64(vm * a[6], -53);
-    const spvs_qf_t s = spvs_qf_from_i64(vm * a[7] + ((int64_t)1 << 53), -53);
-    spvs_qf_t b = spvs_qf_add(spvs_qf_add(qf_sq(p), qf_sq(q)), spvs_qf_add(qf_sq(r), qf_sq(s)));
-    spvs_qf_t margin = b;
-    margin.e -= 10;
-    b = spvs_qf_add(b, margin);
-    return spvs_qf_mul(t2, b);
-}
-
-/* One model's scaling for the fast test (block floating point with the
- * model and frame as the block): from the frame's largest coordinates
- * (tgt_max, cur_max) and |H| it bounds |w|, |h1 . p|, |eps| and t |w| over
- * every point, and chooses shifts that bring each below 2^30, so that the
- * per-point test runs in int32 values and int64 products with shifts fixed
- * for the call:
- *   w1  = floor(w 2^-sw),                    Q(53 - sw);
- *   ex  = floor((u w1 - g 2^(26 - sw)) 2^-se), ey likewise, Q(79 - sw - se);
- *   tw  = floor(T w1 2^-st), t |w| in the units of ex (T = t's mantissa);
- * and the bound c2 of the band (hp_inlier) in those units squared.  The
- * roundings move ex, ey and tw by at most D units, so E = ex^2 + ey^2 and
- * TW = tw^2 are within slack = 2 D (|ex| + |ey| + tw) + 4 D^2 of their
- * exact values: the fast test decides only outside that slack and leaves
- * the rest to the exact test.  fast = 0 (every point to the exact test)
- * where a bound does not fit (t above 8 scaled units, or c2 above int64). */
-typedef struct {
-    int fast;
-    int sw, gs, se, st;
-    int32_t T, D2;
-    int64_t D2sq, c2;
-} q_model_t;
-
-/* a 2^k for k in -63..62 (floor for k < 0); callers bound the result. */
-static SPVS_Q_INLINE int64_t q_shift(int64_t a, int k)
-{
-    return k >= 0 ? (int64_t)((uint64_t)a << k) : a >> (k < -63 ? 63 : -k);
-}
-
-static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
-{
-    q_model_t md;
-    md.fast = 0;
-    const int64_t one26 = (int64_t)1 << 26;
-    int64_t a[9];
-    for (int k = 0; k < 9; k++) {
-        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+    const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
+                          vm * a[7] + ((int64_t)1 << 53)};
+    uint64_t b = 0;
+    for (int k = 0; k < 4; k++) {
+        const uint64_t hi = ((uint64_t)e[k] >> 32) + 1u;
+        b += hi * hi;
     }
-    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
-    const int64_t U = st->cur_max[0], V = st->cur_max[1];
-    /* Exact Q53 bounds (< 2^62 + 2^57, as q_eps). */
-    const int64_t wb = a[6] * X + a[7] * Y + a[8] * one26;
-    const int64_t gb = a[0] * X + a[1] * Y + a[2] * one26;
-    const int64_t yb = Y * ((int64_t)1 << 27);
-    md.sw = spvs_q_norm_shift((uint64_t)(wb | gb | yb), 30);
-    md.gs = 26 - md.sw;
-    const int64_t w1b = (wb >> md.sw) + 1; /* <= 2^30 */
-    /* |eps| bounds in Q(79 - sw): < 2^60 + 2^56 + 2^31. */
-    const int64_t exb = U * w1b + q_shift(gb, md.gs) + 2 * ((int64_t)1 << 30);
-    const int64_t eyb = V * w1b + q_shift(yb, md.gs) + 2 * ((int64_t)1 << 30);
-    /* t = sqrt(t2) as a 31-bit mantissa T 2^-kt. */
+    uint32_t sat = 0;
+    const spvs_qf_t c = spvs_qf_mul(t2, spvs_qf_from_i64((int64_t)b, -42));
+    const int64_t lim = (int64_t)1 << 62;
+    const int64_t c2 = spvs_qf_to_q64(c, 42, &sat);
+    if (sat != 0 || c2 >= lim - (lim >> 20)) {
+        return lim;
+    }
+    return c2 + (c2 >> 20) + 1;
+}
+
+spvs_q_thr_t spvs_q_thr(spvs_qf_t t2)
+{
+    spvs_q_thr_t thr;
+    thr.t2 = t2;
+    thr.T = 0;
+    thr.fast = 0;
     if (t2.m <= 0) {
-        return md;
+        return thr;
     }
+    /* t = sqrt(t2) as a 31-bit mantissa R 2^re, rounded down. */
     uint64_t tm = (uint64_t)t2.m;
     int32_t te = t2.e;
     if (te & 1) {
@@ -302,45 +268,90 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_
         te -= 1;
     }
     /* sqrt(tm 2^32) in [2^30.5, 2^32): halve once more into 31 bits. */
-    uint32_t root = spvs_q_isqrt64(tm << 32);
-    int32_t re = (te - 32) / 2;
-    root >>= 1;
-    re += 1;
-    md.T = (int32_t)root; /* t = T 2^re, T in [2^29.5, 2^31) */
-    const int32_t kt = -re;
-    if (kt < 27 || kt > 90) {
+    const uint32_t root = spvs_q_isqrt64(tm << 32) >> 1;
+    const int32_t re = (te - 32) / 2 + 1;
+    /* T = floor(t 2^26) = floor(R 2^(re + 26)); t < 2 makes re + 26 <= -3
+     * for R >= 2^29.5, so T is R shifted right, below 2^28. */
+    const int32_t k = re + 26;
+    if (k > -3) {
+        return thr;
+    }
+    thr.T = k < -31 ? 0 : (int32_t)(root >> -k);
+    thr.fast = 1;
+    return thr;
+}
+
+/* The fast test of one model (points between the two shortcuts, and every
+ * point of a model outside the test's range, go to the exact test).
+ *
+ * Per point it needs only 32 x 32 -> 64-bit products, 64-bit sums, one
+ * constant shift and high words, so that on a core without a 64-bit
+ * shifter (the Cortex-M3) no shift depends on the model:
+ *   w   = h3 . p                 Q53, exact (as q_eps);
+ *   w27 = floor(w 2^-26)         Q27 in int32 (|w| < 16: checked per model);
+ *   ex  = u w27 - h1 . p         Q53 in int64, ey = v w27 - y 2^27 likewise;
+ *   exh = floor(ex 2^-32)        their high words: Q21 scaled units;
+ *   tw  = floor(T w27 2^-32)     t |w| in Q21, T = floor(t 2^26);
+ * and E = exh^2 + eyh^2, TW = tw^2, c2 (the band's bound, hp_inlier) in
+ * Q42.  Each of exh, eyh and tw is within D = 2 units of its exact value
+ * (exh: the floor of w27 moves u w27 by |u| < 2^30 units of Q53, under a
+ * quarter unit of Q21, and its own floor by one; tw: the floors of T and of
+ * w27 by under half a unit each, its own by one), so E and TW are within
+ * slack = 2 D (|exh| + |eyh| + tw) + 4 D^2 of the exact ones: the test
+ * decides only outside it, and its decisions are the exact test's.  At the
+ * default threshold (t = 2.45 px) an inlier's |ex| at the threshold is
+ * about 10^4 units, so only points within about 4e-4 of it (relative)
+ * reach the exact test through the slack.
+ * fast = 0 where a bound does not hold: |w| >= 16, |eps| >= 2^62 in Q53
+ * (beyond 2^9 scaled units), or t >= 2 scaled units (1,024 px). */
+typedef struct {
+    int fast;
+    int32_t T;
+    uint32_t d2;      /* 2 D, the slack's factor */
+    int64_t h2c, h8c; /* h13 2^26 and h33 2^26: the constant terms, Q53 */
+    uint64_t c2s;     /* c2 + 4 D^2, or UINT64_MAX / 2: no band test */
+} q_model_t;
+
+#define Q_FAST_D 2
+
+static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const spvs_q_thr_t *thr)
+{
+    q_model_t md;
+    md.fast = 0;
+    const int64_t one26 = (int64_t)1 << 26;
+    md.h2c = (int64_t)h[2] * one26;
+    md.h8c = (int64_t)h[8] * one26;
+    int64_t a[9];
+    for (int k = 0; k < 9; k++) {
+        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+    }
+    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
+    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    /* Exact Q53 bounds (each < 2^62 + 2^57, as q_eps). */
+    const int64_t wb = a[6] * X + a[7] * Y + a[8] * one26;
+    const int64_t gb = a[0] * X + a[1] * Y + a[2] * one26;
+    const int64_t yb = Y * ((int64_t)1 << 27);
+    const int64_t lim57 = (int64_t)1 << 57;
+    if (wb >= lim57) {
         return md;
     }
-    /* t |w| bound in Q(79 - sw): T w1b 2^-(kt - 26), below 2^61. */
-    const int64_t twb = q_shift((int64_t)md.T * w1b, 26 - (int)kt) + 2;
-    const int64_t emax = exb > eyb ? exb : eyb;
-    md.se = spvs_q_norm_shift((uint64_t)(emax > twb ? emax : twb), 30);
-    md.st = (int)kt - 26 + md.se;
-    if (md.st < 0 || md.st > 62) {
+    /* |u w27| <= U (wb 2^-26 + 1) < 2^30 2^31 = 2^61, and gb, yb < 2^62 +
+     * 2^57: |ex|, |ey| < 2^62 is tested in pieces that cannot overflow. */
+    const int64_t w27b = (wb >> 26) + 1;
+    const int64_t lim62 = (int64_t)1 << 62;
+    if (gb >= lim62 || U * w27b >= lim62 - gb || V * w27b >= lim62 - yb) {
         return md;
     }
-    /* D: the floor of w1 moves u w1 by up to 2^30 units of Q(79 - sw),
-     * the floors of ex and of g's shift by one unit each; tw by T / 2^st
-     * plus one. */
-    const int32_t d_e = (int32_t)(((int64_t)1 << 30) >> md.se) + 2;
-    const int32_t d_t = (int32_t)(((int64_t)md.T >> md.st)) + 2;
-    const int32_t D = d_e > d_t ? d_e : d_t;
-    md.D2 = 2 * D;
-    md.D2sq = 4 * (int64_t)D * D;
-    const int ee_e = -2 * (79 - md.sw - md.se); /* E's unit: 2^ee_e */
-    /* T is t rounded down, so TW can fall short of t^2 w^2 by 2^-29 of
-     * it; the outlier shortcut stays sound because c2's 2^-10 margin, at
-     * least t2 2^-10 (its |P|^2 bound is at least 1), exceeds t2 w^2 2^-29
-     * for every |w| < 528.
-     * c2 = t2 |P|^2 bound in the units of E, raised by 2^-10 (band_c2);
-     * saturated means "no band test": every point not inside goes to the
-     * exact test. */
-    const spvs_qf_t c2 = band_c2(st, h, t2);
-    uint32_t sat = 0;
-    md.c2 = spvs_qf_to_q64(c2, -ee_e, &sat);
-    if (sat != 0) {
-        md.c2 = SPVS_Q_I64_MAX;
+    if (!thr->fast) {
+        return md;
     }
+    md.T = thr->T;
+    /* c2 + 4 D^2 in Q42 (the units of E); 2^62 (beyond any E) means "no
+     * band test": every point not inside goes to the exact test.  T
+     * rounded down makes TW fall short of t^2 w^2 only within the slack. */
+    const int64_t c2 = band_c2(st, h, thr->t2);
+    md.c2s = (uint64_t)c2 + (c2 < ((int64_t)1 << 62) ? 4u * Q_FAST_D * Q_FAST_D : 0u);
+    md.d2 = 2u * Q_FAST_D;
     md.fast = 1;
     return md;
 }
@@ -349,39 +360,43 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, spvs_qf_
  * t2).  The fast test decides the points clearly inside |eps| <= t w (an
  * inlier, since the Sampson error is at most the transfer error) and those
  * clearly beyond t2 (w^2 + |P|^2) (an outlier); the rest, and every point
- * of a model without the fast scaling, go to the exact test.  Both
- * shortcuts are exact in real arithmetic and are taken only outside the
- * rounding slack, so the decisions are the exact test's. */
+ * of a model without the fast test, go to the exact test.  Both shortcuts
+ * are exact in real arithmetic and are taken only outside the rounding
+ * slack, so the decisions are the exact test's. */
 static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_model_t *md,
-                                  spvs_qf_t t2)
+                                  const spvs_qf_t *t2, const int fast)
 {
-    if (md->fast) {
-        const int64_t one26 = (int64_t)1 << 26;
-        const int64_t w = (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + (int64_t)h[8] * one26;
+    if (fast) {
+        const int64_t w = (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + md->h8c;
         if (w <= 0) {
             return 0;
         }
-        const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + (int64_t)h[2] * one26;
-        const int32_t w1 = (int32_t)(w >> md->sw);
-        const int64_t ex64 = (int64_t)p[2] * w1 - q_shift(g, md->gs);
-        const int64_t ey64 =
-            (int64_t)p[3] * w1 - q_shift((int64_t)p[1] * ((int64_t)1 << 27), md->gs);
-        const int32_t ex = (int32_t)(ex64 >> md->se);
-        const int32_t ey = (int32_t)(ey64 >> md->se);
-        const int32_t tw = (int32_t)(((int64_t)md->T * w1) >> md->st);
-        const int64_t E = (int64_t)ex * ex + (int64_t)ey * ey;
-        const int64_t TW = (int64_t)tw * tw;
-        const int64_t mag = (int64_t)(ex < 0 ? -ex : ex) + (ey < 0 ? -ey : ey) + tw;
-        const int64_t slack = md->D2 * mag + md->D2sq;
-        if (E + slack <= TW) {
+        const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + md->h2c;
+        const int32_t w27 = (int32_t)(w >> 26);
+        const int32_t exh = (int32_t)(((int64_t)p[2] * w27 - g) >> 32);
+        /* y 2^27 as a product, so that the sum is one multiply-accumulate. */
+        const int32_t eyh =
+            (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
+        const uint32_t tw = (uint32_t)(((int64_t)md->T * w27) >> 32);
+        /* Squares of magnitudes: unsigned 32 x 32 -> 64 products. */
+        const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
+        const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+        const uint64_t E = (uint64_t)ax * ax + (uint64_t)ay * ay;
+        const uint64_t TW = (uint64_t)tw * tw;
+        /* Inside: E + slack <= TW.  Where E <= TW, ax and ay are at most tw,
+         * so slack <= 2 D 3 tw + 4 D^2, a 32-bit figure (tw < 2^27); testing
+         * E against TW less that bound is sufficient. */
+        if (E + (6u * Q_FAST_D * tw + 4u * Q_FAST_D * Q_FAST_D) <= TW) {
             return 1;
         }
-        if (E - slack - TW > md->c2) {
+        /* Beyond: E > TW + c2 + slack (md->c2s holds c2 + 4 D^2, md->d2 is
+         * 2 D: one multiply-accumulate). */
+        if (E > TW + md->c2s + (uint64_t)(ax + ay + tw) * md->d2) {
             return 0;
         }
     }
     spvs_qf_t e;
-    return q_inlier_exact(h, p, t2, &e);
+    return q_inlier_exact(h, p, *t2, &e);
 }
 
 /* |eps|^2 of one point, from the exact residuals (q_eps): the cost's term,
@@ -412,25 +427,39 @@ static int bails(int64_t need, int64_t n, int64_t m, int64_t inl)
 /* Counts the inliers among points [i, end) into *inl (points.c,
  * score_points); 0 at the first point that leaves more than max_out
  * outliers. */
-static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
-                        const q_model_t *md, spvs_qf_t t2, int32_t max_out, uint8_t *mask,
-                        int32_t *inl)
+static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h, size_t i,
+                                     size_t end, const q_model_t *md, const spvs_qf_t *t2,
+                                     int32_t max_out, uint8_t *mask, int32_t *inl, const int fast)
 {
+    int32_t count = *inl;
+    int ok_all = 1;
     for (size_t r = i; r < end; r++) {
-        const int ok = q_inlier(h, &st->v[4u * r], md, t2);
-        *inl += ok;
+        const int ok = q_inlier(h, &st->v[4u * r], md, t2, fast);
+        count += ok;
         if (mask) {
             mask[r] = (uint8_t)ok;
         }
-        if ((int32_t)(r + 1) - *inl > max_out) {
-            return 0;
+        if ((int32_t)(r + 1) - count > max_out) {
+            ok_all = 0;
+            break;
         }
     }
-    return 1;
+    *inl = count;
+    return ok_all;
 }
 
-uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9], spvs_qf_t t2,
-                          uint16_t need, uint8_t *mask)
+/* score_range with the model's fast test, or without it (every point to
+ * the exact test), chosen once per call. */
+static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
+                        const q_model_t *md, const spvs_qf_t *t2, int32_t max_out,
+                        uint8_t *mask, int32_t *inl)
+{
+    return md->fast ? score_range(st, h, i, end, md, t2, max_out, mask, inl, 1)
+                    : score_range(st, h, i, end, md, t2, max_out, mask, inl, 0);
+}
+
+uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9],
+                          const spvs_q_thr_t *thr, uint16_t need, uint8_t *mask)
 {
     const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
     /* need > n: the float test's p = 1 (points.c), as need = n here. */
@@ -439,30 +468,30 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     for (int k = 0; k < 9; k++) {
         h[k] = Hq[k];
     }
-    const q_model_t md = model_prep(st, h, t2);
+    const q_model_t md = model_prep(st, h, thr);
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
      * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        if (!score_points(st, h, i, i + SPVS_SCORE_BLOCK, &md, t2, max_out, mask, &inl) ||
+        if (!score_points(st, h, i, i + SPVS_SCORE_BLOCK, &md, &thr->t2, max_out, mask, &inl) ||
             bails(need_b, (int64_t)n, (int64_t)(i + SPVS_SCORE_BLOCK), inl)) {
             return (uint16_t)inl;
         }
     }
-    (void)score_points(st, h, i, n, &md, t2, max_out, mask, &inl);
+    (void)score_points(st, h, i, n, &md, &thr->t2, max_out, mask, &inl);
     return (uint16_t)inl;
 }
 
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
-                         spvs_qf_t t2, uint32_t *sat)
+                         const spvs_q_thr_t *thr, uint32_t *sat)
 {
-    const q_model_t md = model_prep(st, Hq, t2);
+    const q_model_t md = model_prep(st, Hq, thr);
     uint64_t sum = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {
         const int32_t *p = &st->v[4u * i];
-        if (q_inlier(Hq, p, &md, t2)) {
+        if (q_inlier(Hq, p, &md, &thr->t2, md.fast)) {
             /* The cost breaks ties only: its term from the exact residuals. */
             const uint64_t t = (uint64_t)spvs_qf_to_q64(q_e2(Hq, p), SPVS_QCOST, sat);
             /* Saturate on the unsigned sum's carry. */

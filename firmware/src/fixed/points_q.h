@@ -81,6 +81,18 @@ SPVS_NODISCARD uint32_t spvs_q_h_from_real(const spvs_real H[9], int32_t Hq[9]);
  * spvs_qf_t.  *sat gets SPVS_Q_NONFINITE for a NaN or infinite t2. */
 spvs_qf_t spvs_q_t2_from_real(spvs_real t2, uint32_t *sat);
 
+/* A frame's inlier threshold: t2 (scaled units^2) and, for the count's
+ * fast test, T = floor(t 2^26) with t = sqrt(t2) (fast = 0 where t >= 2
+ * scaled units, 1,024 px: every point then goes to the exact test).  Made
+ * once per frame (one integer square root), read by every model. */
+typedef struct {
+    spvs_qf_t t2;
+    int32_t T;
+    int fast;
+} spvs_q_thr_t;
+
+spvs_q_thr_t spvs_q_thr(spvs_qf_t t2);
+
 /* spvs_pts_load (points.h) into the Q store: slot k takes match src(k) in
  * the same spread order, coordinates rounded to Q26 scaled units (|error|
  * <= 2^-27 scaled = 3.8e-6 px).  Returns 0, or a nonzero mask of
@@ -96,22 +108,22 @@ void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4]);
 
 /* spvs_pts_score on the Q store: the inliers of Hq (Q27) among the first
  * n points, marked in mask[] when it is not NULL: w > 0 and the squared
- * Sampson error at most t2.  The same early stop (a count below `need`
+ * Sampson error at most thr->t2.  The same early stop (a count below `need`
  * once `need` cannot be reached, tested at every point as in the rows
  * layout) and the same bail-out test after every SPVS_SCORE_BLOCK points,
  * made in integers (exact).  The test's relative error on the squared
  * Sampson error is below 1e-7 (docs/FIXED.md), so only points that close
  * to the threshold can be decided otherwise than by exact arithmetic.
  * Bound: n points. */
-uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9], spvs_qf_t t2,
-                          uint16_t need, uint8_t *mask);
+uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9],
+                          const spvs_q_thr_t *thr, uint16_t need, uint8_t *mask);
 
 /* spvs_pts_cost on the Q store: the summed squared algebraic residual
  * |p_cur w - H p_tgt|^2 (scaled units^2) of Hq's inliers among the first
  * n points, uint64 Q52.  A sum above 2^12 saturates and ORs SPVS_Q_SAT
  * into *sat.  Bound: n. */
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
-                         spvs_qf_t t2, uint32_t *sat);
+                         const spvs_q_thr_t *thr, uint32_t *sat);
 
 /* spvs_pts_sum for kind SPVS_T_FIT_Y, SPVS_T_FIT_X or SPVS_T_LIN on the Q
  * store: the terms of the first n points flagged in use[] under Hq into
