@@ -73,10 +73,12 @@ typedef __int128 i128;
  * any summation error is measured against; a sum that cancels to near 0
  * has no relative accuracy in either kernel).  Float: N terms of ~10
  * rounded operations, 2^-24 each: about 1e-5; Q: inputs quantised to 2^-27
- * of a scaled unit, relative ~1e-6 for coordinates near 0.6 scaled units,
- * the arithmetic ~2^-26. */
+ * of a scaled unit, relative ~1e-6 for coordinates near 0.6 scaled units;
+ * SPVS_T_LIN's fast path keeps each weight to 2^-22 to 2^-25 of its bound
+ * over the frame (a[2], about u^2 |W|, is coarsest where |u| is small
+ * against the frame's largest): up to ~1e-5 of a term, still below float. */
 #define TOL_SUM_F 3e-5
-#define TOL_SUM_Q 2e-6
+#define TOL_SUM_Q 1e-5
 /* The right sides (SPVS_T_FIT_* terms 6-8 with r = y / w or u are not
  * residuals, but SPVS_T_LIN's 18-23 are proportional to eps, which cancels
  * to ~2e-3 scaled units (1 px noise): the inputs' quantisation (up to
@@ -1022,6 +1024,7 @@ static void test_q_sums_random(void **state)
     static scene_t sc;
     uint64_t rng = 77;
     sum_stats_t st = {0};
+    int fast = 0, scenes = 0;
     const spvs_real t = (spvs_real)(INLIER_PX / S);
     for (int c = 0; c < 100; c++) {
         const int n = 8 + (int)(synth_uniform(&rng) * (NMAX - 8));
@@ -1035,12 +1038,89 @@ static void test_q_sums_random(void **state)
         (void)spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, mask);
         check_sums(&sc, sc.Hs, all, &st);
         check_sums(&sc, sc.Hs, mask, &st);
+        int32_t Hq[9];
+        assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+        fast += spvs_q_lin_fast(&sc.qst, Hq, sc.n);
+        scenes++;
     }
     print_message("sums: %ld sums; largest error / sum of |terms|: float %.3g (tolerance %.0e), "
-                  "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e)\n",
+                  "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e); SPVS_T_LIN's fast "
+                  "path on %d of %d scenes\n",
                   st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
-                  TOL_SUM_Q_RHS);
+                  TOL_SUM_Q_RHS, fast, scenes);
     assert_true(st.sums > 3000);
+    /* Typical frames take the fast path (the others have |u| or |v| near
+     * 2 scaled units, or w below 1/4 somewhere in the frame). */
+    assert_true(fast * 4 >= scenes * 3);
+}
+
+/* The sums near the edges of SPVS_T_LIN's fast path (points_q.c,
+ * lin_prep): frames with |x|, |y| up to 1.45 scaled units (x^2 from below
+ * to above 2), w over the frame from just above to below 1/4 and up to 4,
+ * |u|, |v| near 2, and residuals from 0 to 24 px (the fast path keeps those
+ * under 16 px).  Whichever path each set and point takes, the sums are
+ * within the tolerances and every mantissa below 2^62. */
+static void test_q_lin_fast_edges(void **state)
+{
+    (void)state;
+    static scene_t sc;
+    uint64_t rng = 2024;
+    sum_stats_t st = {0};
+    int sets = 0, fast = 0;
+    for (int c = 0; c < 400; c++) {
+        const double X = 1.2 + 0.25 * synth_uniform(&rng);
+        const double h33 = 0.4 + 3.2 * synth_uniform(&rng);
+        /* The spread |h31| X + |h32| X takes w_lo from 0.15 to h33. */
+        const double spread = (h33 - 0.15) * synth_uniform(&rng);
+        const double share = synth_uniform(&rng);
+        double H[9] = {0.6 + 0.8 * synth_uniform(&rng), 0.1 * (synth_uniform(&rng) - 0.5),
+                       0.8 * (synth_uniform(&rng) - 0.5), 0, 1, 0,
+                       (synth_uniform(&rng) < 0.5 ? -1 : 1) * share * spread / X,
+                       (synth_uniform(&rng) < 0.5 ? -1 : 1) * (1 - share) * spread / X, h33};
+        const double res = (synth_uniform(&rng) < 0.5 ? 2.0 : 24.0) / S;
+        uint16_t n = 0;
+        for (int i = 0; i < NMAX && n < 120; i++) {
+            const double x = X * (2 * synth_uniform(&rng) - 1), y = X * (2 * synth_uniform(&rng) - 1);
+            const double w = H[6] * x + H[7] * y + H[8];
+            if (w <= 0.01) {
+                continue;
+            }
+            const double u = (H[0] * x + H[1] * y + H[2]) / w + res * (2 * synth_uniform(&rng) - 1);
+            const double v = y / w + res * (2 * synth_uniform(&rng) - 1);
+            if (fabs(u) >= 2.05 || fabs(v) >= 2.05) {
+                continue;
+            }
+            sc.m[n].x_tgt = (spvs_real)(x * S);
+            sc.m[n].y_tgt = (spvs_real)(y * S);
+            sc.m[n].x_cur = (spvs_real)(u * S);
+            sc.m[n].y_cur = (spvs_real)(v * S);
+            sc.m[n].feature = n;
+            n++;
+        }
+        if (n < 8) {
+            continue;
+        }
+        sc.n = n;
+        load_both(&sc);
+        spvs_real Hs[9];
+        for (int k = 0; k < 9; k++) {
+            Hs[k] = (spvs_real)H[k];
+        }
+        uint8_t all[NMAX];
+        memset(all, 1, sizeof all);
+        check_sums(&sc, Hs, all, &st);
+        int32_t Hq[9];
+        assert_int_equal(spvs_q_h_from_real(Hs, Hq), 0);
+        fast += spvs_q_lin_fast(&sc.qst, Hq, sc.n);
+        sets++;
+    }
+    print_message("lin edges: %d sets (%d on the fast path), %ld sums; largest error / sum of "
+                  "|terms|: float %.3g, Q %.3g (%.0e), right side %.3g (%.0e)\n",
+                  sets, fast, st.sums, st.worst_f, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
+                  TOL_SUM_Q_RHS);
+    assert_true(sets > 300);
+    /* Both sides of the edges are covered. */
+    assert_true(fast > sets / 4 && fast < sets * 3 / 4);
 }
 
 /* A point behind the camera (w <= SPVS_W_EPS) in a used slot fails the
@@ -1171,7 +1251,8 @@ int main(void)
         cmocka_unit_test(test_q_div_sqrt),      cmocka_unit_test(test_q_recip),
         cmocka_unit_test(test_qf_ops),          cmocka_unit_test(test_q_ieee),
         cmocka_unit_test(test_q_load_checks),   cmocka_unit_test(test_q_score_random),
-        cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_sums_behind),
+        cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_lin_fast_edges),
+        cmocka_unit_test(test_q_sums_behind),
         cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
         cmocka_unit_test(test_q_extremes),
     };

@@ -187,6 +187,14 @@ static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_
     *den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, pp)), qf_sq(dp));
 }
 
+/* |h[k]| for the bounds over a frame. */
+static void h_abs(const int32_t *h, int64_t a[9])
+{
+    for (int k = 0; k < 9; k++) {
+        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+    }
+}
+
 /* The exact test of one point (the slow path): residuals exact
  * (q_eps), the Sampson error in spvs_qf_t.  1 for an inlier; *e2 =
  * |eps|^2, scaled units^2. */
@@ -231,9 +239,7 @@ static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
     const int64_t one26 = (int64_t)1 << 26;
     const int64_t um = st->cur_max[0], vm = st->cur_max[1];
     int64_t a[9];
-    for (int k = 0; k < 9; k++) {
-        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
-    }
+    h_abs(h, a);
     const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
                           vm * a[7] + ((int64_t)1 << 53)};
     uint64_t b = 0;
@@ -322,9 +328,7 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     md.h2c = (int64_t)h[2] * one26;
     md.h8c = (int64_t)h[8] * one26;
     int64_t a[9];
-    for (int k = 0; k < 9; k++) {
-        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
-    }
+    h_abs(h, a);
     const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
     const int64_t U = st->cur_max[0], V = st->cur_max[1];
     /* Exact Q53 bounds (each < 2^62 + 2^57, as q_eps). */
@@ -570,7 +574,10 @@ static void terms_fit(int kind, const q_eps_t *r, const int32_t *p, spvs_q_sums_
 
 /* SPVS_T_LIN terms of one point (h_point.inc): the joint fit of rows 1
  * and 3 at the Sampson weights W = (J J^T)^-1 = adj(J J^T) / det of H. */
-static void terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p, spvs_q_sums_t *s)
+/* Not inlined: its spvs_qf_t temporaries (600 B on the Cortex-M3) stay out
+ * of spvs_q_pts_sum's frame, which the fast path uses alone. */
+static SPVS_Q_NOINLINE void terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p,
+                                      spvs_q_sums_t *s)
 {
     uint32_t z = 0;
     const spvs_qf_t x = qf_c(p[0]), y = qf_c(p[1]), u = qf_c(p[2]), v = qf_c(p[3]);
@@ -613,6 +620,217 @@ static void terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p, spvs
     acc_add(s, 23, b3);
 }
 
+/* ---- SPVS_T_LIN's fast path ----------------------------------------------- */
+
+/* 2^61 / m for m in [2^30, 2^31), within about 2^-28 relative and at most
+ * 2^31 - 1 (2^61 / 2^30 itself is one unit above): a 32-bit division of
+ * 2^32 by m's top 16 bits (17 bits, one UDIV on the Cortex-M3) and one
+ * Newton step in signed 32 x 32 -> 64-bit products. */
+static SPVS_Q_INLINE int32_t q_recip_fast(uint32_t m)
+{
+    /* ~2^61 / m to 2^-14, below 2^31 (m >> 15 >= 2^15). */
+    const int32_t y0 = (int32_t)((0xFFFFFFFFu / (m >> 15)) << 14);
+    /* y1 = y0 (2 - m y0 2^-61) = y0 - y0 (m y0 - 2^61) 2^-61; the
+     * deviation is below 2^48, kept to 2^-29 of it (its low 29 bits). */
+    const int64_t dev = (int64_t)((uint64_t)m * (uint32_t)y0) - ((int64_t)1 << 61);
+    const int32_t dh = (int32_t)(dev >> 29);
+    const int64_t y1 = (int64_t)y0 - (((int64_t)y0 * dh) >> 32);
+    return y1 > INT32_MAX ? INT32_MAX : (int32_t)y1;
+}
+
+/* The fast path's formats for one sum (block floating point with the set
+ * as the block; docs/FIXED.md).  Per point, in integers with constant
+ * shifts only (one CLZ and one 32-bit shift by a per-point amount):
+ *   w = h3 . p (Q53), w27 = w 2^-26 (Q27), ex = u w27 - h1 . p and
+ *   ey = v w27 - y 2^27 (Q53), kept to Q36 (a point with |eps| >= 2^-5
+ *   scaled units, 16 px, takes the exact path);
+ *   P (the Jacobian's block) and w in Q28; a = |P row 1|^2 + w^2, b, c
+ *   (J J^T) in Q24 (high words); det = a b - c^2 (Q48) normalised to 31 bits,
+ *   its reciprocal by q_recip_fast;
+ *   W = adj(J J^T) / det in Q(qr), qr = 30 - kw with |W| <= 1 / w_lo^2 <=
+ *   2^kw, so every entry is below 2^30;
+ *   the right side: b1 = (W eps)_1, b2 in Q(qr + 4) (|b| <= 2 |W| 2^-5),
+ *   b3 = -(u b1 + v b2) in Q(qr + 2) (|u|, |v| < 2), times (x, y, 1) in
+ *   Q21;
+ *   the normal matrix: h_point.inc's a[0] = w11 in Q(qr - 2), a[1] in
+ *   Q(qr - 4), a[2] in Q(qr - 6) (each below 2^28), times q = (x^2, x y,
+ *   x, y^2, y, 1) in Q24 (each below 2^25).
+ * So every term is below 2^53 and a sum of at most 512 below 2^62; the
+ * blocks are aligned when merged (lin_merge's callers).  The bounds over
+ * the frame that make this hold: w_lo >= 1/4 and w_hi < 4 (w over the
+ * frame from |h31|, |h32| and the largest |x|, |y|), the Jacobian's
+ * entries below 4, |u|, |v| < 2, x^2, y^2 < 2 and n <= 512; where one
+ * fails, ok = 0 and every point takes the exact path. */
+typedef struct {
+    int ok;
+    int32_t qr;
+    int64_t h0c, h1c, h2c, h8c; /* h11, h12, h13, h33 times 2^26, Q53 */
+} q_lin_t;
+
+#define LIN_EB 5 /* |eps| < 2^-LIN_EB scaled units on the fast path */
+
+static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+{
+    q_lin_t L;
+    L.ok = 0;
+    L.qr = 0;
+    const int64_t one26 = (int64_t)1 << 26;
+    L.h0c = (int64_t)h[0] * one26;
+    L.h1c = (int64_t)h[1] * one26;
+    L.h2c = (int64_t)h[2] * one26;
+    L.h8c = (int64_t)h[8] * one26;
+    int64_t a[9];
+    h_abs(h, a);
+    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
+    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    const int64_t two27 = (int64_t)1 << 27; /* 2 scaled units, Q26 */
+    const int64_t q_lim = (int64_t)1 << 25; /* 2 in Q24 */
+    if (n > 512u || U >= two27 || V >= two27 || ((X * X) >> 28) >= q_lim ||
+        ((Y * Y) >> 28) >= q_lim) {
+        return L;
+    }
+    /* w over the frame, Q53: h33 2^26 -+ (|h31| X + |h32| Y). */
+    const int64_t spread = a[6] * X + a[7] * Y;
+    const int64_t w_lo = L.h8c - spread, w_hi = L.h8c + spread;
+    if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 55)) {
+        return L;
+    }
+    /* The Jacobian's entries (h_point.inc's p, q, r, s) below 4, Q53. */
+    const int64_t four = (int64_t)1 << 55;
+    if (U * a[6] + a[0] * one26 >= four || U * a[7] + a[1] * one26 >= four ||
+        V * a[6] >= four || V * a[7] + ((int64_t)1 << 53) >= four) {
+        return L;
+    }
+    /* |W| <= 1 / w_lo^2 <= 2^kw, kw in 0..4. */
+    const int kw = 2 * (27 - (spvs_q_bitlen64((uint64_t)(w_lo >> 26)) - 1));
+    L.qr = 30 - kw;
+    L.ok = 1;
+    return L;
+}
+
+int spvs_q_lin_fast(const spvs_q_store_t *st, const int32_t Hq[9], uint16_t n)
+{
+    return lin_prep(st, Hq, n).ok;
+}
+
+/* x 2^k for a 32-bit value and k in -31..31 (floor for k < 0); callers
+ * bound the result. */
+static SPVS_Q_INLINE int32_t q_shift32(int32_t x, int k)
+{
+    return k >= 0 ? (int32_t)((uint32_t)x << k) : x >> -k;
+}
+
+/* One point's SPVS_T_LIN terms on the fast path into F: terms 0-5 in
+ * Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in Q(qr + 18), 18-20 in
+ * Q(qr + 25), 21-23 in Q(qr + 23).  Returns 0, leaving F as it was, when
+ * the point's residual is beyond the path's range. */
+/* Not inlined: in spvs_q_pts_sum's loop beside the exact path it gets
+ * fewer registers (about 1 % more instructions on the M3 inlined). */
+static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_lin_t *L,
+                                  int64_t F[24])
+{
+    const int32_t x = p[0], y = p[1], u = p[2], v = p[3];
+    const int64_t w = (int64_t)h[6] * x + (int64_t)h[7] * y + L->h8c;
+    const int64_t g = (int64_t)h[0] * x + (int64_t)h[1] * y + L->h2c;
+    const int32_t w27 = (int32_t)(w >> 26);
+    const int64_t ex53 = (int64_t)u * w27 - g;
+    const int64_t ey53 = (int64_t)v * w27 + (int64_t)y * (int32_t)-(1 << 27);
+    const uint64_t elim = (uint64_t)1 << (53 - LIN_EB);
+    if (spvs_q_abs64(ex53) >= elim || spvs_q_abs64(ey53) >= elim) {
+        return 0;
+    }
+    const int32_t ex = (int32_t)(ex53 >> 17), ey = (int32_t)(ey53 >> 17); /* Q36 */
+    /* P (below 4) and w (below 4), Q28: their squares' sums below 3 2^60,
+     * whose high words are J J^T in Q24. */
+    const int32_t P0 = (int32_t)(((int64_t)u * h[6] - L->h0c) >> 25);
+    const int32_t P1 = (int32_t)(((int64_t)u * h[7] - L->h1c) >> 25);
+    const int32_t P2 = (int32_t)(((int64_t)v * h[6]) >> 25);
+    const int32_t P3 = (int32_t)(((int64_t)v * h[7]) >> 25) - (1 << 28);
+    const int32_t w28 = w27 * 2;
+    const int64_t ww = (int64_t)w28 * w28;
+    const int32_t ja = spvs_q_opaque32((int32_t)(((int64_t)P0 * P0 + (int64_t)P1 * P1 + ww) >> 32));
+    const int32_t jb = spvs_q_opaque32((int32_t)(((int64_t)P2 * P2 + (int64_t)P3 * P3 + ww) >> 32));
+    const int32_t jc = spvs_q_opaque32((int32_t)(((int64_t)P0 * P2 + (int64_t)P1 * P3) >> 32));
+    /* det >= w^4 >= 2^-8: at least 2^40 in Q48, below 2^60. */
+    const uint64_t det = (uint64_t)((int64_t)ja * jb - (int64_t)jc * jc);
+    /* det's bits - 31, in 10..29 (its high word is at least 2^8). */
+    const int sh = 33 - spvs_q_clz32((uint32_t)(det >> 32));
+    const uint32_t m = (uint32_t)(det >> sh);
+    const int32_t r = q_recip_fast(m); /* 1 / det = r 2^(-13 - sh) */
+    /* W in Q(qr): (adj entry Q24 times r) 2^-32, then 2^(qr - 5 - sh). */
+    const int k = L->qr - 5 - sh;
+    const int32_t w11 = q_shift32((int32_t)(((int64_t)jb * r) >> 32), k);
+    const int32_t w12 = -q_shift32((int32_t)(((int64_t)jc * r) >> 32), k);
+    const int32_t w22 = q_shift32((int32_t)(((int64_t)ja * r) >> 32), k);
+    /* u and v times 16 (below 2^31 as |u|, |v| < 2): products with them
+     * have in their high words the product 2^-28. */
+    const int32_t u16 = u * 16, v16 = v * 16;
+    /* The right side. */
+    const int32_t b1 = spvs_q_opaque32((int32_t)(((int64_t)w11 * ex + (int64_t)w12 * ey) >> 32)); /* Q(qr + 4) */
+    const int32_t b2 = spvs_q_opaque32((int32_t)(((int64_t)w12 * ex + (int64_t)w22 * ey) >> 32));
+    const int32_t b3 = spvs_q_opaque32(-(int32_t)(((int64_t)u16 * b1 + (int64_t)v16 * b2) >> 32)); /* Q(qr + 2) */
+    const int32_t x21 = x >> 5, y21 = y >> 5;
+    F[18] += (int64_t)b1 * x21;
+    F[19] += (int64_t)b1 * y21;
+    F[20] += (int64_t)b1 * (1 << 21);
+    F[21] += (int64_t)b3 * x21;
+    F[22] += (int64_t)b3 * y21;
+    F[23] += (int64_t)b3 * (1 << 21);
+    /* The normal matrix: uw = u w11 + v w12 and vw in Q(qr - 2). */
+    const int32_t uw = spvs_q_opaque32((int32_t)(((int64_t)u16 * w11 + (int64_t)v16 * w12) >> 32));
+    const int32_t vw = spvs_q_opaque32((int32_t)(((int64_t)u16 * w12 + (int64_t)v16 * w22) >> 32));
+    const int32_t am[3] = {w11 >> 2, -(uw >> 2),
+                           (int32_t)(((int64_t)u16 * uw + (int64_t)v16 * vw) >> 32) >> 2};
+    /* q in Q24: x 4 and y 4 (below 2^31 as x^2, y^2 < 2) give x^2 2^-28 as
+     * a high word. */
+    const int32_t x4 = x * 4, y4 = y * 4;
+    const int32_t q[6] = {(int32_t)(((int64_t)x4 * x4) >> 32), (int32_t)(((int64_t)x4 * y4) >> 32),
+                          x >> 2, (int32_t)(((int64_t)y4 * y4) >> 32), y >> 2, 1 << 24};
+    /* Written out: one multiply-accumulate each (a loop here costs as much
+     * again in its own instructions on the Cortex-M3 at -Os). */
+#define LIN_ROW(mm)                                 \
+    do {                                            \
+        const int32_t a_ = am[mm];                  \
+        F[6 * (mm) + 0] += (int64_t)a_ * q[0];      \
+        F[6 * (mm) + 1] += (int64_t)a_ * q[1];      \
+        F[6 * (mm) + 2] += (int64_t)a_ * q[2];      \
+        F[6 * (mm) + 3] += (int64_t)a_ * q[3];      \
+        F[6 * (mm) + 4] += (int64_t)a_ * q[4];      \
+        F[6 * (mm) + 5] += (int64_t)a_ * q[5];      \
+    } while (0)
+    LIN_ROW(0);
+    LIN_ROW(1);
+    LIN_ROW(2);
+#undef LIN_ROW
+    return 1;
+}
+
+/* Adds the fast path's sums F (block exponents e0, e1) into the BFP sums s
+ * (terms 0-23): each block at the larger exponent, one more where a sum
+ * would reach 2^62 (both operands are below 2^62). */
+static void lin_merge(spvs_q_sums_t *s, const int64_t F[24], int32_t e0, int32_t e1)
+{
+    const int32_t eF[2] = {e0, e1};
+    for (int b = 0; b < 2; b++) {
+        const int lo = b ? s->split : 0, hi = b ? s->nt : s->split;
+        const int32_t e = s->e[b] > eF[b] ? s->e[b] : eF[b];
+        const int ds = (int)(e - s->e[b] > 63 ? 63 : e - s->e[b]);
+        const int df = (int)(e - eF[b] > 63 ? 63 : e - eF[b]);
+        /* First whether a sum reaches 2^62 (then the block takes one more
+         * bit), then the sums; no array of them on the stack. */
+        int big = 0;
+        for (int j = lo; j < hi; j++) {
+            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + spvs_q_rshift_rnd64(F[j], df);
+            big |= spvs_q_abs64(r) >= ((uint64_t)1 << 62);
+        }
+        for (int j = lo; j < hi; j++) {
+            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + spvs_q_rshift_rnd64(F[j], df);
+            s->m[j] = big ? spvs_q_rshift_rnd64(r, 1) : r;
+        }
+        s->e[b] = e + big;
+    }
+}
+
 int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
                        const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
 {
@@ -631,12 +849,23 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
         out->m[k] = 0;
     }
     int32_t used = 0;
+    /* SPVS_T_LIN: the points in the fast path's range into F, the others
+     * through the exact terms; merged at the end. */
+    const q_lin_t L = lin ? lin_prep(st, Hq, n) : (q_lin_t){0};
+    int64_t F[24] = {0};
+    int fast_used = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {
         if (!use[i]) {
             continue;
         }
         const int32_t *p = &st->v[4u * i];
+        used++;
+        if (L.ok && lin_fast(Hq, p, &L, F)) {
+            /* w >= 1/4 on the fast path: never behind the camera. */
+            fast_used = 1;
+            continue;
+        }
         q_eps_t r;
         q_eps(Hq, p, &r);
         if (r.w <= W_EPS_Q53) {
@@ -647,7 +876,18 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
         } else {
             terms_fit((int)kind, &r, p, out);
         }
-        used++;
+    }
+    if (fast_used) {
+        /* One exponent per block: terms 0-11 and 18-20 brought to the units
+         * of 12-17 and 21-23 (they are below 2^62 before, as are these). */
+        for (int j = 0; j < 6; j++) {
+            F[j] = spvs_q_rshift_rnd64(F[j], 4);
+            F[6 + j] = spvs_q_rshift_rnd64(F[6 + j], 2);
+        }
+        for (int j = 18; j < 21; j++) {
+            F[j] = spvs_q_rshift_rnd64(F[j], 2);
+        }
+        lin_merge(out, F, -(L.qr + 18), -(L.qr + 23));
     }
     return kind == SPVS_T_FIT_X ? 0 : used;
 }
