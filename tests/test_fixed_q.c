@@ -1024,7 +1024,7 @@ static void test_q_sums_random(void **state)
     static scene_t sc;
     uint64_t rng = 77;
     sum_stats_t st = {0};
-    int fast = 0, scenes = 0;
+    int fast = 0, fast_fit = 0, scenes = 0;
     const spvs_real t = (spvs_real)(INLIER_PX / S);
     for (int c = 0; c < 100; c++) {
         const int n = 8 + (int)(synth_uniform(&rng) * (NMAX - 8));
@@ -1040,18 +1040,24 @@ static void test_q_sums_random(void **state)
         check_sums(&sc, sc.Hs, mask, &st);
         int32_t Hq[9];
         assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
-        fast += spvs_q_lin_fast(&sc.qst, Hq, sc.n);
+        fast += spvs_q_sum_fast(SPVS_T_LIN, &sc.qst, Hq, sc.n);
+        const spvs_real Hw[9] = {0, 0, 0, 0, 0, 0, sc.Hs[6], sc.Hs[7], sc.Hs[8]};
+        int32_t Hwq[9];
+        assert_int_equal(spvs_q_h_from_real(Hw, Hwq), 0);
+        fast_fit += spvs_q_sum_fast(SPVS_T_FIT_Y, &sc.qst, Hq, sc.n) +
+                    spvs_q_sum_fast(SPVS_T_FIT_X, &sc.qst, Hwq, sc.n);
         scenes++;
     }
     print_message("sums: %ld sums; largest error / sum of |terms|: float %.3g (tolerance %.0e), "
-                  "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e); SPVS_T_LIN's fast "
-                  "path on %d of %d scenes\n",
+                  "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e); the fast paths on "
+                  "%d of %d scenes (SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X)\n",
                   st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
-                  TOL_SUM_Q_RHS, fast, scenes);
+                  TOL_SUM_Q_RHS, fast, scenes, fast_fit, 2 * scenes);
     assert_true(st.sums > 3000);
     /* Typical frames take the fast path (the others have |u| or |v| near
      * 2 scaled units, or w below 1/4 somewhere in the frame). */
     assert_true(fast * 4 >= scenes * 3);
+    assert_true(fast_fit * 4 >= 2 * scenes * 3);
 }
 
 /* The sums near the edges of SPVS_T_LIN's fast path (points_q.c,
@@ -1080,7 +1086,8 @@ static void test_q_lin_fast_edges(void **state)
         const double res = (synth_uniform(&rng) < 0.5 ? 2.0 : 24.0) / S;
         uint16_t n = 0;
         for (int i = 0; i < NMAX && n < 120; i++) {
-            const double x = X * (2 * synth_uniform(&rng) - 1), y = X * (2 * synth_uniform(&rng) - 1);
+            const double x = X * (2 * synth_uniform(&rng) - 1);
+            const double y = X * (2 * synth_uniform(&rng) - 1);
             const double w = H[6] * x + H[7] * y + H[8];
             if (w <= 0.01) {
                 continue;
@@ -1111,7 +1118,7 @@ static void test_q_lin_fast_edges(void **state)
         check_sums(&sc, Hs, all, &st);
         int32_t Hq[9];
         assert_int_equal(spvs_q_h_from_real(Hs, Hq), 0);
-        fast += spvs_q_lin_fast(&sc.qst, Hq, sc.n);
+        fast += spvs_q_sum_fast(SPVS_T_LIN, &sc.qst, Hq, sc.n);
         sets++;
     }
     print_message("lin edges: %d sets (%d on the fast path), %ld sums; largest error / sum of "

@@ -708,11 +708,6 @@ static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
     return L;
 }
 
-int spvs_q_lin_fast(const spvs_q_store_t *st, const int32_t Hq[9], uint16_t n)
-{
-    return lin_prep(st, Hq, n).ok;
-}
-
 /* x 2^k for a 32-bit value and k in -31..31 (floor for k < 0); callers
  * bound the result. */
 static SPVS_Q_INLINE int32_t q_shift32(int32_t x, int k)
@@ -765,10 +760,10 @@ static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_
     /* u and v times 16 (below 2^31 as |u|, |v| < 2): products with them
      * have in their high words the product 2^-28. */
     const int32_t u16 = u * 16, v16 = v * 16;
-    /* The right side. */
-    const int32_t b1 = spvs_q_opaque32((int32_t)(((int64_t)w11 * ex + (int64_t)w12 * ey) >> 32)); /* Q(qr + 4) */
+    /* The right side: b1, b2 in Q(qr + 4), b3 in Q(qr + 2). */
+    const int32_t b1 = spvs_q_opaque32((int32_t)(((int64_t)w11 * ex + (int64_t)w12 * ey) >> 32));
     const int32_t b2 = spvs_q_opaque32((int32_t)(((int64_t)w12 * ex + (int64_t)w22 * ey) >> 32));
-    const int32_t b3 = spvs_q_opaque32(-(int32_t)(((int64_t)u16 * b1 + (int64_t)v16 * b2) >> 32)); /* Q(qr + 2) */
+    const int32_t b3 = spvs_q_opaque32(-(int32_t)(((int64_t)u16 * b1 + (int64_t)v16 * b2) >> 32));
     const int32_t x21 = x >> 5, y21 = y >> 5;
     F[18] += (int64_t)b1 * x21;
     F[19] += (int64_t)b1 * y21;
@@ -805,10 +800,144 @@ static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_
     return 1;
 }
 
-/* Adds the fast path's sums F (block exponents e0, e1) into the BFP sums s
- * (terms 0-23): each block at the larger exponent, one more where a sum
+/* ---- SPVS_T_FIT_Y and SPVS_T_FIT_X's fast path ------------------------------ */
+
+/* The formats of a FIT sum's fast path (the two-stage linear fit's terms,
+ * h_point.inc: q = sc (x, y, 1), sc = v / w or 1 / w, r = y / w or u),
+ * from the frame's bounds and row 3 of H.  Per point: w as for SPVS_T_LIN,
+ * 1 / w by one CLZ and q_recip_fast in Q28; sc in Q26 as a high word (v
+ * times 16, below 2^31 as |v| < 2); then, with 32-bit shifts fixed for the
+ * set, sc 2^a and the coordinates 2^b (each below 2^31) whose products'
+ * high words are q0, q1 in Q(qq), q2 = sc in Q(qq), r in Q(qr).  qq and qr
+ * are the largest that keep |q| and |r| below 2^26, so each product below
+ * 2^52 and a sum of up to 512 of them below 2^61.  ok = 0 where the bounds
+ * fail (w outside [1/4, 4) over the frame, |u|, |v| or |x|, |y| of 2 or
+ * more, n > 512): every point takes the exact path. */
+typedef struct {
+    int ok;
+    int a, b;         /* the left shifts of sc and of x, y */
+    int s2l, s2r;     /* sc into Q(qq): left, then right (one of them 0) */
+    int srl, srr;     /* r into Q(qr) likewise */
+    int32_t qq, qr;   /* the formats */
+    int64_t h8c;      /* h33 2^26, Q53 */
+} q_fit_t;
+
+static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+{
+    q_fit_t F;
+    F.ok = 0;
+    F.a = F.b = F.s2l = F.s2r = F.srl = F.srr = 0;
+    F.qq = F.qr = 0;
+    const int64_t one26 = (int64_t)1 << 26;
+    F.h8c = (int64_t)h[8] * one26;
+    const int64_t a6 = h[6] < 0 ? -(int64_t)h[6] : h[6];
+    const int64_t a7 = h[7] < 0 ? -(int64_t)h[7] : h[7];
+    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
+    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    const int64_t two27 = (int64_t)1 << 27;
+    if (n > 512u || U >= two27 || V >= two27 || X >= two27 || Y >= two27) {
+        return F;
+    }
+    const int64_t spread = a6 * X + a7 * Y;
+    const int64_t w_lo = F.h8c - spread, w_hi = F.h8c + spread;
+    if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 55)) {
+        return F;
+    }
+    /* Bounds as powers of two: 1 / w < 2^(28 - bw), |sc| < 2^lsc,
+     * max(|x|, |y|, 1) <= 2^lc, |r| < 2^lr. */
+    const int bw = spvs_q_bitlen64((uint64_t)(w_lo >> 26));
+    const int fy = kind == SPVS_T_FIT_Y;
+    const int lsc = fy ? spvs_q_bitlen64((uint64_t)V) - bw + 2 : 28 - bw;
+    const int bx = spvs_q_bitlen64((uint64_t)(X > Y ? X : Y));
+    const int lc = bx > 26 ? bx - 26 : 0;
+    const int lr = fy ? spvs_q_bitlen64((uint64_t)Y) - bw + 2 : spvs_q_bitlen64((uint64_t)U) - 26;
+    const int lq = lsc + lc;
+    F.qq = 26 - lq;
+    F.qr = 26 - lr;
+    /* hi((sc 2^a) (x 2^b)) = q0 in Q(26 + 26 + a + b - 32): a + b = qq - 20,
+     * with sc 2^a < 2^(31) (a <= 5 - lsc) and x 2^b < 2^31 (b <= 31 - bx). */
+    F.a = 5 - lsc;
+    F.b = F.qq - 20 - F.a;
+    const int s2 = F.qq - 26, sr = F.qr - 26;
+    if (F.a < 0 || F.b < 0 || F.b > 31 - bx || s2 < -31 || s2 > 31 || sr < -31 || sr > 31) {
+        return F;
+    }
+    F.s2l = s2 > 0 ? s2 : 0;
+    F.s2r = s2 < 0 ? -s2 : 0;
+    F.srl = sr > 0 ? sr : 0;
+    F.srr = sr < 0 ? -sr : 0;
+    F.ok = 1;
+    return F;
+}
+
+/* One point's FIT terms on the fast path into G: terms 0-5 in Q(2 qq),
+ * 6-8 in Q(qq + qr). */
+static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
+                                   const q_fit_t *F, int64_t G[9])
+{
+    const int32_t x = p[0], y = p[1];
+    const int64_t w = (int64_t)h[6] * x + (int64_t)h[7] * y + F->h8c;
+    const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^29) */
+    /* 1 / w: w27 2^(n - 1) in [2^30, 2^31), so 1 / w = r 2^(n - 35), and in
+     * Q28 r 2^(n - 7) with n in 3..6. */
+    const int nz = spvs_q_clz32((uint32_t)w27);
+    const int32_t r = q_recip_fast((uint32_t)w27 << (nz - 1));
+    const int32_t iw = r >> (7 - nz); /* Q28, below 2^30 */
+    const int32_t sc = kind == SPVS_T_FIT_Y
+                           ? spvs_q_opaque32((int32_t)(((int64_t)(p[3] * 16) * iw) >> 32))
+                           : iw >> 2; /* Q26 */
+    const int32_t rr = kind == SPVS_T_FIT_Y
+                           ? spvs_q_opaque32((int32_t)(((int64_t)(y * 16) * iw) >> 32))
+                           : p[2]; /* Q26 */
+    /* The shifts keep the values below 2^31 (fit_prep), so the unsigned
+     * left shifts are the products by powers of two. */
+    const int32_t sca = (int32_t)((uint32_t)sc << F->a);
+    const int32_t xb = (int32_t)((uint32_t)x << F->b), yb = (int32_t)((uint32_t)y << F->b);
+    const int32_t q0 = spvs_q_opaque32((int32_t)(((int64_t)sca * xb) >> 32));
+    const int32_t q1 = spvs_q_opaque32((int32_t)(((int64_t)sca * yb) >> 32));
+    const int32_t q2 = (int32_t)((uint32_t)sc << F->s2l) >> F->s2r;
+    const int32_t rq = (int32_t)((uint32_t)rr << F->srl) >> F->srr;
+    G[0] += (int64_t)q0 * q0;
+    G[1] += (int64_t)q0 * q1;
+    G[2] += (int64_t)q0 * q2;
+    G[3] += (int64_t)q1 * q1;
+    G[4] += (int64_t)q1 * q2;
+    G[5] += (int64_t)q2 * q2;
+    G[6] += (int64_t)q0 * rq;
+    G[7] += (int64_t)q1 * rq;
+    G[8] += (int64_t)q2 * rq;
+}
+
+/* fit_fast over the flagged points among the first n, for one kind (a
+ * constant at each call, so each kind gets its own loop).  Returns the
+ * number of flagged points.  Bound: n points. */
+static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_store_t *st,
+                                     const uint8_t *use, uint16_t n, const q_fit_t *F,
+                                     int64_t G[9])
+{
+    int32_t cnt = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        if (use[i]) {
+            fit_fast(kind, h, &st->v[4u * i], F, G);
+            cnt++;
+        }
+    }
+    return cnt;
+}
+
+int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
+                    uint16_t n)
+{
+    if (kind == SPVS_T_LIN) {
+        return lin_prep(st, Hq, n).ok;
+    }
+    return kind == SPVS_T_FIT_Y || kind == SPVS_T_FIT_X ? fit_prep((int)kind, st, Hq, n).ok : 0;
+}
+
+/* Adds a fast path's sums F (s->nt of them, block exponents e0 and e1) into
+ * the BFP sums s: each block at the larger exponent, one more where a sum
  * would reach 2^62 (both operands are below 2^62). */
-static void lin_merge(spvs_q_sums_t *s, const int64_t F[24], int32_t e0, int32_t e1)
+static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1)
 {
     const int32_t eF[2] = {e0, e1};
     for (int b = 0; b < 2; b++) {
@@ -852,6 +981,15 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     /* SPVS_T_LIN: the points in the fast path's range into F, the others
      * through the exact terms; merged at the end. */
     const q_lin_t L = lin ? lin_prep(st, Hq, n) : (q_lin_t){0};
+    const q_fit_t FT = lin ? (q_fit_t){0} : fit_prep((int)kind, st, Hq, n);
+    if (FT.ok) {
+        /* Every point on the fast path (w >= 1/4: none behind the camera). */
+        int64_t G[SPVS_NT_FIT] = {0};
+        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all(SPVS_T_FIT_Y, Hq, st, use, n, &FT, G)
+                                                 : fit_all(SPVS_T_FIT_X, Hq, st, use, n, &FT, G);
+        lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr));
+        return kind == SPVS_T_FIT_X ? 0 : cnt;
+    }
     int64_t F[24] = {0};
     int fast_used = 0;
     /* Bound: n points. */
@@ -861,8 +999,8 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
         }
         const int32_t *p = &st->v[4u * i];
         used++;
+        /* w >= 1/4 on the fast path: never behind the camera. */
         if (L.ok && lin_fast(Hq, p, &L, F)) {
-            /* w >= 1/4 on the fast path: never behind the camera. */
             fast_used = 1;
             continue;
         }

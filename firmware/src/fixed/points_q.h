@@ -135,10 +135,12 @@ uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[
 int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
                        const uint8_t *use, uint16_t n, spvs_q_sums_t *out);
 
-/* 1 when spvs_q_pts_sum's SPVS_T_LIN terms of the first n points of st
- * under Hq take the fast path (the set's bounds hold, docs/FIXED.md; its
- * points with a residual of 16 px or more still take the exact path), 0
- * when every point takes the exact path. */
-int spvs_q_lin_fast(const spvs_q_store_t *st, const int32_t Hq[9], uint16_t n);
+/* 1 when spvs_q_pts_sum's terms of kind (SPVS_T_LIN, SPVS_T_FIT_Y or
+ * SPVS_T_FIT_X) of the first n points of st under Hq take the fast path
+ * (the set's bounds hold, docs/FIXED.md; for SPVS_T_LIN its points with a
+ * residual of 16 px or more still take the exact path), 0 when every point
+ * takes the exact path. */
+int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
+                    uint16_t n);
 
 #endif /* SPVS_FIXED_POINTS_Q_H */
