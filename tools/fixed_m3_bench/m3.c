@@ -4,6 +4,7 @@
  * SysTick ticks printed through semihosting (run.sh converts them). */
 #include <string.h>
 #include "fixed/points_q.h"
+#include "spvs/homography.h"
 #include "data.h"
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
 #define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
@@ -56,6 +57,20 @@ int main(void)
     putu("cost_f ", t1 - t0);
     t0 = now(); (void)spvs_q_pts_cost(&qs, N, hq, &thr, &sat); t1 = now();
     putu("cost_q ", t1 - t0);
+    /* The 3-point solver on the first triple (i, i + N/3, i + 2N/3) that
+     * both solvers solve (found untimed), as RANSAC's solvable samples
+     * (neighbouring points of the synthetic frame lie on a line). */
+    uint16_t idx[3] = {0, 1, 2};
+    float pf[3][4], Hf[9];
+    int32_t Hs3[9];
+    for (uint16_t i = 0; i + 2 < N; i++) {
+        for (int k = 0; k < 3; k++) { idx[k] = (uint16_t)((i + k * (N / 3)) % N); spvs_pts_row(&fs, idx[k], pf[k]); }
+        if (spvs_h_solve3(pf, Hf) == 0 && spvs_q_solve3(&qs, idx, Hs3) == 0) break;
+    }
+    t0 = now(); const int rf = spvs_h_solve3(pf, Hf); t1 = now();
+    putu("solve_f ", t1 - t0); putu("cnt_solve_f_ok ", rf == 0);
+    t0 = now(); const int rq = spvs_q_solve3(&qs, idx, Hs3); t1 = now();
+    putu("solve_q ", t1 - t0); putu("cnt_solve_q_ok ", rq == 0);
     static const int exit_args[2] = {0x20026, 0};
     semi(0x18, exit_args);
     for (;;) {}

@@ -106,6 +106,15 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
 /* Point i as a row (x_tgt, y_tgt, x_cur, y_cur), Q26. */
 void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4]);
 
+/* The 3-point minimal solver (homography.c, spvs_h_solve3_strided) on the
+ * Q store's points idx[0..2]: H (Q27, h22 = 1) with the two 3 x 3 systems
+ * on the target points' cofactors, exact in integers up to the 2 x 2
+ * minors and in spvs_qf_t after.  SPVS_OK, or SPVS_E_DEGENERATE for
+ * collinear target points, a current y of 0, a point with w <= SPVS_W_EPS,
+ * or an entry outside (-16, 16) (the kernels' range; no consensus keeps
+ * such a model, docs/FIXED.md); Hq is then unchanged. */
+int spvs_q_solve3(const spvs_q_store_t *st, const uint16_t idx[3], int32_t Hq[9]);
+
 /* spvs_pts_score on the Q store: the inliers of Hq (Q27) among the first
  * n points, marked in mask[] when it is not NULL: w > 0 and the squared
  * Sampson error at most thr->t2.  The same early stop (a count below `need`
