@@ -49,8 +49,11 @@
 
 #define DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
 /* A repeat of the frame in flight is held back while the earlier copy is
- * still in the device's output queue, and this long after it left, seconds. */
+ * still in the device's output queue, and this long after it left,
+ * seconds; the hold doubles with each copy of the same frame, up to
+ * REPEAT_HOLD_MAX_S. */
 #define REPEAT_HOLD_S 0.5
+#define REPEAT_HOLD_MAX_S 2.0
 
 static volatile sig_atomic_t g_stop = 0;
 static void on_signal(int sig)
@@ -104,6 +107,7 @@ typedef struct {
     double fwd_left_t;              /* when it had left the output
                                        queue (< 0: not seen yet)      */
     int fwd_answered;               /* the MCU has answered it        */
+    double fwd_hold_s;              /* the hold before its next copy  */
     double last_config_s;
     spvs_matches_t msg;
     spvs_match_t m[SPVS_MAX_MATCHES];
@@ -403,12 +407,17 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
      * come faster than the line drains, the queue grows without end.  So a
      * repeat is held back until the first copy has left the queue and
      * REPEAT_HOLD_S more; after that it goes out, in case the first was
-     * damaged on the way. */
+     * damaged on the way.  A pty or TCP cannot tell what is still queued
+     * (device_outq reads 0), so there the hold is all that spaces the
+     * copies: it doubles with each copy of one frame, so that a line
+     * slower than the hold (QEMU's UART on a loaded host) gets fewer and
+     * fewer copies instead of a queue of them. */
     double t = now_s();
-    if (a->msg.seq == a->fwd_seq && a->msg.run_id == a->fwd_run &&
-        !a->fwd_answered) {
+    int repeat = a->msg.seq == a->fwd_seq && a->msg.run_id == a->fwd_run &&
+                 !a->fwd_answered;
+    if (repeat) {
         note_frame_left(a, t);
-        if (a->fwd_left_t < 0.0 || t - a->fwd_left_t < REPEAT_HOLD_S) {
+        if (a->fwd_left_t < 0.0 || t - a->fwd_left_t < a->fwd_hold_s) {
             a->st.held++;
             return;
         }
@@ -418,6 +427,10 @@ static void on_matches(const lcm_recv_buf_t *rbuf, const char *channel,
         logf_(a, 1, "frame %lld: no device; dropped", (long long)a->msg.seq);
         return;
     }
+    if (!repeat)
+        a->fwd_hold_s = REPEAT_HOLD_S;
+    else if (a->fwd_hold_s < REPEAT_HOLD_MAX_S)
+        a->fwd_hold_s *= 2.0;
     a->fwd_seq = a->msg.seq;
     a->fwd_utime = a->msg.utime;
     a->fwd_run = a->msg.run_id;
