@@ -5,6 +5,11 @@ spvs_add_test(NAME test_fixed_q SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_q.c
               LIBS spvs::fixed LABELS unit TIMEOUT 120)
 target_include_directories(test_fixed_q PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
 
+# The 3-point solver in Q format (solve3_q.c).
+spvs_add_test(NAME test_fixed_solve3 SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_solve3.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_solve3 PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
 # The kernels compiled for a Cortex-M3 (no FPU, soft-float ABI) with the
 # core's warnings reference no floating-point helper, in both scalar
 # builds of the core's headers (the loader reads a float's or a double's
@@ -15,9 +20,9 @@ if(SPVS_ARM_GCC AND SPVS_ARM_NM)
   foreach(dbl 0 1)
     add_test(NAME fixed_m3_no_float_${dbl}
              COMMAND ${CMAKE_COMMAND} -DCC=${SPVS_ARM_GCC} -DNM=${SPVS_ARM_NM}
-                     -DSRC=${PROJECT_SOURCE_DIR}/firmware/src/fixed/points_q.c
+                     -DSRCDIR=${PROJECT_SOURCE_DIR}/firmware/src/fixed
                      -DINC=${PROJECT_SOURCE_DIR}/firmware/include
-                     -DOBJ=${CMAKE_CURRENT_BINARY_DIR}/points_q_m3_${dbl}.o -DDOUBLE=${dbl}
+                     -DOBJDIR=${CMAKE_CURRENT_BINARY_DIR}/fixed_m3_${dbl} -DDOUBLE=${dbl}
                      -DCHECK=${PROJECT_SOURCE_DIR}/firmware/check_fixed_symbols.cmake
                      -P ${PROJECT_SOURCE_DIR}/firmware/check_fixed_m3.cmake)
     set_tests_properties(fixed_m3_no_float_${dbl} PROPERTIES LABELS "unit;fixed" TIMEOUT 60)
