@@ -10,6 +10,23 @@ spvs_add_test(NAME test_fixed_solve3 SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixe
               LIBS spvs::fixed LABELS unit TIMEOUT 120)
 target_include_directories(test_fixed_solve3 PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
 
+# The linear fits' solves in Q format (fit_q.c): the two-stage linear fit
+# and the joint fit's equilibrated Cholesky.
+spvs_add_test(NAME test_fixed_fit SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_fit.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_fit PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
+# RANSAC on Q models (ransac_q.c) and its stopping rule in integers.
+spvs_add_test(NAME test_fixed_ransac SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_ransac.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_ransac PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
+# The robust planar-motion H in fixed point (plane_h_q.c) against the
+# float estimator on the same frames.
+spvs_add_test(NAME test_fixed_plane_h SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_plane_h.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_plane_h PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
 # The kernels compiled for a Cortex-M3 (no FPU, soft-float ABI) with the
 # core's warnings reference no floating-point helper, in both scalar
 # builds of the core's headers (the loader reads a float's or a double's

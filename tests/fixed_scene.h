@@ -30,7 +30,7 @@ typedef struct {
     spvs_real Hs[9];        /* true H, scaled units */
 } scene_t;
 
-static void rescale_scaled(const double Hp[9], spvs_real Hs[9])
+static inline void rescale_scaled(const double Hp[9], spvs_real Hs[9])
 {
     for (int k = 0; k < 9; k++) {
         Hs[k] = (spvs_real)Hp[k];
@@ -41,7 +41,7 @@ static void rescale_scaled(const double Hp[9], spvs_real Hs[9])
 /* A random planar-motion scene: n matches on the plane with sigma px of
  * noise in both images and a share `out` of them mismatched (the current
  * point anywhere in the image). */
-static void make_scene(scene_t *sc, uint64_t *rng, int n, double sigma, double out)
+static inline void make_scene(scene_t *sc, uint64_t *rng, int n, double sigma, double out)
 {
     synth_pose_t p;
     synth_plane_t pl;
@@ -64,7 +64,7 @@ static void make_scene(scene_t *sc, uint64_t *rng, int n, double sigma, double o
     rescale_scaled(Hp, sc->Hs);
 }
 
-static void load_both(scene_t *sc)
+static inline void load_both(scene_t *sc)
 {
     uint16_t f1[NMAX], f2[NMAX];
     const uint16_t stride = sc->n > 2 ? (uint16_t)(sc->n / 2 + 1) : 1;

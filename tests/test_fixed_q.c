@@ -84,6 +84,23 @@ typedef __int128 i128;
  * to ~2e-3 scaled units (1 px noise): the inputs' quantisation (up to
  * 2^-27 per coordinate, ~1e-8 on eps) is then ~5e-6 of a term. */
 #define TOL_SUM_Q_RHS 1e-5
+/* SPVS_T_LIN's term 24 (eps^T W eps) and the SPVS_T_SAMPSON sum: sums of
+ * positive terms, so the error is relative to the sum itself.  Each term
+ * is about |eps|^2 / w^2: the inputs' quantisation moves eps by d ~ 1e-8
+ * scaled units, the term by 2 |eps| d / w^2, and the sum by at most about
+ * 2 d / rms(eps) of itself, ~1e-5 at 1 px noise (0.002 scaled) and 0.5 px
+ * (the golden vectors) alike; the arithmetic adds at most 2^-26 (exact
+ * path) or ~1e-6 (the fast path's weights, as for the other terms).
+ * Float: eps cancels to ~0.6 % of its terms, each rounded to 2^-24: ~1e-5
+ * on eps, twice that on its square. */
+#define TOL_SAMPSON_Q 1e-5
+#define TOL_SAMPSON_F 3e-5
+/* spvs_q_lin_move: sums moved from set A to set B against those made over
+ * B (and against the double reference), relative to the sum of the terms'
+ * magnitudes over A and B: the moved points' exact terms replace their
+ * fast-path terms (up to TOL_SUM_Q of a term, the fast path's weights),
+ * and the terms of a removed point leave that difference behind. */
+#define TOL_MOVE 2e-5
 /* The inlier test's own arithmetic (exact inputs: the Q store and the Q27
  * H, evaluated in long double): decided as exact arithmetic whenever t2 is
  * at least this relative distance from the squared Sampson error.  The
@@ -884,7 +901,7 @@ static void test_q_extremes(void **state)
 
 typedef struct {
     long sums;
-    double worst_f, worst_q, worst_q_rhs;
+    double worst_f, worst_q, worst_q_rhs, worst_f_cost, worst_q_cost;
 } sum_stats_t;
 
 static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *use,
@@ -895,7 +912,7 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
     assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
     const spvs_pts_in_t in = {0, &sc->fst};
     for (int k = 0; k < 3; k++) {
-        const int nt = kinds[k] == SPVS_T_LIN ? SPVS_H_LIN_COST : SPVS_NT_FIT;
+        const int nt = kinds[k] == SPVS_T_LIN ? SPVS_H_LIN_SUMS : SPVS_NT_FIT;
         spvs_real f[SPVS_H_LIN_SUMS];
         spvs_q_sums_t q;
         const int32_t rf = spvs_pts_sum(kinds[k], H, &in, use, sc->n, f);
@@ -921,7 +938,11 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
         }
         for (int j = 0; j < nt; j++) {
             assert_true(spvs_q_abs64(q.m[j]) < ((uint64_t)1 << 62));
-            const double qv = ldexp((double)q.m[j], q.e[j >= q.split]);
+            /* The accessor reads term j at its block's exponent. */
+            const spvs_qf_t tq = spvs_q_sums_term(&q, j);
+            const double qv = ldexp((double)tq.m, tq.e);
+            const double raw = ldexp((double)q.m[j], q.e[(j >= q.split) + (j >= q.split2)]);
+            assert_true(fabs(qv - raw) <= TOL_QF_MUL * fabs(raw));
             if (mag[j] == 0) {
                 assert_true(qv == 0 && f[j] == 0);
                 continue;
@@ -929,6 +950,14 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
             const double eq = fabs(qv - ref[j]) / mag[j];
             const double ef = fabs((double)f[j] - ref[j]) / mag[j];
             const int rhs = kinds[k] == SPVS_T_LIN && j >= 18;
+            if (kinds[k] == SPVS_T_LIN && j == SPVS_H_LIN_COST) {
+                st->worst_q_cost = fmax(st->worst_q_cost, eq);
+                st->worst_f_cost = fmax(st->worst_f_cost, ef);
+                st->sums++;
+                assert_true(eq <= TOL_SAMPSON_Q);
+                assert_true(ef <= TOL_SAMPSON_F);
+                continue;
+            }
             if (rhs) {
                 st->worst_q_rhs = fmax(st->worst_q_rhs, eq);
             } else {
@@ -973,10 +1002,12 @@ static void test_q_sums_random(void **state)
         scenes++;
     }
     print_message("sums: %ld sums; largest error / sum of |terms|: float %.3g (tolerance %.0e), "
-                  "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e); the fast paths on "
-                  "%d of %d scenes (SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X)\n",
+                  "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e), term 24 float "
+                  "%.3g (%.0e), Q %.3g (%.0e); the fast paths on %d of %d scenes "
+                  "(SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X)\n",
                   st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
-                  TOL_SUM_Q_RHS, fast, scenes, fast_fit, 2 * scenes);
+                  TOL_SUM_Q_RHS, st.worst_f_cost, TOL_SAMPSON_F, st.worst_q_cost, TOL_SAMPSON_Q,
+                  fast, scenes, fast_fit, 2 * scenes);
     assert_true(st.sums > 3000);
     /* Typical frames take the fast path (the others have |u| or |v| near
      * 2 scaled units, or w below 1/4 somewhere in the frame). */
@@ -1046,9 +1077,10 @@ static void test_q_lin_fast_edges(void **state)
         sets++;
     }
     print_message("lin edges: %d sets (%d on the fast path), %ld sums; largest error / sum of "
-                  "|terms|: float %.3g, Q %.3g (%.0e), right side %.3g (%.0e)\n",
+                  "|terms|: float %.3g, Q %.3g (%.0e), right side %.3g (%.0e), term 24 %.3g "
+                  "(%.0e)\n",
                   sets, fast, st.sums, st.worst_f, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
-                  TOL_SUM_Q_RHS);
+                  TOL_SUM_Q_RHS, st.worst_q_cost, TOL_SAMPSON_Q);
     assert_true(sets > 300);
     /* Both sides of the edges are covered. */
     assert_true(fast > sets / 4 && fast < sets * 3 / 4);
@@ -1125,10 +1157,398 @@ static void test_q_golden(void **state)
                          spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, NULL));
     }
     print_message("golden: %ld models, float/Q differ at %ld points, Q/double at %ld; cost error "
-                  "float %.3g, Q %.3g; sums error float %.3g, Q %.3g (right side %.3g)\n",
+                  "float %.3g, Q %.3g; sums error float %.3g, Q %.3g (right side %.3g, term 24 "
+                  "float %.3g, Q %.3g)\n",
                   ss.models, ss.band_f, ss.band_q_ref, ss.worst_cost_f, ss.worst_cost_q,
-                  st.worst_f, st.worst_q, st.worst_q_rhs);
+                  st.worst_f, st.worst_q, st.worst_q_rhs, st.worst_f_cost, st.worst_q_cost);
     assert_int_equal(ss.models, 2 * SPVS_GOLDEN_N_H);
+}
+
+/* ---- kernels: the Sampson sum and the moved sums ---------------------------- */
+
+typedef struct {
+    long sums, decisions, same_bits;
+    double worst_q, worst_f, worst_lin;
+} samp_stats_t;
+
+static double qf_d(spvs_qf_t a)
+{
+    return ldexp((double)a.m, a.e);
+}
+
+/* The SPVS_T_SAMPSON sum of the points flagged in use[] under H, Q and
+ * float, and Q's SPVS_T_LIN term 24 under the same H, against the double
+ * sum (h_point.inc).  Sets *ref to the double sum, *q to the Q sum and *l
+ * to Q's term 24. */
+static void check_sampson(const scene_t *sc, const spvs_real H[9], const uint8_t *use,
+                          samp_stats_t *st, double *ref, spvs_qf_t *q, spvs_qf_t *l)
+{
+    int32_t Hq[9];
+    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    const spvs_pts_in_t in = {0, &sc->fst};
+    spvs_real f[SPVS_H_LIN_SUMS];
+    spvs_q_sums_t qs, ql;
+    const int32_t rf = spvs_pts_sum(SPVS_T_SAMPSON, H, &in, use, sc->n, f);
+    const int32_t rq = spvs_q_pts_sum(SPVS_T_SAMPSON, Hq, &sc->qst, use, sc->n, &qs);
+    const int32_t rl = spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, use, sc->n, &ql);
+    double r = 0;
+    int32_t cnt = 0;
+    for (uint16_t i = 0; i < sc->n; i++) {
+        if (use[i]) {
+            /* The scenes' points are in front of both cameras. */
+            assert_true(ref_w(&sc->fst, i, H) > 0.1);
+            r += ref_sampson(&sc->fst, i, H);
+            cnt++;
+        }
+    }
+    /* The float kernel returns 0 for this kind, the Q kernel the count. */
+    assert_int_equal(rf, 0);
+    assert_int_equal(rq, cnt);
+    assert_int_equal(rl, cnt);
+    assert_int_equal(qs.nt, 1);
+    assert_int_equal(ql.nt, SPVS_H_LIN_SUMS);
+    assert_true(spvs_q_abs64(qs.m[0]) < ((uint64_t)1 << 62));
+    *ref = r;
+    *q = spvs_q_sums_term(&qs, 0);
+    *l = spvs_q_sums_term(&ql, SPVS_H_LIN_COST);
+    /* Outside 0..nt-1 the accessor gives 0. */
+    assert_int_equal(spvs_q_sums_term(&qs, 1).m, 0);
+    assert_int_equal(spvs_q_sums_term(&ql, -1).m, 0);
+    if (cnt == 0) {
+        assert_true(q->m == 0 && l->m == 0 && f[0] == 0);
+        return;
+    }
+    assert_true(r > 0);
+    const double eq = fabs(qf_d(*q) - r) / r;
+    const double ef = fabs((double)f[0] - r) / r;
+    const double el = fabs(qf_d(*l) - r) / r;
+    st->worst_q = fmax(st->worst_q, eq);
+    st->worst_f = fmax(st->worst_f, ef);
+    st->worst_lin = fmax(st->worst_lin, el);
+    st->sums++;
+    assert_true(eq <= TOL_SAMPSON_Q);
+    assert_true(ef <= TOL_SAMPSON_F);
+    assert_true(el <= TOL_SAMPSON_Q);
+}
+
+/* The final refit's test (plane_h.c, final_refit): is the candidate's
+ * SPVS_T_SAMPSON sum below the current model's SPVS_T_LIN term 24?  Where
+ * the double sums differ by more than both kernels' tolerance, Q decides
+ * as double does. */
+static void check_refit_decision(double ref_cur, spvs_qf_t lin_cur, double ref_cand,
+                                 spvs_qf_t samp_cand, samp_stats_t *st)
+{
+    if (fabs(ref_cand - ref_cur) <= 2 * TOL_SAMPSON_Q * fmax(ref_cand, ref_cur)) {
+        return;
+    }
+    const int lower_q = spvs_qf_le(samp_cand, lin_cur) && !spvs_qf_le(lin_cur, samp_cand);
+    assert_int_equal(lower_q, ref_cand < ref_cur);
+    st->decisions++;
+}
+
+/* H with its free entries moved by about rel of their size (planar form
+ * kept). */
+static void perturb_h(const spvs_real H[9], double rel, uint64_t *rng, spvs_real Hp[9])
+{
+    static const int free_k[6] = {0, 1, 2, 6, 7, 8};
+    memcpy(Hp, H, 9 * sizeof H[0]);
+    for (int k = 0; k < 6; k++) {
+        const double h = (double)H[free_k[k]];
+        Hp[free_k[k]] = (spvs_real)(h + rel * synth_gauss(rng) * (fabs(h) + 1e-3));
+    }
+}
+
+/* SPVS_T_SAMPSON and term 24 on the random scenes (all points and the
+ * inliers, under the true H and a model 1e-3 off it) and the golden
+ * vectors (their true H and least-squares H); the final refit's decision
+ * between each pair; a point behind the camera fails the sum. */
+static void test_q_sampson(void **state)
+{
+    (void)state;
+    static scene_t sc;
+    uint64_t rng = 808;
+    samp_stats_t st = {0};
+    const spvs_real t = (spvs_real)(INLIER_PX / S);
+    for (int c = 0; c < 100; c++) {
+        const int n = 8 + (int)(synth_uniform(&rng) * (NMAX - 8));
+        make_scene(&sc, &rng, n, 1.0, 0.3 * synth_uniform(&rng));
+        if (sc.n < 8) {
+            continue;
+        }
+        load_both(&sc);
+        uint8_t all[NMAX], mask[NMAX];
+        memset(all, 1, sizeof all);
+        (void)spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, mask);
+        spvs_real Hp[9];
+        perturb_h(sc.Hs, 1e-3, &rng, Hp);
+        for (int m = 0; m < 2; m++) {
+            const uint8_t *use = m ? mask : all;
+            double r0, r1;
+            spvs_qf_t q0, l0, q1, l1;
+            check_sampson(&sc, sc.Hs, use, &st, &r0, &q0, &l0);
+            check_sampson(&sc, Hp, use, &st, &r1, &q1, &l1);
+            check_refit_decision(r0, l0, r1, q1, &st);
+            check_refit_decision(r1, l1, r0, q0, &st);
+            /* The inliers (residuals under 16 px) of a set on the fast
+             * path: the Sampson sum and term 24 are the same bits. */
+            int32_t Hq[9];
+            assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+            if (m == 1 && spvs_q_sum_fast(SPVS_T_SAMPSON, &sc.qst, Hq, sc.n)) {
+                assert_true(q0.m == l0.m && q0.e == l0.e);
+                st.same_bits++;
+            }
+        }
+    }
+    for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
+        const spvs_golden_h_t *g = &spvs_golden_h[c];
+        sc.n = SPVS_GOLDEN_N_NOISY;
+        for (uint16_t i = 0; i < sc.n; i++) {
+            sc.m[i].x_tgt = (spvs_real)g->noisy[i][0];
+            sc.m[i].y_tgt = (spvs_real)g->noisy[i][1];
+            sc.m[i].x_cur = (spvs_real)g->noisy[i][2];
+            sc.m[i].y_cur = (spvs_real)g->noisy[i][3];
+            sc.m[i].feature = i;
+        }
+        rescale_scaled(g->H, sc.Hs);
+        load_both(&sc);
+        spvs_real Hf[9];
+        rescale_scaled(g->H_fit, Hf);
+        uint8_t all[NMAX];
+        memset(all, 1, sizeof all);
+        double r0, r1;
+        spvs_qf_t q0, l0, q1, l1;
+        check_sampson(&sc, sc.Hs, all, &st, &r0, &q0, &l0);
+        check_sampson(&sc, Hf, all, &st, &r1, &q1, &l1);
+        /* The least-squares H has the lower Sampson error on its points
+         * except where the two are within the tolerances. */
+        check_refit_decision(r0, l0, r1, q1, &st);
+    }
+    /* Behind the camera: -1 from both kernels, as for the fits' sums. */
+    spvs_real H[9];
+    memcpy(H, sc.Hs, sizeof H);
+    H[6] = H[7] = H[8] = 0;
+    uint8_t use[NMAX];
+    memset(use, 1, sizeof use);
+    int32_t Hq[9];
+    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    spvs_q_sums_t q;
+    spvs_real f[SPVS_H_LIN_SUMS];
+    const spvs_pts_in_t in = {0, &sc.fst};
+    assert_int_equal(spvs_pts_sum(SPVS_T_SAMPSON, H, &in, use, sc.n, f), -1);
+    assert_int_equal(spvs_q_pts_sum(SPVS_T_SAMPSON, Hq, &sc.qst, use, sc.n, &q), -1);
+    print_message("sampson: %ld sums; largest error / sum: Q %.3g, float %.3g (tolerances %.0e, "
+                  "%.0e), Q's SPVS_T_LIN term 24 %.3g (%.0e); %ld refit decisions, all as "
+                  "double; %ld inlier sets on the fast path, term 24 the same bits\n",
+                  st.sums, st.worst_q, st.worst_f, TOL_SAMPSON_Q, TOL_SAMPSON_F, st.worst_lin,
+                  TOL_SAMPSON_Q, st.decisions, st.same_bits);
+    assert_true(st.sums > 400);
+    assert_true(st.decisions > 100);
+    assert_true(st.same_bits > 50);
+}
+
+/* The double SPVS_T_LIN terms of point i of the scene under H into t. */
+static void ref_lin_terms(const scene_t *sc, uint16_t i, const spvs_real H[9],
+                          double t[SPVS_H_LIN_SUMS])
+{
+    spvs_real r[4];
+    spvs_pts_row(&sc->fst, i, r);
+    for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
+        t[j] = 0;
+    }
+    (void)hp_terms_d(SPVS_T_LIN, H, r[0], r[1], r[2], r[3], 1.0, t);
+}
+
+/* Point p added REPEAT_ADDS times under Hq to empty sums: every mantissa
+ * stays below 2^62 as the exponents rise (the normal matrix's block must
+ * rise: 2^16 of its terms exceed 2^62 in either path's units), and each
+ * sum is REPEAT_ADDS times the point's term to within one rounding of
+ * 2^-61 of its block's largest sum per add.  Returns the largest error
+ * relative to that. */
+#define REPEAT_ADDS 65536
+static double repeat_add(const scene_t *sc, const int32_t Hq[9], const int32_t p[4], int fast)
+{
+    uint8_t none[NMAX];
+    memset(none, 0, sizeof none);
+    spvs_q_sums_t s, one;
+    assert_int_equal(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, none, sc->n, &s), 0);
+    assert_int_equal(spvs_q_lin_move(Hq, p, 1, &s), 1);
+    memcpy(&one, &s, sizeof one);
+    /* The path taken, from the first add's units: the fast path's formats
+     * keep a term below 2^53, the exact path puts the first term's 31-bit
+     * mantissa 2^30 above its block's unit. */
+    uint64_t m0 = 0;
+    for (int j = 0; j < one.split; j++) {
+        m0 = spvs_q_abs64(one.m[j]) > m0 ? spvs_q_abs64(one.m[j]) : m0;
+    }
+    assert_true(fast ? m0 < ((uint64_t)1 << 53) : m0 >= ((uint64_t)1 << 60));
+    for (int k = 1; k < REPEAT_ADDS; k++) {
+        assert_int_equal(spvs_q_lin_move(Hq, p, 1, &s), 1);
+    }
+    assert_true(s.e[0] > one.e[0]);
+    double big[3] = {0, 0, 0};
+    for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
+        const int b = (j >= s.split) + (j >= s.split2);
+        big[b] = fmax(big[b], fabs(REPEAT_ADDS * qf_d(spvs_q_sums_term(&one, j))));
+    }
+    double worst = 0;
+    for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
+        assert_true(spvs_q_abs64(s.m[j]) < ((uint64_t)1 << 62));
+        const int b = (j >= s.split) + (j >= s.split2);
+        if (big[b] == 0) {
+            continue;
+        }
+        const double o = REPEAT_ADDS * qf_d(spvs_q_sums_term(&one, j));
+        const double e = fabs(qf_d(spvs_q_sums_term(&s, j)) - o) / big[b];
+        worst = fmax(worst, e);
+        assert_true(e <= REPEAT_ADDS * 0x1p-61 + 2 * TOL_QF_MUL);
+    }
+    return worst;
+}
+
+typedef struct {
+    long sets, moves, trips, trips_exact;
+    double worst_direct, worst_ref;
+} move_stats_t;
+
+/* Sums over A moved to B (spvs_q_lin_move) against the sums made over B
+ * and the double sums over B, relative to the terms' magnitudes over A
+ * and B; then each point of B left out of it added and removed again. */
+static void check_move(const scene_t *sc, const spvs_real Hw[9], const uint8_t *a,
+                       const uint8_t *b, move_stats_t *st)
+{
+    int32_t Hq[9];
+    assert_int_equal(spvs_q_h_from_real(Hw, Hq), 0);
+    spvs_q_sums_t s, d;
+    assert_true(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, a, sc->n, &s) >= 0);
+    double ref[SPVS_H_LIN_SUMS] = {0}, mag[SPVS_H_LIN_SUMS] = {0};
+    for (uint16_t i = 0; i < sc->n; i++) {
+        int32_t row[4];
+        spvs_q_pts_row(&sc->qst, i, row);
+        if (a[i] != b[i]) {
+            assert_int_equal(spvs_q_lin_move(Hq, row, b[i], &s), 1);
+            st->moves++;
+        }
+        if (a[i] || b[i]) {
+            double t[SPVS_H_LIN_SUMS];
+            ref_lin_terms(sc, i, Hw, t);
+            for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
+                ref[j] += b[i] ? t[j] : 0;
+                mag[j] += fabs(t[j]);
+            }
+        }
+    }
+    assert_true(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, b, sc->n, &d) >= 0);
+    for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
+        assert_true(spvs_q_abs64(s.m[j]) < ((uint64_t)1 << 62));
+        if (mag[j] == 0) {
+            continue;
+        }
+        const double mv = qf_d(spvs_q_sums_term(&s, j));
+        const double e1 = fabs(mv - qf_d(spvs_q_sums_term(&d, j))) / mag[j];
+        const double e2 = fabs(mv - ref[j]) / mag[j];
+        st->worst_direct = fmax(st->worst_direct, e1);
+        st->worst_ref = fmax(st->worst_ref, e2);
+        assert_true(e1 <= TOL_MOVE);
+        assert_true(e2 <= TOL_MOVE);
+    }
+    /* Adding a point and removing it: the sums exactly as they were while
+     * no block's exponent rose, otherwise within a unit of the new one. */
+    for (uint16_t i = 0; i < sc->n; i++) {
+        if (b[i]) {
+            continue;
+        }
+        int32_t row[4];
+        spvs_q_pts_row(&sc->qst, i, row);
+        spvs_q_sums_t t;
+        memcpy(&t, &s, sizeof t);
+        assert_int_equal(spvs_q_lin_move(Hq, row, 1, &t), 1);
+        assert_int_equal(spvs_q_lin_move(Hq, row, 0, &t), 1);
+        st->trips++;
+        if (memcmp(t.e, s.e, sizeof t.e) == 0) {
+            assert_memory_equal(t.m, s.m, sizeof t.m);
+            st->trips_exact++;
+        } else {
+            for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
+                const int blk = (j >= t.split) + (j >= t.split2);
+                const double unit = ldexp(1.0, t.e[blk]);
+                assert_true(fabs(qf_d(spvs_q_sums_term(&t, j)) -
+                                 qf_d(spvs_q_sums_term(&s, j))) <= 2 * unit +
+                            TOL_QF_MUL * fabs(qf_d(spvs_q_sums_term(&s, j))));
+            }
+        }
+    }
+    st->sets++;
+}
+
+/* spvs_q_lin_move on the random scenes: the re-selection's move from one
+ * inlier set A (the true H's at the default threshold) to another B (a
+ * perturbed model's at another threshold, so points enter and leave,
+ * mismatches among them); one point added REPEAT_ADDS times on each path
+ * (the exponents rise, no mantissa overflows); points behind the camera
+ * refused. */
+static void test_q_lin_move(void **state)
+{
+    (void)state;
+    static scene_t sc;
+    uint64_t rng = 4242;
+    move_stats_t st = {0};
+    const spvs_real t = (spvs_real)(INLIER_PX / S);
+    for (int c = 0; c < 60; c++) {
+        const int n = 16 + (int)(synth_uniform(&rng) * (NMAX - 16));
+        make_scene(&sc, &rng, n, 1.0, 0.3 * synth_uniform(&rng));
+        if (sc.n < 16) {
+            continue;
+        }
+        load_both(&sc);
+        uint8_t a[NMAX], b[NMAX];
+        (void)spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, a);
+        spvs_real Hp[9];
+        perturb_h(sc.Hs, 3e-3, &rng, Hp);
+        const spvs_real tb = t * (spvs_real)(0.5 + 2.0 * synth_uniform(&rng));
+        (void)spvs_pts_score(&sc.fst, sc.n, Hp, tb * tb, 0, b);
+        check_move(&sc, sc.Hs, a, b, &st);
+    }
+    /* One point added REPEAT_ADDS times, with a mismatch's residual (the
+     * exact path) and on the model (the fast path). */
+    int32_t Hq[9];
+    assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+    const int32_t far[4] = {sc.qst.v[0], sc.qst.v[1], sc.qst.v[2] + (1 << 24),
+                            sc.qst.v[3] - (1 << 24)};
+    const double x = ldexp(sc.qst.v[0], -SPVS_QC), y = ldexp(sc.qst.v[1], -SPVS_QC);
+    const double w = sc.Hs[6] * x + sc.Hs[7] * y + sc.Hs[8];
+    const int32_t on[4] = {sc.qst.v[0], sc.qst.v[1],
+                           (int32_t)lrint(ldexp((sc.Hs[0] * x + sc.Hs[1] * y + sc.Hs[2]) / w,
+                                                SPVS_QC)),
+                           (int32_t)lrint(ldexp(y / w, SPVS_QC))};
+    const double worst_rep = fmax(repeat_add(&sc, Hq, far, 0), repeat_add(&sc, Hq, on, 1));
+    spvs_q_sums_t s, s0;
+    /* Behind the camera under Hw: w = h31 x + h33 = 0 at x = -2 and -1 at
+     * x = -4 (scaled units); the sums are left as they were. */
+    const spvs_real Hb[9] = {1, 0, 0, 0, 1, 0, 0.5f, 0, 1};
+    assert_int_equal(spvs_q_h_from_real(Hb, Hq), 0);
+    uint8_t all[NMAX];
+    memset(all, 1, sizeof all);
+    assert_int_equal(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc.qst, all, sc.n, &s), sc.n);
+    memcpy(&s0, &s, sizeof s0);
+    const int32_t behind[2][4] = {{-2 * (1 << 26), 0, 0, 0}, {-4 * (1 << 26), 1 << 20, 0, 0}};
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(spvs_q_lin_move(Hq, behind[k], 1, &s), 0);
+        assert_int_equal(spvs_q_lin_move(Hq, behind[k], 0, &s), 0);
+        assert_memory_equal(&s, &s0, sizeof s);
+    }
+    /* Just in front (w = 2^-19 > SPVS_W_EPS) it is taken. */
+    const int32_t front[4] = {-2 * (1 << 26) + (1 << 8), 0, 0, 0};
+    assert_int_equal(spvs_q_lin_move(Hq, front, 1, &s), 1);
+    print_message("lin_move: %ld sets, %ld points moved; largest error / sum of |terms| over A "
+                  "and B: against the sums over B %.3g, against double %.3g (tolerance %.0e); "
+                  "%ld add-remove trips, %ld exactly back (the others within 2 units); one "
+                  "point added %d times: within %.3g of its block's largest sum\n",
+                  st.sets, st.moves, st.worst_direct, st.worst_ref, TOL_MOVE, st.trips,
+                  st.trips_exact, REPEAT_ADDS, worst_rep);
+    assert_true(st.sets > 40 && st.moves > 500);
+    /* Both cases met: most trips leave the exponents as they were; a
+     * mismatch's terms, far above an inlier set's, raise them. */
+    assert_true(st.trips_exact * 2 > st.trips && st.trips_exact < st.trips);
 }
 
 /* ---- kernels: the loader's checks ----------------------------------------- */
@@ -1185,7 +1605,8 @@ int main(void)
         cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_lin_fast_edges),
         cmocka_unit_test(test_q_sums_behind),
         cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
-        cmocka_unit_test(test_q_extremes),
+        cmocka_unit_test(test_q_extremes),      cmocka_unit_test(test_q_sampson),
+        cmocka_unit_test(test_q_lin_move),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,14 +18,50 @@
 /* The 3-point solver: on random triples of random scenes (inlier and
  * mismatch samples alike), the Q solver against the same formula in long
  * double on the Q store's exact values, and against the float solver.
- * Tolerances: an entry within 2^-26 (two Q27 units) plus 3e-8 times the
- * triple's conditioning |adj(P)| / |det(P)| times the largest entry: row 1
- * is solved on w = h3 . p with h3 already rounded to Q27 (2^-28), which the
- * adjugate amplifies by the conditioning (measured up to 1.1e-8); the
- * degenerate decisions those of the reference, but for at most 3 triples
- * at a threshold.  The float solver's own error is printed beside it. */
+ * Two tolerances, both asserted on every entry of rows 1 and 3:
+ *   - TOL_ABS + TOL_COND |adj P| / |det P| max|H| (the conditioning times
+ *     the largest entry), the solver's contract since its first version;
+ *   - the bound proved in solve3_q.c from its roundings (q_bound below),
+ *     tighter on these scenes.
+ * The degenerate decisions are those of the reference, but for at most
+ * NEAR_MAX triples at a threshold.  The float solver's own error is
+ * printed beside it. */
+#define TOL_ABS 0x1p-26 /* two Q27 units: the final rounding and the rest */
+#define TOL_COND 3e-8   /* relative, per unit of |adj P| / |det P| */
+#define NEAR_MAX 3
+
+/* What the reference returns beside H: cond = |adj P| / |det P| (the
+ * largest cofactor), the largest w_i = y_tgt / y_cur, |x_cur| and
+ * |x_cur w_i| of the triple (the scales of the right sides). */
+typedef struct {
+    long double cond, wmax, umax, bmax;
+} ref_scale_t;
+
+/* The error bound of spvs_q_solve3 (solve3_q.c) for entry k (0..2: row 1,
+ * 6..8: row 3) of value h: the final rounding (2^-28), 1 / |det P| to
+ * 2^-30, and the right sides and the cofactors c_i2 each to 2^-30 of their
+ * largest, amplified by sum_i |c_ij| / |det P| <= 3 cond:
+ *   w_i within 1.5 2^-30 wmax, b_i within 1.5 2^-30 |x_cur| wmax +
+ *   2^-29 bmax, c_i2 within 2^-30 max|c_i2|.
+ * Q_BOUND_SLACK covers the terms below 2^-50 of these (the 64 x 32-bit
+ * products' truncation). */
+#define Q_BOUND_SLACK 1.001
+static double q_bound(int k, long double h, const ref_scale_t *rs)
+{
+    const long double u = 0x1p-30L;
+    const long double c3 = 3 * rs->cond;
+    long double rhs;
+    if (k >= 6) {
+        rhs = c3 * (1.5L * u * rs->wmax + (k == 8 ? u * rs->wmax : 0));
+    } else {
+        rhs = c3 * (1.5L * u * rs->umax * rs->wmax + 2 * u * rs->bmax +
+                    (k == 2 ? u * rs->bmax : 0));
+    }
+    return (double)(Q_BOUND_SLACK * (0x1p-28L + u * fabsl(h) + rhs));
+}
+
 static int ref_solve3(const spvs_q_store_t *st, const uint16_t idx[3], long double H[9],
-                      long double *cond)
+                      ref_scale_t *rs)
 {
     long double x[3], y[3], u[3], v[3];
     for (int i = 0; i < 3; i++) {
@@ -51,13 +87,17 @@ static int ref_solve3(const spvs_q_store_t *st, const uint16_t idx[3], long doub
             cn = fmaxl(cn, fabsl(c[i][j]));
         }
     }
-    *cond = cn / fabsl(det);
+    rs->cond = cn / fabsl(det);
+    rs->wmax = rs->umax = rs->bmax = 0;
     if (!(fabsl(det) > 1e-7L) || !(fabsl(dety) > 1e-7L)) {
         return -1;
     }
     long double w[3], h3[3], h1[3];
     for (int i = 0; i < 3; i++) {
         w[i] = y[i] / v[i];
+        rs->wmax = fmaxl(rs->wmax, fabsl(w[i]));
+        rs->umax = fmaxl(rs->umax, fabsl(u[i]));
+        rs->bmax = fmaxl(rs->bmax, fabsl(u[i] * w[i]));
     }
     for (int j = 0; j < 3; j++) {
         h3[j] = (c[0][j] * w[0] + c[1][j] * w[1] + c[2][j] * w[2]) / det;
@@ -83,13 +123,39 @@ static int ref_solve3(const spvs_q_store_t *st, const uint16_t idx[3], long doub
     return 0;
 }
 
+/* The largest error of one row (entries k0, k0 + 1, k0 + 2) of Hq against
+ * the reference, as a share of each tolerance, and in absolute terms. */
+typedef struct {
+    double abs, tol, bound;
+} row_err_t;
+
+static void check_row(const int32_t Hq[9], const long double Hr[9], int k0,
+                      const ref_scale_t *rs, row_err_t *er)
+{
+    long double hmax = 0;
+    for (int k = 0; k < 9; k++) {
+        hmax = fmaxl(hmax, fabsl(Hr[k]));
+    }
+    for (int k = k0; k < k0 + 3; k++) {
+        const double e = (double)fabsl(ldexpl(Hq[k], -SPVS_QH) - Hr[k]);
+        const double tol = TOL_ABS + TOL_COND * (double)(rs->cond * hmax);
+        const double bound = q_bound(k, Hr[k], rs);
+        er->abs = fmax(er->abs, e);
+        er->tol = fmax(er->tol, e / tol);
+        er->bound = fmax(er->bound, e / bound);
+        assert_true(e <= tol);
+        assert_true(e <= bound);
+    }
+}
+
 static void test_q_solve3(void **state)
 {
     (void)state;
     static scene_t sc;
     uint64_t rng = 314;
     long solved = 0, degenerate = 0, near = 0, float_cmp = 0;
-    double worst = 0, worst_f = 0;
+    row_err_t r1 = {0, 0, 0}, r3 = {0, 0, 0};
+    double worst_f = 0;
     for (int c = 0; c < 60; c++) {
         make_scene(&sc, &rng, 20 + (int)(synth_uniform(&rng) * 200), 1.0,
                    0.4 * synth_uniform(&rng));
@@ -106,15 +172,16 @@ static void test_q_solve3(void **state)
             do {
                 idx[2] = (uint16_t)(synth_uniform(&rng) * sc.n);
             } while (idx[2] == idx[0] || idx[2] == idx[1]);
-            long double Hr[9], cond;
-            const int rr = ref_solve3(&sc.qst, idx, Hr, &cond);
+            long double Hr[9];
+            ref_scale_t rs;
+            const int rr = ref_solve3(&sc.qst, idx, Hr, &rs);
             int32_t Hq[9];
             const int rq = spvs_q_solve3(&sc.qst, idx, Hq);
             if ((rr == 0) != (rq == SPVS_OK)) {
                 /* Only a triple at a threshold may be decided otherwise:
                  * its reference result sits within 1e-6 of the bound. */
                 near++;
-                assert_true(near <= 3);
+                assert_true(near <= NEAR_MAX);
                 continue;
             }
             if (rq != SPVS_OK) {
@@ -122,23 +189,18 @@ static void test_q_solve3(void **state)
                 continue;
             }
             solved++;
-            long double hmax = 0;
-            for (int k = 0; k < 9; k++) {
-                hmax = fmaxl(hmax, fabsl(Hr[k]));
-            }
-            for (int k = 0; k < 9; k++) {
-                const double e = (double)fabsl(ldexpl(Hq[k], -SPVS_QH) - Hr[k]);
-                const double tol = 0x1p-26 + 3e-8 * (double)(cond * hmax);
-                worst = fmax(worst, e / tol);
-                assert_true(e <= tol);
-            }
+            assert_int_equal(Hq[3], 0);
+            assert_int_equal(Hq[4], (int32_t)1 << SPVS_QH);
+            assert_int_equal(Hq[5], 0);
+            check_row(Hq, Hr, 0, &rs, &r1);
+            check_row(Hq, Hr, 6, &rs, &r3);
             /* The float solver on the float store's points (which differ
              * from the Q store's by up to 2^-27 scaled units). */
             spvs_real pf[3][4], Hf[9];
             for (int i = 0; i < 3; i++) {
                 spvs_pts_row(&sc.fst, idx[i], pf[i]);
             }
-            if (spvs_h_solve3(pf, Hf) == SPVS_OK && cond < 1e3) {
+            if (spvs_h_solve3(pf, Hf) == SPVS_OK && rs.cond < 1e3) {
                 float_cmp++;
                 for (int k = 0; k < 9; k++) {
                     worst_f = fmax(worst_f, fabs((double)Hf[k] - (double)Hr[k]) /
@@ -147,17 +209,96 @@ static void test_q_solve3(void **state)
             }
         }
     }
-    print_message("solve3: %ld solved, %ld degenerate, %ld decided otherwise at a threshold; "
-                  "largest error / tolerance %.3g; float against the reference (%ld triples "
-                  "with |adj P| / |det P| < 1e3): %.3g relative\n",
-                  solved, degenerate, near, worst, float_cmp, worst_f);
+    print_message("solve3: %ld solved, %ld degenerate, %ld decided otherwise at a threshold\n"
+                  "  row 1: largest error %.3g scaled units, %.3g of the tolerance, "
+                  "%.3g of the bound\n"
+                  "  row 3: largest error %.3g scaled units, %.3g of the tolerance, "
+                  "%.3g of the bound\n"
+                  "  float against the reference (%ld triples with |adj P| / |det P| < 1e3): "
+                  "%.3g relative\n",
+                  solved, degenerate, near, r1.abs, r1.tol, r1.bound, r3.abs, r3.tol, r3.bound,
+                  float_cmp, worst_f);
     assert_true(solved > 8000);
+}
+
+/* Triples built at the thresholds, on exact Q store values: the solver's
+ * status must be the expected one (and the reference's), and a solved H
+ * within both tolerances. */
+typedef struct {
+    int32_t pt[3][4]; /* x_tgt, y_tgt, x_cur, y_cur (Q26) */
+    int ok;           /* 1: SPVS_OK expected */
+} edge_t;
+
+static void check_edge(const edge_t *ed)
+{
+    static spvs_q_store_t st;
+    for (int i = 0; i < 3; i++) {
+        for (int k = 0; k < 4; k++) {
+            st.v[4 * i + k] = ed->pt[i][k];
+        }
+    }
+    const uint16_t idx[3] = {0, 1, 2};
+    long double Hr[9];
+    ref_scale_t rs;
+    assert_int_equal(ref_solve3(&st, idx, Hr, &rs) == 0, ed->ok);
+    int32_t Hq[9] = {0};
+    assert_int_equal(spvs_q_solve3(&st, idx, Hq), ed->ok ? SPVS_OK : SPVS_E_DEGENERATE);
+    if (ed->ok) {
+        row_err_t er = {0, 0, 0};
+        check_row(Hq, Hr, 0, &rs, &er);
+        check_row(Hq, Hr, 6, &rs, &er);
+    }
+}
+
+/* Y = 1.2 scaled units (Q26): det(D P) = y_cur0 y_cur1 y_cur2 det P stays
+ * above its threshold while det P sits at its own. */
+#define EDGE_Y 80530637
+
+static void test_q_solve3_thresholds(void **state)
+{
+    (void)state;
+    const int32_t Y = EDGE_Y, U = 1 << 25;
+    /* det P = 21222^2 - d e in Q52 units: 450359962 (1e-7 2^52 rounded
+     * down, degenerate) with d e = 13322, 450359963 (solved) with
+     * d e = 13321; w = 1 at every point, H = (0 0 U; 0 1 0; 0 0 1). */
+    const edge_t det_lo = {{{0, Y, U, Y}, {21222, Y + 6661, U, Y + 6661},
+                            {2, Y + 21222, U, Y + 21222}}, 0};
+    const edge_t det_hi = {{{0, Y, U, Y}, {21222, Y + 173, U, Y + 173},
+                            {77, Y + 21222, U, Y + 21222}}, 1};
+    check_edge(&det_lo);
+    check_edge(&det_hi);
+    /* w = y_tgt / y_cur at SPVS_W_EPS = 1e-6 exactly at every point
+     * (degenerate), then just above it (y_cur one unit smaller). */
+    const int32_t X = 1 << 29;
+    const edge_t w_at = {{{-X, 536, U, 536000000}, {0, 1072, U, 1072000000},
+                          {X, 536, U, 536000000}}, 0};
+    const edge_t w_above = {{{-X, 536, U, 535999999}, {0, 1072, U, 1071999998},
+                             {X, 536, U, 535999999}}, 1};
+    check_edge(&w_at);
+    check_edge(&w_above);
+    /* A y_cur of 0, and one of the wrong sign (w < 0). */
+    const edge_t v_zero = {{{0, Y, U, Y}, {X, Y, U, 0}, {0, 2 * Y, U, 2 * Y}}, 0};
+    const edge_t v_neg = {{{0, Y, U, Y}, {X, Y, U, -Y}, {0, 2 * Y, U, 2 * Y}}, 0};
+    const edge_t v_ok = {{{0, Y, U, Y}, {X, Y, U, Y}, {0, 2 * Y, U, 2 * Y}}, 1};
+    check_edge(&v_zero);
+    check_edge(&v_neg);
+    check_edge(&v_ok);
+    /* h13 = x_cur w: x_cur = 16 scaled units (2^30) with w = 1.01 puts it
+     * above 16 (degenerate); 15.5 below. */
+    const int32_t V = 80000000, Yw = 80800000; /* w = 1.01 */
+    const edge_t h_out = {{{0, Yw, 1 << 30, V}, {X, Yw, 1 << 30, V},
+                           {0, 2 * Yw, 1 << 30, 2 * V}}, 0};
+    const edge_t h_in = {{{0, Yw, 1040187392, V}, {X, Yw, 1040187392, V},
+                          {0, 2 * Yw, 1040187392, 2 * V}}, 1};
+    check_edge(&h_out);
+    check_edge(&h_in);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_q_solve3),
+        cmocka_unit_test(test_q_solve3_thresholds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -61,31 +61,6 @@ static int frame_error(const spvs_match_t *m, uint16_t n)
     return SPVS_OK;
 }
 
-/* A stride for storing n matches in a spread order: near 0.618 n and
- * coprime with n, so that r -> (r * stride) mod n is a permutation that puts
- * neighbouring matches far apart.  Bound: SPREAD_TRIES candidates, each
- * tested by at most GCD_STEPS steps of Euclid's algorithm (enough for any
- * 16-bit pair); 1 (the input order) if none passes. */
-#define SPREAD_TRIES 16
-#define GCD_STEPS 32
-static uint16_t spread_stride(uint16_t n)
-{
-    uint32_t p = ((uint32_t)n * 40503u) >> 16;
-    for (int t = 0; t < SPREAD_TRIES && p > 1u; t++, p--) {
-        uint32_t a = n;
-        uint32_t b = p;
-        for (int k = 0; k < GCD_STEPS && b != 0u; k++) {
-            const uint32_t r = a % b;
-            a = b;
-            b = r;
-        }
-        if (a == 1u && b == 0u) {
-            return (uint16_t)p;
-        }
-    }
-    return 1u;
-}
-
 int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, uint16_t n,
                       const uint16_t *order, uint16_t n_plane)
 {
@@ -102,7 +77,8 @@ int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, uint16_t n,
     spvs_prefetch(m, (size_t)n * sizeof *m);
     /* The copy checks every value without branches; only a bad frame is
      * looked at again, for its status. */
-    if (spvs_pts_load(&e->pts, e->feat, m, n, n_plane, order, spread_stride(n_plane)) != 0) {
+    const uint16_t stride = spvs_pts_spread_stride(n_plane);
+    if (spvs_pts_load(&e->pts, e->feat, m, n, n_plane, order, stride) != 0) {
         rc = frame_error(m, n);
         return rc != SPVS_OK ? rc : SPVS_E_RANGE;
     }

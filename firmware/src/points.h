@@ -72,6 +72,32 @@ int32_t spvs_pts_sum(spvs_terms_t kind, const spvs_real H[9], const spvs_pts_in_
 int spvs_pts_lin_move(const spvs_real H[9], const spvs_real pt[4], int add,
                       spvs_real acc[SPVS_H_LIN_SUMS]);
 
+/* A stride for storing n matches in a spread order: near 0.618 n and
+ * coprime with n (spvs_pts_load's stride; the Q loader takes the same),
+ * so that r -> (r * stride) mod n is a permutation that puts
+ * neighbouring matches far apart.  Bound: SPVS_SPREAD_TRIES candidates, each
+ * tested by at most SPVS_GCD_STEPS steps of Euclid's algorithm (enough for any
+ * 16-bit pair); 1 (the input order) if none passes. */
+#define SPVS_SPREAD_TRIES 16
+#define SPVS_GCD_STEPS 32
+static inline uint16_t spvs_pts_spread_stride(uint16_t n)
+{
+    uint32_t p = ((uint32_t)n * 40503u) >> 16;
+    for (int t = 0; t < SPVS_SPREAD_TRIES && p > 1u; t++, p--) {
+        uint32_t a = n;
+        uint32_t b = p;
+        for (int k = 0; k < SPVS_GCD_STEPS && b != 0u; k++) {
+            const uint32_t r = a % b;
+            a = b;
+            b = r;
+        }
+        if (a == 1u && b == 0u) {
+            return (uint16_t)p;
+        }
+    }
+    return 1u;
+}
+
 /* Copies n matches into the store in scaled units: slot k takes match
  * src(k), where src(k) for k < n_plane is the k-th of the sequence
  * p_0 = 0, p_{k+1} = (p_k + stride) mod n_plane mapped through order[] (or

@@ -2,8 +2,13 @@
  * frame (data.h, written by gen.c on the host) scored, costed and summed
  * by the float kernels (points.h) and the Q kernels (fixed/points_q.h);
  * SysTick ticks printed through semihosting (run.sh converts them). */
+#include <math.h>
 #include <string.h>
 #include "fixed/points_q.h"
+#include "fixed/fit_q.h"
+#include "fixed/plane_h_q.h"
+#include "spvs/plane_h.h"
+#include "h_fit.h"
 #include "spvs/homography.h"
 #include "data.h"
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
@@ -43,7 +48,7 @@ int main(void)
     putu("score_q ", t1 - t0); putu("cnt_q ", cq);
     for (int i = 0; i < N; i++) use[i] = mask[i];
     const spvs_pts_in_t in = {0, &fs};
-    float sums[24]; spvs_q_sums_t qsum;
+    float sums[SPVS_H_LIN_SUMS]; spvs_q_sums_t qsum;
     t0 = now(); (void)spvs_pts_sum(SPVS_T_LIN, H, &in, use, N, sums); t1 = now();
     putu("lin_f ", t1 - t0);
     t0 = now(); (void)spvs_q_pts_sum(SPVS_T_LIN, hq, &qs, use, N, &qsum); t1 = now();
@@ -71,6 +76,48 @@ int main(void)
     putu("solve_f ", t1 - t0); putu("cnt_solve_f_ok ", rf == 0);
     t0 = now(); const int rq = spvs_q_solve3(&qs, idx, Hs3); t1 = now();
     putu("solve_q ", t1 - t0); putu("cnt_solve_q_ok ", rq == 0);
+    /* The linear fits on the frame's inliers: the two-stage fit from H's
+     * weights (its two sums and two 3 x 3 solves), the Q 3 x 3 solve
+     * alone, and the joint fit's 6 x 6 solve of the SPVS_T_LIN sums at H
+     * (made untimed). */
+    float Hl[9]; memcpy(Hl, H, sizeof Hl);
+    t0 = now(); const int rfl = spvs_hf_fit_linear(&in, use, N, Hl); t1 = now();
+    putu("fitlin_f ", t1 - t0); putu("cnt_fitlin_f_ok ", rfl == 0);
+    int32_t Hql[9]; memcpy(Hql, hq, sizeof Hql);
+    t0 = now(); const int rql = spvs_q_fit_linear(&qs, use, N, Hql); t1 = now();
+    putu("fitlin_q ", t1 - t0); putu("cnt_fitlin_q_ok ", rql == 0);
+    static spvs_q_sums_t fq;
+    (void)spvs_q_pts_sum(SPVS_T_FIT_Y, hq, &qs, use, N, &fq);
+    int32_t h3q[3];
+    t0 = now(); const int rfs = spvs_q_fit_solve(&fq, h3q); t1 = now();
+    putu("fitsolve_q ", t1 - t0); putu("cnt_fitsolve_q_ok ", rfs == 0);
+    static float lsums[SPVS_H_LIN_SUMS]; static spvs_q_sums_t lq;
+    (void)spvs_pts_sum(SPVS_T_LIN, H, &in, use, N, lsums);
+    (void)spvs_q_pts_sum(SPVS_T_LIN, hq, &qs, use, N, &lq);
+    float Hls[9]; int32_t Hqs[9];
+    t0 = now(); const int rls = spvs_hf_lin_solve(lsums, H, Hls); t1 = now();
+    putu("linsolve_f ", t1 - t0); putu("cnt_linsolve_f_ok ", rls == 0);
+    t0 = now(); const int rlq = spvs_q_lin_solve(&lq, hq, Hqs); t1 = now();
+    putu("linsolve_q ", t1 - t0); putu("cnt_linsolve_q_ok ", rlq == 0);
+    /* The whole robust estimate on the frame, float and Q, from the same
+     * seed: RANSAC with its LO step, the re-selection and the final
+     * refit (spvs_plane_h_estimate, spvs_q_plane_h_estimate). */
+    static spvs_plane_h_t ef;
+    static spvs_q_plane_h_t eq;
+    memcpy(&ef.pts, &fs, sizeof fs);
+    ef.n_plane = ef.n_pts = N;
+    memcpy(&eq.pts, &qs, sizeof qs);
+    eq.n_plane = eq.n_pts = N;
+    const float inlier_px = sqrtf(t2) * (float)SPVS_COORD_SCALE;
+    spvs_rng_t rng;
+    uint32_t it_f = 0, it_q = 0;
+    spvs_rng_seed(&rng, 1u);
+    t0 = now(); const int ref = spvs_plane_h_estimate(&ef, inlier_px, 0.99f, 200u, &rng, &it_f); t1 = now();
+    putu("est_f ", t1 - t0); putu("cnt_est_f_ok ", ref == 0); putu("cnt_est_f_inl ", ef.n_inliers); putu("cnt_est_f_it ", it_f);
+    spvs_rng_seed(&rng, 1u);
+    const uint32_t conf_q32 = 4252017623u; /* 0.99 2^32, rounded down */
+    t0 = now(); const int req = spvs_q_plane_h_estimate(&eq, qt2, conf_q32, 200u, &rng, &it_q); t1 = now();
+    putu("est_q ", t1 - t0); putu("cnt_est_q_ok ", req == 0); putu("cnt_est_q_inl ", eq.n_inliers); putu("cnt_est_q_it ", it_q);
     static const int exit_args[2] = {0x20026, 0};
     semi(0x18, exit_args);
     for (;;) {}

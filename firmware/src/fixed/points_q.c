@@ -512,19 +512,44 @@ uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[
 
 /* ---- the sums of the linear fits ------------------------------------------ */
 
-/* Adds term t to sum k of a block-floating-point accumulator.  Invariant:
- * every |m| < 2^62.  A term more than 2^30 above the block's unit first
- * shifts the block right (raising its exponent), so the term's share is
- * below 2^61 and the sum below 2^63; a sum that reaches 2^62 shifts the
- * block by one.  Terms below the unit are rounded to it (the block keeps
- * 62 bits of its largest sum). */
-static void acc_add(spvs_q_sums_t *s, int k, spvs_qf_t t)
+/* The block of term k (spvs_q_sums_t) and block b's terms [*lo, *hi). */
+static SPVS_Q_INLINE int blk_of(const spvs_q_sums_t *s, int k)
+{
+    return (k >= s->split) + (k >= s->split2);
+}
+
+static SPVS_Q_INLINE void blk_range(const spvs_q_sums_t *s, int b, int *lo, int *hi)
+{
+    *lo = b == 0 ? 0 : (b == 1 ? s->split : s->split2);
+    *hi = b == 0 ? s->split : (b == 1 ? s->split2 : s->nt);
+}
+
+spvs_qf_t spvs_q_sums_term(const spvs_q_sums_t *s, int k)
+{
+    if (k < 0 || k >= s->nt) {
+        return spvs_qf_from_i64(0, 0);
+    }
+    return spvs_qf_from_i64(s->m[k], s->e[blk_of(s, k)]);
+}
+
+/* Adds term t to sum k of a block-floating-point accumulator (sub = 0) or
+ * subtracts it (sub = 1).  Invariant: every |m| < 2^62.  A term more than
+ * 2^30 above the block's unit first shifts the block right (raising its
+ * exponent), so the term's share is below 2^61 and the result below 2^63
+ * in magnitude either way; a result that reaches 2^62 shifts the block by
+ * one.  Terms below the unit are rounded to it (the block keeps 62 bits
+ * of its largest sum).  The share is rounded before its sign is applied,
+ * so subtracting a term added before at the same exponent undoes the add
+ * exactly (round to nearest with ties up is not odd: rnd(-x) can differ
+ * from -rnd(x)). */
+static void acc_add(spvs_q_sums_t *s, int k, spvs_qf_t t, int sub)
 {
     if (t.m == 0) {
         return;
     }
-    const int b = k >= s->split;
-    const int lo = b ? s->split : 0, hi = b ? s->nt : s->split;
+    const int b = blk_of(s, k);
+    int lo, hi;
+    blk_range(s, b, &lo, &hi);
     int32_t d = t.e - s->e[b];
     if (d > 30) {
         const int32_t sh = d - 30;
@@ -536,7 +561,7 @@ static void acc_add(spvs_q_sums_t *s, int k, spvs_qf_t t)
     }
     const int64_t add = d >= 0 ? (int64_t)t.m * ((int64_t)1 << d)
                                : spvs_q_rshift_rnd64(t.m, d < -63 ? 63 : (int)-d);
-    const int64_t r = s->m[k] + add;
+    const int64_t r = sub ? s->m[k] - add : s->m[k] + add;
     s->m[k] = r;
     if (spvs_q_abs64(r) >= ((uint64_t)1 << 62)) {
         for (int j = lo; j < hi; j++) {
@@ -552,8 +577,11 @@ static spvs_qf_t qf_c(int32_t q) /* a Q26 coordinate */
 }
 
 /* SPVS_T_FIT_Y and SPVS_T_FIT_X terms of one point (h_point.inc):
- * q = sc (x, y, 1), sc = v / w or 1 / w, r = y / w or u. */
-static void terms_fit(int kind, const q_eps_t *r, const int32_t *p, spvs_q_sums_t *s)
+ * q = sc (x, y, 1), sc = v / w or 1 / w, r = y / w or u.  Not inlined:
+ * its spvs_qf_t temporaries stay out of spvs_q_pts_sum's frame, under
+ * which terms_lin's own frame comes on the LIN sums' exact path. */
+static SPVS_Q_NOINLINE void terms_fit(int kind, const q_eps_t *r, const int32_t *p,
+                                      spvs_q_sums_t *s)
 {
     uint32_t z = 0;
     const spvs_qf_t iw = spvs_qf_recip(spvs_qf_from_i64(r->w, -53), &z);
@@ -561,23 +589,24 @@ static void terms_fit(int kind, const q_eps_t *r, const int32_t *p, spvs_q_sums_
     const spvs_qf_t sc = kind == SPVS_T_FIT_Y ? spvs_qf_mul(qf_c(p[3]), iw) : iw;
     const spvs_qf_t rr = kind == SPVS_T_FIT_Y ? spvs_qf_mul(y, iw) : qf_c(p[2]);
     const spvs_qf_t q0 = spvs_qf_mul(sc, x), q1 = spvs_qf_mul(sc, y), q2 = sc;
-    acc_add(s, 0, qf_sq(q0));
-    acc_add(s, 1, spvs_qf_mul(q0, q1));
-    acc_add(s, 2, spvs_qf_mul(q0, q2));
-    acc_add(s, 3, qf_sq(q1));
-    acc_add(s, 4, spvs_qf_mul(q1, q2));
-    acc_add(s, 5, qf_sq(q2));
-    acc_add(s, 6, spvs_qf_mul(q0, rr));
-    acc_add(s, 7, spvs_qf_mul(q1, rr));
-    acc_add(s, 8, spvs_qf_mul(q2, rr));
+    acc_add(s, 0, qf_sq(q0), 0);
+    acc_add(s, 1, spvs_qf_mul(q0, q1), 0);
+    acc_add(s, 2, spvs_qf_mul(q0, q2), 0);
+    acc_add(s, 3, qf_sq(q1), 0);
+    acc_add(s, 4, spvs_qf_mul(q1, q2), 0);
+    acc_add(s, 5, qf_sq(q2), 0);
+    acc_add(s, 6, spvs_qf_mul(q0, rr), 0);
+    acc_add(s, 7, spvs_qf_mul(q1, rr), 0);
+    acc_add(s, 8, spvs_qf_mul(q2, rr), 0);
 }
 
 /* SPVS_T_LIN terms of one point (h_point.inc): the joint fit of rows 1
- * and 3 at the Sampson weights W = (J J^T)^-1 = adj(J J^T) / det of H. */
-/* Not inlined: its spvs_qf_t temporaries (600 B on the Cortex-M3) stay out
- * of spvs_q_pts_sum's frame, which the fast path uses alone. */
+ * and 3 at the Sampson weights W = (J J^T)^-1 = adj(J J^T) / det of H,
+ * added to s (sub = 0) or subtracted (sub = 1, spvs_q_lin_move). */
+/* Not inlined: its spvs_qf_t temporaries stay out of spvs_q_pts_sum's
+ * frame, which the fast path uses alone. */
 static SPVS_Q_NOINLINE void terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p,
-                                      spvs_q_sums_t *s)
+                                      spvs_q_sums_t *s, int sub)
 {
     uint32_t z = 0;
     const spvs_qf_t x = qf_c(p[0]), y = qf_c(p[1]), u = qf_c(p[2]), v = qf_c(p[3]);
@@ -605,19 +634,47 @@ static SPVS_Q_NOINLINE void terms_lin(const int32_t *h, const q_eps_t *r, const 
     const spvs_qf_t q[5] = {qf_sq(x), spvs_qf_mul(x, y), x, qf_sq(y), y};
     for (int m = 0; m < 3; m++) {
         for (int k = 0; k < 5; k++) {
-            acc_add(s, 6 * m + k, spvs_qf_mul(a[m], q[k]));
+            acc_add(s, 6 * m + k, spvs_qf_mul(a[m], q[k]), sub);
         }
-        acc_add(s, 6 * m + 5, a[m]);
+        acc_add(s, 6 * m + 5, a[m], sub);
     }
     const spvs_qf_t b1 = spvs_qf_add(spvs_qf_mul(w11, ex), spvs_qf_mul(w12, ey));
     const spvs_qf_t c1 = spvs_qf_add(spvs_qf_mul(w12, ex), spvs_qf_mul(w22, ey));
     const spvs_qf_t b3 = spvs_qf_neg(spvs_qf_add(spvs_qf_mul(u, b1), spvs_qf_mul(v, c1)));
-    acc_add(s, 18, spvs_qf_mul(b1, x));
-    acc_add(s, 19, spvs_qf_mul(b1, y));
-    acc_add(s, 20, b1);
-    acc_add(s, 21, spvs_qf_mul(b3, x));
-    acc_add(s, 22, spvs_qf_mul(b3, y));
-    acc_add(s, 23, b3);
+    acc_add(s, 18, spvs_qf_mul(b1, x), sub);
+    acc_add(s, 19, spvs_qf_mul(b1, y), sub);
+    acc_add(s, 20, b1, sub);
+    acc_add(s, 21, spvs_qf_mul(b3, x), sub);
+    acc_add(s, 22, spvs_qf_mul(b3, y), sub);
+    acc_add(s, 23, b3, sub);
+    /* eps^T W eps as h_point.inc forms it (ex b1 + ey b2).  W is positive
+     * definite, so the two products cancel only as far as its condition
+     * number allows (that of J J^T = w^2 I + P P^T, at most
+     * 1 + |P|^2 / w^2). */
+    acc_add(s, 24, spvs_qf_add(spvs_qf_mul(ex, b1), spvs_qf_mul(ey, c1)), sub);
+}
+
+/* The squared Sampson error of one point num / den (q_sampson, from the
+ * exact residuals r): num and den rounded to 31 bits after sums of
+ * squares (no cancellation, relative 2^-29 each), one reciprocal (2^-28)
+ * and one product (2^-31): relative error below 2^-26. */
+/* Not inlined: its temporaries stay out of spvs_q_pts_sum's frame. */
+static SPVS_Q_NOINLINE spvs_qf_t q_sampson_term(const int32_t *h, const q_eps_t *r,
+                                                const int32_t *p)
+{
+    /* eps rounded to 31 bits together, as q_inlier_exact. */
+    const int s2 = spvs_q_norm_shift(spvs_q_abs64(r->ex) | spvs_q_abs64(r->ey), 30);
+    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r->ex, s2);
+    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r->ey, s2);
+    const int32_t fe = 79 - r->s1 - s2;
+    const spvs_qf_t ee = spvs_qf_from_i64((int64_t)ex2 * ex2 + (int64_t)ey2 * ey2, -2 * fe);
+    const spvs_qf_t ww = spvs_qf_from_i64((int64_t)r->w1 * r->w1, -2 * (53 - r->s1));
+    spvs_qf_t P[4], num, den;
+    q_jac(h, p, P);
+    q_sampson(P, ww, ee, spvs_qf_from_i64(ex2, -fe), spvs_qf_from_i64(ey2, -fe), &num, &den);
+    /* den >= w^4 > 0 for a point in front: no division by zero. */
+    uint32_t z = 0;
+    return spvs_qf_mul(num, spvs_qf_recip(den, &z));
 }
 
 /* ---- SPVS_T_LIN's fast path ----------------------------------------------- */
@@ -654,7 +711,9 @@ static SPVS_Q_INLINE int32_t q_recip_fast(uint32_t m)
  *   Q21;
  *   the normal matrix: h_point.inc's a[0] = w11 in Q(qr - 2), a[1] in
  *   Q(qr - 4), a[2] in Q(qr - 6) (each below 2^28), times q = (x^2, x y,
- *   x, y^2, y, 1) in Q24 (each below 2^25).
+ *   x, y^2, y, 1) in Q24 (each below 2^25);
+ *   the squared Sampson error (term 24, and SPVS_T_SAMPSON's sum on the
+ *   same bounds): (ex b1 + ey b2) 2^-10 in Q(qr + 30), below 2^52.
  * So every term is below 2^53 and a sum of at most 512 below 2^62; the
  * blocks are aligned when merged (lin_merge's callers).  The bounds over
  * the frame that make this hold: w_lo >= 1/4 and w_hi < 4 (w over the
@@ -669,7 +728,10 @@ typedef struct {
 
 #define LIN_EB 5 /* |eps| < 2^-LIN_EB scaled units on the fast path */
 
-static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+/* The formats for a frame of n points whose largest |x_tgt|, |y_tgt| are
+ * tgt_max and largest |x_cur|, |y_cur| cur_max (Q26). */
+static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], const int32_t *h,
+                          uint16_t n)
 {
     q_lin_t L;
     L.ok = 0;
@@ -681,8 +743,8 @@ static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
     L.h8c = (int64_t)h[8] * one26;
     int64_t a[9];
     h_abs(h, a);
-    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
-    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    const int64_t X = tgt_max[0], Y = tgt_max[1];
+    const int64_t U = cur_max[0], V = cur_max[1];
     const int64_t two27 = (int64_t)1 << 27; /* 2 scaled units, Q26 */
     const int64_t q_lim = (int64_t)1 << 25; /* 2 in Q24 */
     if (n > 512u || U >= two27 || V >= two27 || ((X * X) >> 28) >= q_lim ||
@@ -708,6 +770,11 @@ static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
     return L;
 }
 
+static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+{
+    return lin_prep_b(st->tgt_max, st->cur_max, h, n);
+}
+
 /* x 2^k for a 32-bit value and k in -31..31 (floor for k < 0); callers
  * bound the result. */
 static SPVS_Q_INLINE int32_t q_shift32(int32_t x, int k)
@@ -715,14 +782,18 @@ static SPVS_Q_INLINE int32_t q_shift32(int32_t x, int k)
     return k >= 0 ? (int32_t)((uint32_t)x << k) : x >> -k;
 }
 
-/* One point's SPVS_T_LIN terms on the fast path into F: terms 0-5 in
- * Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in Q(qr + 18), 18-20 in
- * Q(qr + 25), 21-23 in Q(qr + 23).  Returns 0, leaving F as it was, when
- * the point's residual is beyond the path's range. */
-/* Not inlined: in spvs_q_pts_sum's loop beside the exact path it gets
- * fewer registers (about 1 % more instructions on the M3 inlined). */
-static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_lin_t *L,
-                                  int64_t F[24])
+/* One point's weights on the fast path (lin_fast's and the Sampson sum's
+ * common part): the residuals ex, ey (Q36), W = (J J^T)^-1 (w11, w12,
+ * w22 in Q(qr)) and W eps (b1, b2 in Q(qr + 4)). */
+typedef struct {
+    int32_t ex, ey;
+    int32_t w11, w12, w22;
+    int32_t b1, b2;
+} q_lw_t;
+
+/* q_lw_t of point p; 0 when its residual is beyond the fast path's range
+ * (*o is then not set). */
+static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_t *L, q_lw_t *o)
 {
     const int32_t x = p[0], y = p[1], u = p[2], v = p[3];
     const int64_t w = (int64_t)h[6] * x + (int64_t)h[7] * y + L->h8c;
@@ -757,12 +828,47 @@ static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_
     const int32_t w11 = q_shift32((int32_t)(((int64_t)jb * r) >> 32), k);
     const int32_t w12 = -q_shift32((int32_t)(((int64_t)jc * r) >> 32), k);
     const int32_t w22 = q_shift32((int32_t)(((int64_t)ja * r) >> 32), k);
+    o->ex = ex;
+    o->ey = ey;
+    o->w11 = w11;
+    o->w12 = w12;
+    o->w22 = w22;
+    o->b1 = spvs_q_opaque32((int32_t)(((int64_t)w11 * ex + (int64_t)w12 * ey) >> 32));
+    o->b2 = spvs_q_opaque32((int32_t)(((int64_t)w12 * ex + (int64_t)w22 * ey) >> 32));
+    return 1;
+}
+
+/* The squared Sampson error eps^T W eps = ex b1 + ey b2 of a point on the
+ * fast path (SPVS_T_LIN's term 24 and the SPVS_T_SAMPSON sum, the same
+ * bits in both), in Q(qr + 30): |ex|, |ey| <= 2^31 and |b1|, |b2| <= 2^30
+ * (high words of sums below 2^62), so ex b1 + ey b2 (Q(qr + 40)) is at
+ * most 2^62 in magnitude; 2^-10 of it (one constant 64-bit shift) is at
+ * most 2^52, and a sum of 512 of them below 2^62. */
+static SPVS_Q_INLINE int64_t lin_cost_term(const q_lw_t *o)
+{
+    return ((int64_t)o->ex * o->b1 + (int64_t)o->ey * o->b2) >> 10;
+}
+
+/* One point's SPVS_T_LIN terms on the fast path into F: terms 0-5 in
+ * Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in Q(qr + 18), 18-20 in
+ * Q(qr + 25), 21-23 in Q(qr + 23), 24 in Q(qr + 30).  Returns 0, leaving
+ * F as it was, when the point's residual is beyond the path's range. */
+/* Not inlined: in spvs_q_pts_sum's loop beside the exact path it gets
+ * fewer registers (about 1 % more instructions on the M3 inlined). */
+static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_lin_t *L,
+                                    int64_t F[SPVS_H_LIN_SUMS])
+{
+    q_lw_t o;
+    if (!lin_wt(h, p, L, &o)) {
+        return 0;
+    }
+    const int32_t x = p[0], y = p[1], u = p[2], v = p[3];
+    const int32_t w11 = o.w11, w12 = o.w12, w22 = o.w22, b1 = o.b1, b2 = o.b2;
     /* u and v times 16 (below 2^31 as |u|, |v| < 2): products with them
      * have in their high words the product 2^-28. */
     const int32_t u16 = u * 16, v16 = v * 16;
+    F[24] += lin_cost_term(&o);
     /* The right side: b1, b2 in Q(qr + 4), b3 in Q(qr + 2). */
-    const int32_t b1 = spvs_q_opaque32((int32_t)(((int64_t)w11 * ex + (int64_t)w12 * ey) >> 32));
-    const int32_t b2 = spvs_q_opaque32((int32_t)(((int64_t)w12 * ex + (int64_t)w22 * ey) >> 32));
     const int32_t b3 = spvs_q_opaque32(-(int32_t)(((int64_t)u16 * b1 + (int64_t)v16 * b2) >> 32));
     const int32_t x21 = x >> 5, y21 = y >> 5;
     F[18] += (int64_t)b1 * x21;
@@ -928,54 +1034,144 @@ static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_st
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
                     uint16_t n)
 {
-    if (kind == SPVS_T_LIN) {
+    if (kind == SPVS_T_LIN || kind == SPVS_T_SAMPSON) {
         return lin_prep(st, Hq, n).ok;
     }
     return kind == SPVS_T_FIT_Y || kind == SPVS_T_FIT_X ? fit_prep((int)kind, st, Hq, n).ok : 0;
 }
 
-/* Adds a fast path's sums F (s->nt of them, block exponents e0 and e1) into
- * the BFP sums s: each block at the larger exponent, one more where a sum
- * would reach 2^62 (both operands are below 2^62). */
-static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1)
+/* Adds a fast path's sums F (s->nt of them, block b's exponent e0, e1 or
+ * e2) into the BFP sums s (sub = 0), or subtracts them (sub = 1): each
+ * block at the larger exponent, one more where a result would reach 2^62
+ * (both operands are below 2^62, so the result is below 2^63).  F's
+ * share is rounded before its sign is applied, so subtracting what was
+ * added at the same exponents undoes it exactly.  Empty blocks are left
+ * as they are. */
+static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1, int32_t e2,
+                      int sub)
 {
-    const int32_t eF[2] = {e0, e1};
-    for (int b = 0; b < 2; b++) {
-        const int lo = b ? s->split : 0, hi = b ? s->nt : s->split;
-        const int32_t e = s->e[b] > eF[b] ? s->e[b] : eF[b];
+    for (int b = 0; b < 3; b++) {
+        int lo, hi;
+        blk_range(s, b, &lo, &hi);
+        if (lo >= hi) {
+            continue;
+        }
+        const int32_t eFb = b == 0 ? e0 : (b == 1 ? e1 : e2);
+        const int32_t e = s->e[b] > eFb ? s->e[b] : eFb;
         const int ds = (int)(e - s->e[b] > 63 ? 63 : e - s->e[b]);
-        const int df = (int)(e - eF[b] > 63 ? 63 : e - eF[b]);
-        /* First whether a sum reaches 2^62 (then the block takes one more
-         * bit), then the sums; no array of them on the stack. */
+        const int df = (int)(e - eFb > 63 ? 63 : e - eFb);
+        /* The sums (each below 2^63 in magnitude, so int64 holds them),
+         * then, only where one reached 2^62, the block one bit down: the
+         * same as rounding each sum once by one bit. */
         int big = 0;
         for (int j = lo; j < hi; j++) {
-            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + spvs_q_rshift_rnd64(F[j], df);
+            const int64_t f = spvs_q_rshift_rnd64(F[j], df);
+            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + (sub ? -f : f);
+            s->m[j] = r;
             big |= spvs_q_abs64(r) >= ((uint64_t)1 << 62);
         }
-        for (int j = lo; j < hi; j++) {
-            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + spvs_q_rshift_rnd64(F[j], df);
-            s->m[j] = big ? spvs_q_rshift_rnd64(r, 1) : r;
+        if (big) {
+            for (int j = lo; j < hi; j++) {
+                s->m[j] = spvs_q_rshift_rnd64(s->m[j], 1);
+            }
         }
         s->e[b] = e + big;
     }
 }
 
+/* q_eps as a call, for the per-point paths where its size matters more
+ * than a call's few instructions (the Sampson sum, the moved point). */
+static SPVS_Q_NOINLINE void q_eps_call(const int32_t *h, const int32_t *p, q_eps_t *r)
+{
+    q_eps(h, p, r);
+}
+
+/* One point's squared Sampson error on the fast path into *acc
+ * (lin_cost_term, Q(qr + 30)); 0, leaving *acc as it was, when the
+ * point's residual is beyond the path's range.  Not inlined, as
+ * lin_fast. */
+static SPVS_Q_NOINLINE int sampson_fast(const int32_t *h, const int32_t *p, const q_lin_t *L,
+                                        int64_t *acc)
+{
+    q_lw_t o;
+    if (!lin_wt(h, p, L, &o)) {
+        return 0;
+    }
+    *acc += lin_cost_term(&o);
+    return 1;
+}
+
+/* lin_fast's sums F (formats of qr) into s, added (sub = 0) or
+ * subtracted (sub = 1).  One exponent per block: terms 0-11 and 18-20
+ * brought to the units of 12-17 and 21-23 first (they are below 2^62
+ * before, as are these); term 24 is a block of its own. */
+static void lin_fast_merge(spvs_q_sums_t *s, int64_t F[SPVS_H_LIN_SUMS], int32_t qr, int sub)
+{
+    for (int j = 0; j < 6; j++) {
+        F[j] = spvs_q_rshift_rnd64(F[j], 4);
+        F[6 + j] = spvs_q_rshift_rnd64(F[6 + j], 2);
+    }
+    for (int j = 18; j < 21; j++) {
+        F[j] = spvs_q_rshift_rnd64(F[j], 2);
+    }
+    lin_merge(s, F, -(qr + 18), -(qr + 23), -(qr + 30), sub);
+}
+
+/* SPVS_T_SAMPSON's sum: the points in SPVS_T_LIN's fast-path range (the
+ * same bounds, lin_prep) through sampson_fast, the others num / den from
+ * their exact residuals (q_sampson_term).  Returns the number of flagged
+ * points, or -1 at the first with w <= SPVS_W_EPS.  Not inlined: its
+ * frame stays out of spvs_q_pts_sum's.  Bound: n points. */
+static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_t *st,
+                                           const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
+{
+    const q_lin_t L = lin_prep(st, h, n);
+    int64_t F = 0;
+    int fast_used = 0;
+    int32_t used = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        const int32_t *p = &st->v[4u * i];
+        /* w >= 1/4 on the fast path: never behind the camera. */
+        if (L.ok && sampson_fast(h, p, &L, &F)) {
+            fast_used = 1;
+            used++;
+            continue;
+        }
+        q_eps_t r;
+        q_eps_call(h, p, &r);
+        if (r.w <= W_EPS_Q53) {
+            return -1;
+        }
+        acc_add(out, 0, q_sampson_term(h, &r, p), 0);
+        used++;
+    }
+    if (fast_used) {
+        lin_merge(out, &F, -(L.qr + 30), 0, 0, 0);
+    }
+    return used;
+}
+
 int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
                        const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
 {
-    if (kind != SPVS_T_FIT_Y && kind != SPVS_T_FIT_X && kind != SPVS_T_LIN) {
+    const int lin = kind == SPVS_T_LIN, samp = kind == SPVS_T_SAMPSON;
+    if (kind != SPVS_T_FIT_Y && kind != SPVS_T_FIT_X && !lin && !samp) {
         return -2;
     }
-    const int lin = kind == SPVS_T_LIN;
-    /* SPVS_T_LIN's terms 0-23: the fit.  The float build's term 24, the
-     * Sampson error at Hq for the final refit's test, is not made here yet
-     * (docs/FIXED.md, the refit). */
-    out->nt = (uint8_t)(lin ? SPVS_H_LIN_COST : SPVS_NT_FIT);
-    out->split = (uint8_t)(lin ? 18 : 6);
+    /* The blocks of spvs_q_sums_t. */
+    out->nt = (uint8_t)(lin ? SPVS_H_LIN_SUMS : (samp ? 1 : SPVS_NT_FIT));
+    out->split = (uint8_t)(lin ? 18 : (samp ? 1 : 6));
+    out->split2 = (uint8_t)(lin ? SPVS_H_LIN_COST : out->nt);
     /* A block starts far below any term, so the first term sets its unit. */
-    out->e[0] = out->e[1] = -4000;
+    out->e[0] = out->e[1] = out->e[2] = -4000;
     for (int k = 0; k < SPVS_H_LIN_SUMS; k++) {
         out->m[k] = 0;
+    }
+    if (samp) {
+        return sampson_sum(Hq, st, use, n, out);
     }
     int32_t used = 0;
     /* SPVS_T_LIN: the points in the fast path's range into F, the others
@@ -987,10 +1183,10 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
         int64_t G[SPVS_NT_FIT] = {0};
         const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all(SPVS_T_FIT_Y, Hq, st, use, n, &FT, G)
                                                  : fit_all(SPVS_T_FIT_X, Hq, st, use, n, &FT, G);
-        lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr));
+        lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr), 0, 0);
         return kind == SPVS_T_FIT_X ? 0 : cnt;
     }
-    int64_t F[24] = {0};
+    int64_t F[SPVS_H_LIN_SUMS] = {0};
     int fast_used = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {
@@ -1010,22 +1206,50 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
             return -1;
         }
         if (lin) {
-            terms_lin(Hq, &r, p, out);
+            terms_lin(Hq, &r, p, out, 0);
         } else {
             terms_fit((int)kind, &r, p, out);
         }
     }
     if (fast_used) {
-        /* One exponent per block: terms 0-11 and 18-20 brought to the units
-         * of 12-17 and 21-23 (they are below 2^62 before, as are these). */
-        for (int j = 0; j < 6; j++) {
-            F[j] = spvs_q_rshift_rnd64(F[j], 4);
-            F[6 + j] = spvs_q_rshift_rnd64(F[6 + j], 2);
-        }
-        for (int j = 18; j < 21; j++) {
-            F[j] = spvs_q_rshift_rnd64(F[j], 2);
-        }
-        lin_merge(out, F, -(L.qr + 18), -(L.qr + 23));
+        lin_fast_merge(out, F, L.qr, 0);
     }
     return kind == SPVS_T_FIT_X ? 0 : used;
+}
+
+/* spvs_q_lin_move's fast path: the point's terms by lin_fast, in the
+ * formats lin_prep gives a frame of this one point (its own w bounds the
+ * weights), merged into s.  0 (s unchanged) where the point is outside
+ * the path's range.  Not inlined: its frame (F) stays out of the exact
+ * path's. */
+static SPVS_Q_NOINLINE int lin_move_fast(const int32_t *h, const int32_t *p, spvs_q_sums_t *s,
+                                         int sub)
+{
+    /* |p| <= 2^30 (the store's range): the negations cannot overflow. */
+    const int32_t tm[2] = {p[0] < 0 ? -p[0] : p[0], p[1] < 0 ? -p[1] : p[1]};
+    const int32_t cm[2] = {p[2] < 0 ? -p[2] : p[2], p[3] < 0 ? -p[3] : p[3]};
+    const q_lin_t L = lin_prep_b(tm, cm, h, 1);
+    int64_t F[SPVS_H_LIN_SUMS] = {0};
+    if (!L.ok || !lin_fast(h, p, &L, F)) {
+        return 0;
+    }
+    lin_fast_merge(s, F, L.qr, sub);
+    return 1;
+}
+
+int spvs_q_lin_move(const int32_t Hw[9], const int32_t p[4], int add, spvs_q_sums_t *s)
+{
+    const int sub = add ? 0 : 1;
+    /* The same path for the same point and weights, so a removal undoes
+     * the add that came before it.  The fast path's range has w >= 1/4. */
+    if (lin_move_fast(Hw, p, s, sub)) {
+        return 1;
+    }
+    q_eps_t r;
+    q_eps_call(Hw, p, &r);
+    if (r.w <= W_EPS_Q53) {
+        return 0;
+    }
+    terms_lin(Hw, &r, p, s, sub);
+    return 1;
 }

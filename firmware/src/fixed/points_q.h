@@ -5,10 +5,11 @@
  *
  * The same contracts as the float kernels of points.h, on a Q point store:
  * loading a frame's matches, the Sampson-error inlier count with its early
- * stop and bail-out, RANSAC's tie-break cost, and the sums of the linear
- * fits (SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_LIN).  Nothing here reads a
- * float or double except through its bits (fixed/q.h), so the object links
- * no floating-point helper.
+ * stop and bail-out, RANSAC's tie-break cost, the sums of the linear
+ * fits (SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_LIN, with the re-selection's
+ * move of one point) and the summed Sampson error (SPVS_T_SAMPSON).
+ * Nothing here reads a float or double except through its bits
+ * (fixed/q.h), so the object links no floating-point helper.
  *
  * Formats (value = integer 2^-f):
  *   coordinates  scaled units (pixels / SPVS_COORD_SCALE, as the float
@@ -24,9 +25,9 @@
  *                range is unbounded as w -> 0 and grows with |H|;
  *   t2           the squared threshold in scaled units, spvs_qf_t;
  *   cost         uint64 Q52 (SPVS_QCOST), saturating (flagged) at 4096;
- *   fit sums     block floating point: int64 mantissas with one exponent
- *                for the normal matrix and one for the right side
- *                (spvs_q_sums_t).
+ *   sums         block floating point: int64 mantissas with one exponent
+ *                per block of terms (spvs_q_sums_t): the normal matrix,
+ *                the right side and the Sampson cost each their own.
  * The store is in rows (point i at v[4 i .. 4 i + 3]) on every target:
  * the kernels read one point at a time.
  */
@@ -58,18 +59,36 @@ typedef struct {
     int32_t tgt_max[2];
 } spvs_q_store_t;
 
-/* The sums of a linear fit in block floating point: term k is
- * m[k] 2^e[k >= split ? 1 : 0].  split = 6 of nt = 9 for SPVS_T_FIT_Y and
- * SPVS_T_FIT_X (q q^T, then q r), 18 of 24 for SPVS_T_LIN (the normal
- * matrix, then the right side): each block has its own exponent, so a
- * small right side keeps its precision beside a large normal matrix.
- * Every |m[k]| < 2^62. */
+/* A sum of per-point terms in block floating point: term k is
+ * m[k] 2^e[b], its block b = (k >= split) + (k >= split2), so that each
+ * block has its own exponent and a small block keeps its precision beside
+ * a large one:
+ *   SPVS_T_FIT_Y, SPVS_T_FIT_X  nt = 9: q q^T (0-5), q r (6-8);
+ *                 split = 6, split2 = 9 (no block 2);
+ *   SPVS_T_LIN    nt = 25: the normal matrix (0-17), the right side
+ *                 (18-23), the passed H's summed squared Sampson error
+ *                 eps^T W eps (term 24, SPVS_H_LIN_COST, which the final
+ *                 refit compares with a candidate's SPVS_T_SAMPSON sum);
+ *                 split = 18, split2 = 24;
+ *   SPVS_T_SAMPSON  nt = 1: the summed squared Sampson error (term 0);
+ *                 split = split2 = 1 (block 0 alone).
+ * Every |m[k]| < 2^62; adding a term raises its block's exponent before a
+ * mantissa could reach 2^62 (so none overflows however many are added).
+ * Read a term with spvs_q_sums_term, which needs no knowledge of the
+ * layout. */
 typedef struct {
     int64_t m[SPVS_H_LIN_SUMS];
-    int32_t e[2];
+    int32_t e[3];
     uint8_t nt;
     uint8_t split;
+    uint8_t split2;
 } spvs_q_sums_t;
+
+/* Term k (0 <= k < s->nt) of sums made by spvs_q_pts_sum or moved by
+ * spvs_q_lin_move, as a spvs_qf_t (its mantissa rounded to 31 bits:
+ * relative error <= 2^-31); 0 for k outside 0..nt-1.  Two terms compare
+ * exactly on these values with spvs_qf_le. */
+spvs_qf_t spvs_q_sums_term(const spvs_q_sums_t *s, int k);
 
 /* H (scaled units, h22 = 1) from the float build's scalar to Q27, rnd
  * (|error| <= 2^-28).  Returns 0, or SPVS_Q_SAT (an entry outside
@@ -134,21 +153,45 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
                          const spvs_q_thr_t *thr, uint32_t *sat);
 
-/* spvs_pts_sum for kind SPVS_T_FIT_Y, SPVS_T_FIT_X or SPVS_T_LIN on the Q
- * store: the terms of the first n points flagged in use[] under Hq into
- * *out.  Returns the number of flagged points for SPVS_T_FIT_Y and
- * SPVS_T_LIN (0 for SPVS_T_FIT_X), -1 when a flagged point has
+/* spvs_pts_sum for kind SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_LIN or
+ * SPVS_T_SAMPSON on the Q store: the terms of the first n points flagged
+ * in use[] under Hq into *out (layouts at spvs_q_sums_t).  Returns the
+ * number of flagged points for SPVS_T_FIT_Y, SPVS_T_LIN and SPVS_T_SAMPSON
+ * (0 for SPVS_T_FIT_X; the float kernel returns 0 for SPVS_T_SAMPSON too,
+ * which its callers only test for < 0), -1 when a flagged point has
  * w <= SPVS_W_EPS, or -2 for another kind.  Each term's relative error is
  * at most about 2^-26 and each sum's error at most about 2^-26 of the sum
- * of its terms' magnitudes (docs/FIXED.md).  Bound: n points. */
+ * of its terms' magnitudes, except on SPVS_T_LIN's fast path, whose
+ * weights keep 2^-20 to 2^-25 of their bound over the frame.
+ * SPVS_T_SAMPSON takes that fast path's term 24 where SPVS_T_LIN would
+ * (the same bits for the same H and point), and elsewhere num / den with
+ * one spvs_qf_t reciprocal and product (relative 2^-26); a sum of
+ * positive terms, its arithmetic error is at most that of the fast path's
+ * weights, about 1e-6 of the sum (docs/FIXED.md).
+ * Bound: n points. */
 int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
                        const uint8_t *use, uint16_t n, spvs_q_sums_t *out);
 
-/* 1 when spvs_q_pts_sum's terms of kind (SPVS_T_LIN, SPVS_T_FIT_Y or
- * SPVS_T_FIT_X) of the first n points of st under Hq take the fast path
- * (the set's bounds hold, docs/FIXED.md; for SPVS_T_LIN its points with a
- * residual of 16 px or more still take the exact path), 0 when every point
- * takes the exact path. */
+/* spvs_pts_lin_move on the Q store's sums: adds (add != 0) or removes
+ * (add = 0) the 25 SPVS_T_LIN terms of one point p (a row, Q26) under the
+ * weight model Hw (Q27) to sums s made by spvs_q_pts_sum(SPVS_T_LIN, Hw,
+ * ...).  The terms are those of SPVS_T_LIN's fast path in formats from
+ * the point alone where it is in that path's range (docs/FIXED.md), the
+ * exact path's elsewhere; each is rounded once to its block's unit
+ * (<= 1/2 unit) and added or subtracted as that same integer, so removing
+ * a point after adding it gives the sums back bit for bit unless a
+ * block's exponent rose in between (a sum reaching 2^62, or a term above
+ * the block's unit by 2^30 or more); each such rise rounds that block's
+ * sums once more (<= 1/2 unit of the new exponent).  No mantissa reaches
+ * 2^62 however many points are added.  Returns 1, or 0 when p has
+ * w <= SPVS_W_EPS under Hw (s unchanged). */
+int spvs_q_lin_move(const int32_t Hw[9], const int32_t p[4], int add, spvs_q_sums_t *s);
+
+/* 1 when spvs_q_pts_sum's terms of kind (SPVS_T_LIN, SPVS_T_SAMPSON,
+ * SPVS_T_FIT_Y or SPVS_T_FIT_X) of the first n points of st under Hq take
+ * the fast path (the set's bounds hold, docs/FIXED.md; for SPVS_T_LIN and
+ * SPVS_T_SAMPSON its points with a residual of 16 px or more still take
+ * the exact path), 0 when every point takes the exact path. */
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
                     uint16_t n);
 

@@ -1,0 +1,255 @@
+/* test_fixed_plane_h.c - the robust planar-motion homography in fixed
+ * point (firmware/src/fixed/plane_h_q.c) against the float estimator
+ * (plane_h.c) on the same frames with the same seed: random planar-motion
+ * scenes with noise in both images and mismatches, the golden vectors,
+ * and the input checks.  Figures: the statuses, the inlier counts and the
+ * mean transfer of the image corners in pixels, against each other and
+ * against the true H (docs/FIXED.md). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "core_util.h"
+#include "fixed/plane_h_q.h"
+#include "fixed_scene.h"
+#include "golden/golden_vectors.h"
+#include "spvs/plane_h.h"
+#include "spvs/spvs.h"
+
+/* ---- tolerances ------------------------------------------------------------ */
+
+/* The Q estimator's mean corner error against the true H may exceed the
+ * float estimator's by this much, pixels, on a scene's median: both fit
+ * the same inliers by the same steps, and the Q sums and solves are more
+ * accurate than float's (docs/FIXED.md), so only a different RANSAC path
+ * (a point at the threshold, the stopping rule's count) can part them,
+ * and then both are estimates of the same consensus. */
+#define TOL_MEDIAN_EXCESS_PX 0.02
+/* Scenes whose status differs between the builds, out of all: a status
+ * decided at a threshold (SPVS_MIN_INLIERS reached by one build only). */
+#define TOL_STATUS_DIFFER 2
+/* The share of scenes on which the two estimates may be more than
+ * TOL_AGREE_PX apart (corner transfer): those where RANSAC took another
+ * path.  The rest agree to the rounding of the sums and solves. */
+#define TOL_AGREE_PX 0.05
+#define TOL_AGREE_SHARE 0.1
+
+/* ---- helpers --------------------------------------------------------------- */
+
+static double ld_h(int32_t q)
+{
+    return ldexp((double)q, -SPVS_QH);
+}
+
+/* The mean distance between the transfers of the image corners
+ * (+-320, +-240 px) by two H in scaled units, pixels. */
+static double corner_px(const double A[9], const double B[9])
+{
+    static const double c[4][2] = {{-320, -240}, {320, -240}, {320, 240}, {-320, 240}};
+    double sum = 0;
+    for (int k = 0; k < 4; k++) {
+        const double x = c[k][0] / S, y = c[k][1] / S;
+        const double wa = A[6] * x + A[7] * y + A[8], wb = B[6] * x + B[7] * y + B[8];
+        const double ua = (A[0] * x + A[1] * y + A[2]) / wa, ub = (B[0] * x + B[1] * y + B[2]) / wb;
+        const double va = y / wa, vb = y / wb;
+        sum += hypot(ua - ub, va - vb) * S;
+    }
+    return sum / 4;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Both estimators on sc's matches with the same seed. */
+typedef struct {
+    int rc_f, rc_q;
+    uint16_t inl_f, inl_q;
+    uint32_t it_f, it_q;
+    double Hf[9], Hq[9];
+} both_t;
+
+static spvs_plane_h_t g_ef;
+static spvs_q_plane_h_t g_eq;
+
+static void run_both(const spvs_match_t *m, uint16_t n, uint32_t seed, both_t *r)
+{
+    spvs_params_t p;
+    spvs_params_default(&p, SPVS_METHOD_III);
+    const spvs_real inlier_px = spvs_inlier_px(&p);
+    spvs_rng_t rf, rq;
+    spvs_rng_seed(&rf, seed);
+    spvs_rng_seed(&rq, seed);
+    memset(r, 0, sizeof *r);
+    r->rc_f = spvs_plane_h_load(&g_ef, m, n, NULL, 0);
+    r->rc_q = spvs_q_plane_h_load(&g_eq, m, n, NULL, 0);
+    assert_int_equal(r->rc_f, r->rc_q);
+    if (r->rc_f != SPVS_OK) {
+        return;
+    }
+    r->rc_f = spvs_plane_h_estimate(&g_ef, inlier_px, p.confidence, p.max_iters, &rf, &r->it_f);
+    uint32_t sat = 0;
+    const spvs_real t = inlier_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+    const spvs_qf_t t2 = spvs_q_t2_from_real(t * t, &sat);
+    assert_int_equal(sat, 0);
+    /* The confidence 2^-32, as the fixed build reads it. */
+    const uint32_t conf_q32 = (uint32_t)((double)p.confidence * 4294967296.0);
+    r->rc_q = spvs_q_plane_h_estimate(&g_eq, t2, conf_q32, p.max_iters, &rq, &r->it_q);
+    r->inl_f = g_ef.n_inliers;
+    r->inl_q = g_eq.n_inliers;
+    for (int k = 0; k < 9; k++) {
+        r->Hf[k] = (double)g_ef.H_sc[k];
+        r->Hq[k] = ld_h(g_eq.H[k]);
+    }
+}
+
+/* ---- random scenes ---------------------------------------------------------- */
+
+#define N_SCENES 300
+
+static void test_plane_h_random(void **state)
+{
+    (void)state;
+    static scene_t sc;
+    static double ef[N_SCENES], eq[N_SCENES];
+    uint64_t rng = 2718;
+    int compared = 0, status_differ = 0, apart = 0, inl_differ = 0;
+    double worst_agree = 0;
+    long it_f = 0, it_q = 0;
+    for (int c = 0; c < N_SCENES; c++) {
+        make_scene(&sc, &rng, 30 + (int)(synth_uniform(&rng) * 226), 1.0,
+                   0.4 * synth_uniform(&rng));
+        if (sc.n < 3) {
+            continue;
+        }
+        both_t r;
+        run_both(sc.m, sc.n, (uint32_t)(1000 + c), &r);
+        if (r.rc_f != r.rc_q) {
+            status_differ++;
+            continue;
+        }
+        if (r.rc_f != SPVS_OK) {
+            continue;
+        }
+        double Ht[9];
+        for (int k = 0; k < 9; k++) {
+            Ht[k] = (double)sc.Hs[k];
+        }
+        ef[compared] = corner_px(r.Hf, Ht);
+        eq[compared] = corner_px(r.Hq, Ht);
+        const double d = corner_px(r.Hf, r.Hq);
+        if (d > TOL_AGREE_PX) {
+            apart++;
+        } else if (d > worst_agree) {
+            worst_agree = d;
+        }
+        inl_differ += r.inl_f != r.inl_q;
+        it_f += (long)r.it_f;
+        it_q += (long)r.it_q;
+        compared++;
+    }
+    qsort(ef, (size_t)compared, sizeof ef[0], cmp_double);
+    qsort(eq, (size_t)compared, sizeof eq[0], cmp_double);
+    const double med_f = ef[compared / 2], med_q = eq[compared / 2];
+    print_message("plane_h random: %d estimates, statuses differ in %d; corner error against the "
+                  "true H, median float %.4f px, Q %.4f px, 90th %.4f / %.4f px; the two apart by "
+                  "more than %.2f px in %d (largest below it %.2g px); inlier counts differ in %d; "
+                  "hypotheses float %ld, Q %ld\n",
+                  compared, status_differ, med_f, med_q, ef[compared * 9 / 10],
+                  eq[compared * 9 / 10], TOL_AGREE_PX, apart, worst_agree, inl_differ, it_f, it_q);
+    assert_true(compared > N_SCENES / 2);
+    assert_true(status_differ <= TOL_STATUS_DIFFER);
+    assert_true(med_q <= med_f + TOL_MEDIAN_EXCESS_PX);
+    assert_true((double)apart <= TOL_AGREE_SHARE * compared);
+}
+
+/* ---- the golden vectors ---------------------------------------------------- */
+
+/* Every golden case (40 plane matches, 0.5 px noise in both images): both
+ * estimators find every point an inlier, and the Q estimate is as near the
+ * least-squares optimum as the float one. */
+static void test_plane_h_golden(void **state)
+{
+    (void)state;
+    static spvs_match_t m[SPVS_GOLDEN_N_NOISY];
+    double worst_f = 0, worst_q = 0, worst_fq = 0;
+    for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
+        const spvs_golden_h_t *g = &spvs_golden_h[c];
+        for (uint16_t i = 0; i < SPVS_GOLDEN_N_NOISY; i++) {
+            m[i].x_tgt = (spvs_real)g->noisy[i][0];
+            m[i].y_tgt = (spvs_real)g->noisy[i][1];
+            m[i].x_cur = (spvs_real)g->noisy[i][2];
+            m[i].y_cur = (spvs_real)g->noisy[i][3];
+            m[i].feature = i;
+        }
+        both_t r;
+        run_both(m, SPVS_GOLDEN_N_NOISY, 7u + (uint32_t)c, &r);
+        assert_int_equal(r.rc_f, SPVS_OK);
+        assert_int_equal(r.rc_q, SPVS_OK);
+        assert_int_equal(r.inl_q, SPVS_GOLDEN_N_NOISY);
+        assert_int_equal(r.inl_f, SPVS_GOLDEN_N_NOISY);
+        spvs_real Hs[9];
+        double Hfit[9];
+        rescale_scaled(g->H_fit, Hs);
+        for (int k = 0; k < 9; k++) {
+            Hfit[k] = (double)Hs[k];
+        }
+        worst_f = fmax(worst_f, corner_px(r.Hf, Hfit));
+        worst_q = fmax(worst_q, corner_px(r.Hq, Hfit));
+        worst_fq = fmax(worst_fq, corner_px(r.Hf, r.Hq));
+    }
+    print_message("plane_h golden: largest corner distance to the least-squares optimum float "
+                  "%.4f px, Q %.4f px; float to Q %.4f px\n",
+                  worst_f, worst_q, worst_fq);
+    assert_true(worst_q <= worst_f + TOL_MEDIAN_EXCESS_PX);
+    assert_true(worst_fq <= TOL_AGREE_PX);
+}
+
+/* ---- the input checks ------------------------------------------------------ */
+
+static void test_plane_h_load_statuses(void **state)
+{
+    (void)state;
+    static spvs_match_t m[SPVS_MAX_MATCHES + 1];
+    for (int i = 0; i <= SPVS_MAX_MATCHES; i++) {
+        m[i].x_tgt = (spvs_real)(i % 17);
+        m[i].y_tgt = (spvs_real)(i % 13) + SPVS_R(1.0);
+        m[i].x_cur = (spvs_real)(i % 11);
+        m[i].y_cur = SPVS_R(2.0);
+        m[i].feature = (uint16_t)i;
+    }
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, SPVS_MAX_MATCHES + 1, NULL, 0),
+                     SPVS_E_CAPACITY);
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, NULL, 5, NULL, 0), SPVS_E_ARG);
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 2, NULL, 0), SPVS_E_TOO_FEW);
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 7, NULL, 0), SPVS_E_TOO_FEW);
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_OK);
+    m[3].x_cur = (spvs_real)NAN;
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_NONFINITE);
+    assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_NONFINITE);
+    m[3].x_cur = (spvs_real)(SPVS_MAX_COORD_PX + 1);
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_RANGE);
+    assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_RANGE);
+    m[3].x_cur = SPVS_R(0.0);
+    m[4].feature = SPVS_MAX_FEATURES;
+    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_RANGE);
+    assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_RANGE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_plane_h_load_statuses),
+        cmocka_unit_test(test_plane_h_golden),
+        cmocka_unit_test(test_plane_h_random),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
