@@ -27,6 +27,20 @@ spvs_add_test(NAME test_fixed_plane_h SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fix
               LIBS spvs::fixed LABELS unit TIMEOUT 120)
 target_include_directories(test_fixed_plane_h PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
 
+# Q values to the public API's float and double bits (q.h).
+spvs_add_test(NAME test_fixed_conv SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_conv.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 60)
+target_include_directories(test_fixed_conv PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
+# The off-plane candidates, the epipole (offplane_q.c, epipole_q.c) and the
+# control law (control_q.c) in fixed point against the float stages.
+spvs_add_test(NAME test_fixed_epipole SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_epipole.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_epipole PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+spvs_add_test(NAME test_fixed_control SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_control.c
+              LIBS spvs::fixed LABELS unit TIMEOUT 120)
+target_include_directories(test_fixed_control PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+
 # The kernels compiled for a Cortex-M3 (no FPU, soft-float ABI) with the
 # core's warnings reference no floating-point helper, in both scalar
 # builds of the core's headers (the loader reads a float's or a double's

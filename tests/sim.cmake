@@ -3,6 +3,10 @@
 spvs_add_test(NAME test_sim SOURCES test_sim.c LIBS spvs_sim LABELS unit)
 spvs_add_test(NAME test_closed_loop SOURCES test_closed_loop.c LIBS spvs_sim
               LABELS closedloop TIMEOUT 120)
+# The same closed loops on the fixed-point core (docs/FIXED.md).
+spvs_add_test(NAME test_closed_loop_fixed SOURCES test_closed_loop.c LIBS spvs_sim
+              LABELS "closedloop;fixed" TIMEOUT 120)
+target_compile_definitions(test_closed_loop_fixed PRIVATE SPVS_TEST_FIXED=1)
 
 # The command line contract of spvs-sim, checked by a small script.
 set(sim_cli_check /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_sim_cli.py)

@@ -14,8 +14,18 @@
 
 #include <cmocka.h>
 
+#include "sim/link_fixed.h"
 #include "sim/link_inproc.h"
 #include "sim/sim.h"
+
+/* The core under test: the float core in-process, or the fixed-point core
+ * (docs/FIXED.md) where the test is built with SPVS_TEST_FIXED=1 (the
+ * _fixed tests): the same scenarios and the same limits for both. */
+#if defined(SPVS_TEST_FIXED) && SPVS_TEST_FIXED
+#define sim_run_core sim_run_fixed
+#else
+#define sim_run_core sim_run_inproc
+#endif
 
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
@@ -56,7 +66,7 @@ static void run(int method, double x, double z, double phi_deg, double noise,
     char err[160];
     memset(st, 0, sizeof(*st));
     st->dt_s = c.dt_s;
-    int rc = sim_run_inproc(&c, res, watch_step2, st, err, sizeof(err));
+    int rc = sim_run_core(&c, res, watch_step2, st, err, sizeof(err));
     if (rc != 0) {
         print_message("the run did not take place: %s\n", err);
     }

@@ -30,12 +30,16 @@ typedef long double ld;
 /* The Q solve against the long-double solve of the same sums, per entry:
  * the Q27 rounding of the result (2^-28) with a unit of margin, plus
  * TOL_SOLVE_C cond_1(N') 2^-28 max|y| / sqrt(N_ii), y = D^-1 x the
- * equilibrated solution.  N' carries a backward error of about 3 2^-31
- * per entry (the sums' 31-bit mantissas, its Q30 rounding, the factor's
- * entries from the 2^-29 reciprocal roots), 18 2^-31 = 2^-26.8 in a row's
- * 1-norm for n = 6, which the system amplifies by its condition:
- * 2.3 2^-28, rounded up to 3.  Measured: 0.23 of cond 2^-28 (0.08 of the
- * term), at conditions up to 5e4 (the small discs). */
+ * equilibrated solution.  The power-of-two equilibrated N'' (diagonal in
+ * [1/2, 2)) carries a backward error of about 3 2^-31 per entry of the
+ * exactly equilibrated N' (its Q30 rounding, scaled by up to 2, and for
+ * the 6 x 6 the factor's entries from the 2^-28.6 reciprocal roots), 18
+ * 2^-31 = 2^-26.8 in a row's 1-norm for n = 6, which the system
+ * amplifies by its condition: 2.3 2^-28; the right side and the 6 x 6
+ * substitutions keep 2^-29 of their largest entry (one block exponent
+ * each), at most cond 2^-29 more; rounded up to 3.  Measured: 0.27 of
+ * cond 2^-28 (the largest on well-conditioned 3 x 3 systems, the right
+ * side's block), at conditions up to 5e4 (the small discs). */
 #define TOL_SOLVE_ABS 0x1p-27
 #define TOL_SOLVE_C 3.0
 /* The Q fits against the float fits, mean transfer of the image corners
@@ -386,8 +390,9 @@ static void check_solve(const ld *t, int lin, const int32_t *xq, const int32_t *
 /* A Q solve refused where the long-double one succeeds: only with a pivot
  * of N' below the floor, 2^-20, within the Q factor's backward error
  * (2^-26 of the unit diagonal), or for a 3 x 3 system float's own test,
- * |det| <= 1e-7, within 1e-6 of it (the Q determinant is the product of
- * the rounded pivots and diagonal, each to 2^-26). */
+ * |det| <= 1e-7, within 1e-6 of it (the Q determinant comes from the
+ * exact cofactors of N'', whose entries are rounded to 2^-31, and its
+ * 31-bit mantissa). */
 static void check_refused(const ld *t, int lin, solve_stats_t *ss)
 {
     ld N[6][6], b[6], x[6], y[6], cond, mp;

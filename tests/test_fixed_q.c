@@ -18,7 +18,10 @@
 #include <cmocka.h>
 
 #include "core_util.h"
-#include "fixed/points_q.h"
+/* The kernels' source itself, so that test_q_band reaches the count's
+ * per-point stages (q_fast, q_band_sampson, q_inlier_exact); every other
+ * test calls the same definitions through points_q.h's functions. */
+#include "fixed/points_q.c"
 #include "golden/golden_vectors.h"
 #include "spvs/homography.h"
 #include "synth.h"
@@ -741,6 +744,153 @@ static void test_q_inlier_arith(void **state)
                   "s2 (1 +- %.0e)\n",
                   tested, TOL_TEST_ARITH);
     assert_true(tested > 10000);
+}
+
+/* ---- kernels: the band's Sampson test -------------------------------------- */
+
+/* The band's Sampson test decides a point only where the exact squared
+ * Sampson error is at least this relative distance from t2 (its proved
+ * margin, points_q.c: |U| - |V| >= 2048 with |U| < 2^32). */
+#define BAND_MARGIN 0x1p-21
+/* The share of band points it may leave to the exact test at the default
+ * threshold: it leaves those within about 2 E* / |u| of s2 / t2 = 1, with
+ * E* near 30 2^15 (the OR of values near 2^13 to 2^15) and |u| near
+ * omega^2 + |Pi|_F^2 / 2 ~ 3e8: +-0.7 %.  The construction below spreads
+ * d uniformly over the band, so that s2 / t2 runs over about 1/3 to 3 and
+ * about 1.5 % of its points fall in that window (measured 2.2 %). */
+#define TOL_BAND_UNDECIDED 0.04
+
+/* bs = sc with every current point moved to a forward transfer error d
+ * between t and t (1 + |P|^2 / w^2)^(1/2) from its image under H, in a
+ * random direction (P at that image); a point H sends behind or outside
+ * the image (twice the scene's 640 x 480) stays where it is. */
+static void band_scene(const scene_t *sc, scene_t *bs, const spvs_real H[9], double t,
+                       uint64_t *rng)
+{
+    *bs = *sc;
+    for (uint16_t i = 0; i < sc->n; i++) {
+        const double x = sc->m[i].x_tgt / S, y = sc->m[i].y_tgt / S;
+        const double w = H[6] * x + H[7] * y + H[8];
+        if (!(w > 1e-3)) {
+            continue;
+        }
+        const double u0 = (H[0] * x + H[1] * y + H[2]) / w, v0 = y / w;
+        const double P0 = u0 * H[6] - H[0], P1 = u0 * H[7] - H[1];
+        const double P2 = v0 * H[6], P3 = v0 * H[7] - 1;
+        const double pp = P0 * P0 + P1 * P1 + P2 * P2 + P3 * P3;
+        const double d = t * (1 + (sqrt(1 + pp / (w * w)) - 1) * synth_uniform(rng));
+        const double th = 2 * SYNTH_PI * synth_uniform(rng);
+        const double uc = (u0 + d * cos(th)) * S, vc = (v0 + d * sin(th)) * S;
+        if (fabs(uc) < 640 && fabs(vc) < 480) {
+            bs->m[i].x_cur = (spvs_real)uc;
+            bs->m[i].y_cur = (spvs_real)vc;
+        }
+    }
+    load_both(bs);
+}
+
+/* Band points on purpose: random scenes with 1 px noise, noisy 3-point
+ * models (samples of three inliers), and every point's current position
+ * moved to a forward transfer error between t and t (1 + |P|^2 / w^2)^(1/2)
+ * (P at the point's image under H) in a random direction, at thresholds of
+ * 1, 3.03, 8 and 24 px (the last two need the test's shift sh > 0).  For
+ * every point: the fast test's shortcuts and the band's Sampson test,
+ * where they decide, equal the exact test (q_inlier_exact); the band
+ * test's decisions equal the long double one with the exact error at
+ * least BAND_MARGIN from t2; and the whole count (spvs_q_pts_score) marks
+ * the same points as the exact test alone (thr.fast = 0). */
+static void test_q_band(void **state)
+{
+    (void)state;
+    static scene_t sc, bs;
+    uint64_t rng = 4711;
+    const double px[4] = {1.0, INLIER_PX, 8.0, 24.0};
+    long band[4] = {0}, decided[4] = {0}, pts = 0, models = 0;
+    int sh_max = 0;
+    long double closest = 1;
+    for (int c = 0; c < 60; c++) {
+        make_scene(&sc, &rng, 128, 1.0, 0.0);
+        if (sc.n < 16) {
+            continue;
+        }
+        load_both(&sc);
+        for (int k = 0; k < 8; k++) {
+            const int ti = k % 4;
+            uint16_t idx[3];
+            idx[0] = (uint16_t)(synth_uniform(&rng) * sc.n);
+            idx[1] = (uint16_t)((idx[0] + 1 + (uint16_t)(synth_uniform(&rng) * (sc.n - 1))) % sc.n);
+            do {
+                idx[2] = (uint16_t)(synth_uniform(&rng) * sc.n);
+            } while (idx[2] == idx[0] || idx[2] == idx[1]);
+            spvs_real H[9];
+            int32_t Hq[9];
+            if (spvs_pts_solve3(&sc.fst, idx, H) != SPVS_OK || spvs_q_h_from_real(H, Hq) != 0) {
+                continue;
+            }
+            const double t = px[ti] / S;
+            band_scene(&sc, &bs, H, t, &rng);
+            uint32_t sat = 0;
+            const spvs_q_thr_t thr = spvs_q_thr(spvs_q_t2_from_real((spvs_real)(t * t), &sat));
+            assert_int_equal(sat, 0);
+            q_model_t md = model_prep(&bs.qst, Hq, &thr);
+            if (!md.fast) {
+                continue;
+            }
+            models++;
+            const long double t2q = ldexpl((long double)thr.t2.m, thr.t2.e);
+            uint8_t in_x[NMAX];
+            for (uint16_t i = 0; i < bs.n; i++) {
+                const int32_t *p = &bs.qst.v[4u * i];
+                spvs_qf_t e2;
+                in_x[i] = (uint8_t)q_inlier_exact(Hq, p, thr.t2, &e2);
+                pts++;
+                const int f = q_fast(Hq, p, &md);
+                if (f != Q_BAND) {
+                    assert_int_equal(f, in_x[i]);
+                    continue;
+                }
+                band[ti]++;
+                const int b = q_band_sampson(Hq, p, &md);
+                if (b < 0) {
+                    continue;
+                }
+                decided[ti]++;
+                assert_int_equal(b, in_x[i]);
+                long double w;
+                const long double s2 = exact_sampson_q(&bs.qst, i, Hq, &w);
+                const long double rel = fabsl(s2 / t2q - 1);
+                assert_true(w > 0 && rel >= (long double)BAND_MARGIN);
+                assert_int_equal(b, s2 <= t2q);
+                closest = rel < closest ? rel : closest;
+            }
+            if (md.sfast == 1) {
+                sh_max = md.sh > sh_max ? md.sh : sh_max;
+            }
+            spvs_q_thr_t thr_x = thr;
+            thr_x.fast = 0;
+            uint8_t mf[NMAX], mx[NMAX];
+            const uint16_t cf = spvs_q_pts_score(&bs.qst, bs.n, Hq, &thr, 0, mf);
+            const uint16_t cx = spvs_q_pts_score(&bs.qst, bs.n, Hq, &thr_x, 0, mx);
+            assert_int_equal(cf, cx);
+            assert_memory_equal(mf, mx, bs.n);
+            assert_memory_equal(mf, in_x, bs.n);
+        }
+    }
+    long band_all = 0, dec_all = 0;
+    for (int k = 0; k < 4; k++) {
+        band_all += band[k];
+        dec_all += decided[k];
+    }
+    print_message("band: %ld models, %ld points, %ld in the band; the band's Sampson test decided "
+                  "%ld (%.2f %%), at 1 / 3.03 / 8 / 24 px %ld of %ld, %ld of %ld, %ld of %ld, "
+                  "%ld of %ld; the exact test took %ld; closest decided |s2/t2 - 1| %.3Lg "
+                  "(margin %.2g); largest shift %d\n",
+                  models, pts, band_all, dec_all, 100.0 * (double)dec_all / (double)band_all,
+                  decided[0], band[0], decided[1], band[1], decided[2], band[2], decided[3],
+                  band[3], band_all - dec_all, closest, BAND_MARGIN, sh_max);
+    assert_true(models > 300 && band[1] > 5000);
+    assert_true((double)(band[1] - decided[1]) <= TOL_BAND_UNDECIDED * (double)band[1]);
+    assert_true(sh_max > 0);
 }
 
 /* ---- kernels: the whole documented range ----------------------------------- */
@@ -1605,6 +1755,7 @@ int main(void)
         cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_lin_fast_edges),
         cmocka_unit_test(test_q_sums_behind),
         cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
+        cmocka_unit_test(test_q_band),
         cmocka_unit_test(test_q_extremes),      cmocka_unit_test(test_q_sampson),
         cmocka_unit_test(test_q_lin_move),
     };

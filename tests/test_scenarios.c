@@ -21,8 +21,18 @@
 
 #include <cmocka.h>
 
+#include "sim/link_fixed.h"
 #include "sim/link_inproc.h"
 #include "sim/sim.h"
+
+/* The core under test: the float core in-process, or the fixed-point core
+ * (docs/FIXED.md) where the test is built with SPVS_TEST_FIXED=1 (the
+ * _fixed tests): the same scenarios and the same limits for both. */
+#if defined(SPVS_TEST_FIXED) && SPVS_TEST_FIXED
+#define sim_run_core sim_run_fixed
+#else
+#define sim_run_core sim_run_inproc
+#endif
 
 #define PI 3.14159265358979323846
 #define DEG (PI / 180.0)
@@ -57,7 +67,7 @@ static void run_cfg(const sim_config_t *c, sim_result_t *res, sim_frame_cb cb,
                     void *user)
 {
     char err[160];
-    int rc = sim_run_inproc(c, res, cb, user, err, sizeof(err));
+    int rc = sim_run_core(c, res, cb, user, err, sizeof(err));
     if (rc != 0) {
         print_message("the run did not take place: %s\n", err);
     }

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "sim/cli.h"
+#include "sim/link_fixed.h"
 #include "sim/link_inproc.h"
 #include "sim/record.h"
 #include "sim/sim.h"
@@ -237,9 +238,10 @@ static void parse_options(int argc, char **argv, options_t *o)
         } else if (strcmp(name, "--record") == 0) {
             o->record_path = val;
         } else if (strcmp(name, "--transport") == 0) {
-            if (strcmp(val, "inproc") != 0 && strcmp(val, "lcm") != 0 &&
-                strcmp(val, "zenoh") != 0 && strcmp(val, "mcu") != 0) {
-                sim_cli_fail("--transport: '%s' is not inproc, lcm, zenoh or mcu", val);
+            if (strcmp(val, "inproc") != 0 && strcmp(val, "fixed") != 0 &&
+                strcmp(val, "lcm") != 0 && strcmp(val, "zenoh") != 0 &&
+                strcmp(val, "mcu") != 0) {
+                sim_cli_fail("--transport: '%s' is not inproc, fixed, lcm, zenoh or mcu", val);
             }
             o->transport = val;
         } else if (strcmp(name, "--lcm-url") == 0) {
@@ -538,12 +540,15 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
         sim_cli_fail("--transport mcu: this build has no MCU link");
 #endif
     }
-    if (strcmp(o->transport, "inproc") == 0) {
+    if (strcmp(o->transport, "inproc") == 0 || strcmp(o->transport, "fixed") == 0) {
         spvs_params_t p;
         sim_inproc_params(&p, o->cfg.method,
                           o->cfg.focal_assumed_mm / o->cfg.pixel_mm, o->seed32);
         if (o->cfg.arrival_sigma_px > 0.0) {
             p.ctl.arrival_sigma_px = (spvs_real)o->cfg.arrival_sigma_px;
+        }
+        if (strcmp(o->transport, "fixed") == 0) {
+            return sim_link_fixed_open(&p, link, err, err_len);
         }
         return sim_link_inproc_open(&p, link, err, err_len);
     }

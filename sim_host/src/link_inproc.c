@@ -55,15 +55,19 @@ int sim_link_inproc_open(const spvs_params_t *p, sim_link_t *out, char *err,
     return 0;
 }
 
+void sim_inproc_config_params(const sim_config_t *c, spvs_params_t *p)
+{
+    sim_inproc_params(p, c->method, c->focal_assumed_mm / c->pixel_mm, (uint32_t)c->seed);
+    if (c->arrival_sigma_px > 0.0) {
+        p->ctl.arrival_sigma_px = (spvs_real)c->arrival_sigma_px;
+    }
+}
+
 int sim_run_inproc(const sim_config_t *c, sim_result_t *res, sim_frame_cb cb,
                    void *user, char *err, unsigned err_len)
 {
     spvs_params_t p;
-    sim_inproc_params(&p, c->method, c->focal_assumed_mm / c->pixel_mm,
-                      (uint32_t)c->seed);
-    if (c->arrival_sigma_px > 0.0) {
-        p.ctl.arrival_sigma_px = (spvs_real)c->arrival_sigma_px;
-    }
+    sim_inproc_config_params(c, &p);
     sim_link_t link;
     if (sim_link_inproc_open(&p, &link, err, err_len) != 0) {
         return -1;

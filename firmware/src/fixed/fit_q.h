@@ -7,14 +7,18 @@
  * (h_fit.h) on the Q store and the block floating-point sums of
  * spvs_q_pts_sum (points_q.h).  The normal matrices' entries span 40 bits
  * or more (x^2, x and 1 times weights that scale as 1 / w^2), so no one Q
- * format holds them: each system N x = b is equilibrated first,
- * N' = D N D with D = diag(N)^-1/2 (unit diagonal, |N'_ij| <= 1), N' in
- * Q30, its Cholesky factor in Q30 with int64 accumulations, the
- * substitutions and the back-scaling x = D y in spvs_qf_t, and the
- * solution's entries rounded to Q27 (SPVS_QH).
+ * format holds them: each system N x = b is equilibrated first by powers
+ * of two, N'' = P N P with P = diag(2^-h_i) and N''_ii in [1/2, 2), in
+ * Q30 int32; the right side is normalised once into int32 with one block
+ * exponent.  The 3 x 3 systems are solved by their adjugate (cofactors
+ * exact in int64, one reciprocal of the determinant), the 6 x 6 by a
+ * Cholesky factor in Q30 with int64 accumulations and substitutions in
+ * int32 blocks; the solution's entries are rounded to Q27 (SPVS_QH).
+ * No spvs_qf_t arithmetic.
  *
  * Statuses are float's, with two differences, both documented at their
- * tests: a pivot of N' below 2^-20 (N not positive definite in the
+ * tests: a pivot of the exactly equilibrated matrix D N D,
+ * D = diag(N)^-1/2, below 2^-20 (N not positive definite in the
  * precision kept; float's tests are |det| > 1e-7 for the 3 x 3 systems,
  * which is also made here, and a pivot above 1e-12 (1 + N_ii) for the
  * 6 x 6) is SPVS_E_DEGENERATE, and so is an entry of the result outside

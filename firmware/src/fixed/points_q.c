@@ -287,8 +287,9 @@ spvs_q_thr_t spvs_q_thr(spvs_qf_t t2)
     return thr;
 }
 
-/* The fast test of one model (points between the two shortcuts, and every
- * point of a model outside the test's range, go to the exact test).
+/* The fast test of one model (points between the two shortcuts take the
+ * band's Sampson test, q_band_sampson; those it leaves, and every point of
+ * a model outside the fast test's range, go to the exact test).
  *
  * Per point it needs only 32 x 32 -> 64-bit products, 64-bit sums, one
  * constant shift and high words, so that on a core without a 64-bit
@@ -316,9 +317,129 @@ typedef struct {
     uint32_t d2;      /* 2 D, the slack's factor */
     int64_t h2c, h8c; /* h13 2^26 and h33 2^26: the constant terms, Q53 */
     uint64_t c2s;     /* c2 + 4 D^2, or UINT64_MAX / 2: no band test */
+    /* The band's Sampson test (q_band_sampson): sfast = -1 until its
+     * constants are made (sampson_prep, at the model's first band point),
+     * then 1 (on) or 0 (off: the band goes to the exact test). */
+    int sfast;
+    const spvs_q_store_t *st; /* the frame, for sampson_prep */
+    int64_t wb;               /* the bound of w over the frame, Q53 */
+    int sh;                   /* the values' shift: Q(21 - sh) */
+    int32_t a6, a7;     /* t' h31, t' h32 in Q27 (t' = T 2^-26), rounded */
+    int64_t c0, c1, c3; /* t' h11, t' h12 and t' in Q53, exact */
 } q_model_t;
 
 #define Q_FAST_D 2
+
+/* The band's Sampson test (points the two shortcuts leave: |eps| between
+ * about t w and t (w^2 + |P|^2)^(1/2)), in integers.  With
+ * omega = t w, Pi = t P (P as q_jac) and eps, all in Q(21 - sh),
+ *   num = omega^2 |eps|^2 + |adj(Pi) eps|^2 = |v|^2,
+ *         v = (omega eps, adj(Pi) eps),
+ *   den = omega^4 + omega^2 |Pi|_F^2 + det(Pi)^2 = |u|^2,
+ *         u = (omega^2, omega Pi_11, .., omega Pi_22, det(Pi)),
+ * are q_sampson's num and den times t^2 and t^4 (and one power of two), so
+ * num <= den is the point's test num <= t2 den.  Its seven values are
+ * within D = 2 units of their exact ones:
+ *   eps   exh, eyh (q_inlier): under 5/4;
+ *   omega tw (q_inlier): the floors of w27 and of T move it by under 1/16
+ *         and 1/2 (|w| < 16), its own floor by under 1;
+ *   Pi    the high word of u a6 - c0 (Pi_11; Pi_12, Pi_21, Pi_22 alike):
+ *         this is t' P_11 2^-32 (Q53) plus u times a6's rounding (under
+ *         2^29), and t' P_11 is within 2^-26 |P_11| < 2^31 of t P_11
+ *         (|P_11| < 16 over the frame, sampson_prep): under 5/8, with the
+ *         floor under 13/8;
+ * and the shift by sh >= 1 makes that at most 2 / 2 plus under 1 (its
+ * floor).  Every value is in [-2^15, 2^15 - 1] (checked per point: the
+ * OR of their magnitudes, less one for a negative value, is below 2^15),
+ * so every product below is exact in its type: a0 = Pi_22 eps_x - Pi_12
+ * eps_y, a1 and det(Pi) within +-(2^31 - 2^15) (2^31 would need one
+ * factor to be +2^15); omega^2 < 2^30, |eps|^2 <= 2^31, each half of
+ * |Pi|_F^2 at most 2^31; num below 2^61 + 2^63, den below 2^60 + 2^63.
+ *
+ * The error bound.  With m >= every |value| and each within D of the
+ * exact one (upper case: exact, lower case: computed), v = K(omega, Pi)
+ * eps for the 4 x 2 matrix K = (omega I; adj(Pi)), ||K|| <= (omega^2 +
+ * |Pi|_F^2)^(1/2) <= 5^(1/2) m, so
+ *   |v - V| <= ||K|| |eps - EPS| + ||K(delta)|| |EPS|
+ *           <= 10^(1/2) D (2 m + D);
+ * u's first five entries are omega (omega, Pi): within 5^(1/2) D (2 m +
+ * D); det(pi) - det(pi - delta) = tr(adj(pi) delta) - det(delta), within
+ * 2 m 2 D + 2 D^2.  So |v| and |u| are together within
+ *   E = (10^(1/2) + 5^(1/2)) D (2 m + D) + 4 m D + 2 D^2 <= 15 D m + 8 D^2
+ * of the exact |V| and |U|, which is 30 m + 32 for D = 2.  The test
+ * decides with E* = E + 2048:
+ *   inlier   when num + E* 2 Gh <= den, Gh = omega^2 + |Pi|_F^2 / 2 (up):
+ *            then num <= den, |v| <= |u| <= Gh (AM-GM on den's two factors
+ *            omega^2 + sigma_i^2), so |u| - |v| >= E* and
+ *            |U| - |V| >= 2048;
+ *   outlier  when num > den + E* 2 Hh, Hh = (|eps|^2 + omega^2 + |Pi|_F^2)
+ *            / 2 (up) >= |eps| ||K|| >= |v| >= |u|: |V| - |U| > 2048;
+ * and sends every other point to the exact test.  |U| < 3 2^30 + 2^21 <
+ * 2^32, so a decided point's exact squared Sampson error is at least
+ * 2^-21 (relative) from t2: the exact test's own arithmetic (below 1e-7,
+ * points_q.h) decides it the same way.  2 E* < 2^21 and Gh, Hh < 2^32:
+ * each bound is one 32 x 32 -> 64-bit product.  The test leaves undecided
+ * the points within about 10 E* / |u| (relative) of the threshold: at the
+ * default threshold (t near 12,400 units of Q21, values near 2^13 to 2^15)
+ * well under 1 %. */
+#define Q_BAND_LIM 0x8000 /* 2^15 */
+
+/* x ^ (x >> 31): |x| for x >= 0, |x| - 1 below (one instruction). */
+static SPVS_Q_INLINE uint32_t q_mag(int32_t x)
+{
+    return (uint32_t)(x ^ (x >> 31));
+}
+
+/* The constants of the band's Sampson test of H on the frame: a6, a7, c0,
+ * c1, c3 (q_model_t) and the shift sh that brings t (w^2 + |P|_F^2)^(1/2)
+ * over the frame below 2^15 (an estimate from the frame's bounds; a point beyond it
+ * goes to the exact test).  Off (sfast = 0) unless each |P_k| < 16 over the
+ * frame (its Q53 bound e[k] < 2^57, as band_c2's) and t' |h31|, t' |h32| <
+ * 16 (a6, a7 in int32).  T < 2^28 and |h| < 2^31: T h < 2^59, and
+ * per point |u a6| < 2^61, |c0|, |c1| < 2^59, c3 = T 2^27 < 2^55, so each
+ * Pi's int64 sum is below 2^62. */
+static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
+{
+    const spvs_q_store_t *st = md->st;
+    const int64_t wb = md->wb;
+    md->sfast = 0;
+    const int64_t one26 = (int64_t)1 << 26;
+    const int64_t T = md->T;
+    int64_t a[9];
+    h_abs(h, a);
+    const int64_t um = st->cur_max[0], vm = st->cur_max[1];
+    const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
+                          vm * a[7] + ((int64_t)1 << 53)};
+    /* t w and t |P_k| over the frame in Q21: T (< 2^28) times a Q27 bound
+     * (< 2^31), each below 2^27; their squares sum below 2^57. */
+    const int64_t tw = (T * (wb >> 26)) >> 32;
+    uint64_t m2 = (uint64_t)(tw * tw);
+    for (int k = 0; k < 4; k++) {
+        if (e[k] >= ((int64_t)1 << 57)) {
+            return;
+        }
+        const int64_t tp = (T * (e[k] >> 26)) >> 32;
+        m2 += (uint64_t)(tp * tp);
+    }
+    const int64_t a6 = spvs_q_rshift_rnd64(T * h[6], 26);
+    const int64_t a7 = spvs_q_rshift_rnd64(T * h[7], 26);
+    const int64_t lim31 = (int64_t)1 << 31;
+    if (a6 >= lim31 || a6 < -lim31 || a7 >= lim31 || a7 < -lim31) {
+        return;
+    }
+    int sh = 0;
+    /* Bound: m2 < 2^57, so at most 14 steps. */
+    while ((m2 >> (2 * sh)) >= ((uint64_t)1 << 30)) {
+        sh++;
+    }
+    md->sh = sh;
+    md->a6 = (int32_t)a6;
+    md->a7 = (int32_t)a7;
+    md->c0 = T * h[0];
+    md->c1 = T * h[1];
+    md->c3 = T * ((int64_t)1 << 27);
+    md->sfast = 1;
+}
 
 static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const spvs_q_thr_t *thr)
 {
@@ -357,46 +478,144 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     md.c2s = (uint64_t)c2 + (c2 < ((int64_t)1 << 62) ? 4u * Q_FAST_D * Q_FAST_D : 0u);
     md.d2 = 2u * Q_FAST_D;
     md.fast = 1;
+    md.sfast = -1;
+    md.st = st;
+    md.wb = wb;
     return md;
 }
 
+/* The outcomes of the fast test of one point. */
+enum { Q_EXACT = -1, Q_OUT = 0, Q_IN = 1, Q_BAND = 2 };
+
+/* w = h3 . p, exact in Q53 (as q_eps). */
+static SPVS_Q_INLINE int64_t q_w(const int32_t *h, const int32_t *p, const q_model_t *md)
+{
+    return (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + md->h8c;
+}
+
+/* The fast test's high words of one point with w > 0 (model_prep's
+ * comment): exh, eyh and tw, Q21. */
+typedef struct {
+    int32_t exh, eyh;
+    uint32_t tw;
+} q_hw_t;
+
+static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *h, const int32_t *p, const q_model_t *md,
+                                 int64_t w)
+{
+    q_hw_t r;
+    const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + md->h2c;
+    const int32_t w27 = (int32_t)(w >> 26);
+    r.exh = (int32_t)(((int64_t)p[2] * w27 - g) >> 32);
+    /* y 2^27 as a product, so that the sum is one multiply-accumulate. */
+    r.eyh = (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
+    r.tw = (uint32_t)(((int64_t)md->T * w27) >> 32);
+    return r;
+}
+
+/* The band's Sampson test of one point of the band (q_fast: Q_BAND), with
+ * the bounds of sampson_prep's comment above: 1 (an inlier), 0 (not), or
+ * Q_EXACT where it cannot decide or the model is outside its range.  Out
+ * of line, and its high words made again (about 20 instructions), so that
+ * the loop over the points keeps none of its values alive. */
+static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_model_t *md)
+{
+    if (md->sfast < 0) {
+        sampson_prep(md, h);
+    }
+    if (!md->sfast) {
+        return Q_EXACT;
+    }
+    const q_hw_t r = q_hw(h, p, md, q_w(h, p, md));
+    const int sh = md->sh;
+    const int64_t u = p[2], v = p[3];
+    /* Pi in Q21, then Q(21 - sh): high words of sums below 2^62. */
+    const int32_t p0 = spvs_q_opaque32((int32_t)((u * md->a6 - md->c0) >> 32) >> sh);
+    const int32_t p1 = spvs_q_opaque32((int32_t)((u * md->a7 - md->c1) >> 32) >> sh);
+    const int32_t p2 = spvs_q_opaque32((int32_t)((v * md->a6) >> 32) >> sh);
+    const int32_t p3 = spvs_q_opaque32((int32_t)((v * md->a7 - md->c3) >> 32) >> sh);
+    const int32_t e0 = spvs_q_opaque32(r.exh >> sh), e1 = spvs_q_opaque32(r.eyh >> sh);
+    const int32_t om = spvs_q_opaque32((int32_t)(r.tw >> sh));
+    /* m = mo + 1 >= every |value|; mo < 2^15 keeps each in [-2^15,
+     * 2^15 - 1]. */
+    const uint32_t mo =
+        (uint32_t)om | q_mag(e0) | q_mag(e1) | q_mag(p0) | q_mag(p1) | q_mag(p2) | q_mag(p3);
+    if (mo >= (uint32_t)Q_BAND_LIM) {
+        return Q_EXACT;
+    }
+    /* Exact in int32 / uint32 (the ranges above). */
+    const int32_t a0 = p3 * e0 - p1 * e1;
+    const int32_t a1 = p0 * e1 - p2 * e0;
+    const int32_t dt = p0 * p3 - p1 * p2;
+    const uint32_t ww = (uint32_t)(om * om);
+    const uint32_t ee = (uint32_t)(e0 * e0) + (uint32_t)(e1 * e1);
+    const uint32_t q01 = (uint32_t)(p0 * p0) + (uint32_t)(p1 * p1);
+    const uint32_t q23 = (uint32_t)(p2 * p2) + (uint32_t)(p3 * p3);
+    const uint64_t num = (uint64_t)ww * ee + (uint64_t)((int64_t)a0 * a0) +
+                         (uint64_t)((int64_t)a1 * a1);
+    const uint64_t den = (uint64_t)ww * ww + (uint64_t)ww * q01 + (uint64_t)ww * q23 +
+                         (uint64_t)((int64_t)dt * dt);
+    /* 2 E* = 2 (30 (mo + 1) + 32 + 2048); Gh and Hh rounded up (each
+     * halving's floor loses under 1/2). */
+    const uint32_t e2 = 60u * mo + 4220u;
+    const uint32_t ph = (q01 >> 1) + (q23 >> 1) + 1u;
+    if (num + (uint64_t)e2 * (ww + ph) <= den) {
+        return 1;
+    }
+    const uint32_t hh = ((ee + ww) >> 1) + ph + 1u;
+    if (num > den + (uint64_t)e2 * hh) {
+        return 0;
+    }
+    return Q_EXACT;
+}
+
+/* The fast test of one point: Q_IN for a point clearly inside |eps| <= t w
+ * (an inlier, since the Sampson error is at most the transfer error),
+ * Q_OUT behind the camera or clearly beyond t2 (w^2 + |P|^2) (an outlier),
+ * Q_BAND for the rest (the band's Sampson test, then the exact test).
+ * Both shortcuts are exact in real arithmetic and are taken only outside
+ * the rounding slack, so the decisions are the exact test's. */
+static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
+{
+    const int64_t w = q_w(h, p, md);
+    if (w <= 0) {
+        return Q_OUT;
+    }
+    const q_hw_t r = q_hw(h, p, md, w);
+    /* Squares of magnitudes: unsigned 32 x 32 -> 64 products. */
+    const uint32_t ax = (uint32_t)(r.exh < 0 ? -r.exh : r.exh);
+    const uint32_t ay = (uint32_t)(r.eyh < 0 ? -r.eyh : r.eyh);
+    const uint64_t E = (uint64_t)ax * ax + (uint64_t)ay * ay;
+    const uint64_t TW = (uint64_t)r.tw * r.tw;
+    /* Inside: E + slack <= TW.  Where E <= TW, ax and ay are at most tw,
+     * so slack <= 2 D 3 tw + 4 D^2, a 32-bit figure (tw < 2^27); testing
+     * E against TW less that bound is sufficient. */
+    if (E + (6u * Q_FAST_D * r.tw + 4u * Q_FAST_D * Q_FAST_D) <= TW) {
+        return Q_IN;
+    }
+    /* Beyond: E > TW + c2 + slack (md->c2s holds c2 + 4 D^2, md->d2 is
+     * 2 D: one multiply-accumulate). */
+    if (E > TW + md->c2s + (uint64_t)(ax + ay + r.tw) * md->d2) {
+        return Q_OUT;
+    }
+    return Q_BAND;
+}
+
 /* hp_inlier: 1 for an inlier of H (w > 0, squared Sampson error at most
- * t2).  The fast test decides the points clearly inside |eps| <= t w (an
- * inlier, since the Sampson error is at most the transfer error) and those
- * clearly beyond t2 (w^2 + |P|^2) (an outlier); the rest, and every point
- * of a model without the fast test, go to the exact test.  Both shortcuts
- * are exact in real arithmetic and are taken only outside the rounding
- * slack, so the decisions are the exact test's. */
-static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, const q_model_t *md,
+ * t2): the fast test and the band's Sampson test where the model has them
+ * (fast), the exact test for the points they leave and for every point of
+ * a model without them. */
+static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, q_model_t *md,
                                   const spvs_qf_t *t2, const int fast)
 {
     if (fast) {
-        const int64_t w = (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + md->h8c;
-        if (w <= 0) {
-            return 0;
+        const int c = q_fast(h, p, md);
+        if (c != Q_BAND) {
+            return c;
         }
-        const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + md->h2c;
-        const int32_t w27 = (int32_t)(w >> 26);
-        const int32_t exh = (int32_t)(((int64_t)p[2] * w27 - g) >> 32);
-        /* y 2^27 as a product, so that the sum is one multiply-accumulate. */
-        const int32_t eyh =
-            (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
-        const uint32_t tw = (uint32_t)(((int64_t)md->T * w27) >> 32);
-        /* Squares of magnitudes: unsigned 32 x 32 -> 64 products. */
-        const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
-        const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
-        const uint64_t E = (uint64_t)ax * ax + (uint64_t)ay * ay;
-        const uint64_t TW = (uint64_t)tw * tw;
-        /* Inside: E + slack <= TW.  Where E <= TW, ax and ay are at most tw,
-         * so slack <= 2 D 3 tw + 4 D^2, a 32-bit figure (tw < 2^27); testing
-         * E against TW less that bound is sufficient. */
-        if (E + (6u * Q_FAST_D * tw + 4u * Q_FAST_D * Q_FAST_D) <= TW) {
-            return 1;
-        }
-        /* Beyond: E > TW + c2 + slack (md->c2s holds c2 + 4 D^2, md->d2 is
-         * 2 D: one multiply-accumulate). */
-        if (E > TW + md->c2s + (uint64_t)(ax + ay + tw) * md->d2) {
-            return 0;
+        const int b = q_band_sampson(h, p, md);
+        if (b >= 0) {
+            return b;
         }
     }
     spvs_qf_t e;
@@ -432,7 +651,7 @@ static int bails(int64_t need, int64_t n, int64_t m, int64_t inl)
  * score_points); 0 at the first point that leaves more than max_out
  * outliers. */
 static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h, size_t i,
-                                     size_t end, const q_model_t *md, const spvs_qf_t *t2,
+                                     size_t end, q_model_t *md, const spvs_qf_t *t2,
                                      int32_t max_out, uint8_t *mask, int32_t *inl, const int fast)
 {
     int32_t count = *inl;
@@ -455,7 +674,7 @@ static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h,
 /* score_range with the model's fast test, or without it (every point to
  * the exact test), chosen once per call. */
 static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
-                        const q_model_t *md, const spvs_qf_t *t2, int32_t max_out,
+                        q_model_t *md, const spvs_qf_t *t2, int32_t max_out,
                         uint8_t *mask, int32_t *inl)
 {
     return md->fast ? score_range(st, h, i, end, md, t2, max_out, mask, inl, 1)
@@ -472,7 +691,7 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     for (int k = 0; k < 9; k++) {
         h[k] = Hq[k];
     }
-    const q_model_t md = model_prep(st, h, thr);
+    q_model_t md = model_prep(st, h, thr);
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
@@ -490,7 +709,7 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
                          const spvs_q_thr_t *thr, uint32_t *sat)
 {
-    const q_model_t md = model_prep(st, Hq, thr);
+    q_model_t md = model_prep(st, Hq, thr);
     uint64_t sum = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {

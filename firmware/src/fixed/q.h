@@ -526,4 +526,66 @@ static inline spvs_qf_t spvs_qf_from_ieee(spvs_q_ieee_t v, uint32_t *sat)
     return spvs_qf_from_i64(v.neg ? -m : m, v.exp2);
 }
 
+/* ---- Q to IEEE-754 bits, with integer operations only ------------------- */
+
+/* The bits of the binary float nearest to x 2^-f (ties to even, as the
+ * FPU rounds), for a format of mant_bits stored mantissa bits and an
+ * exponent field of exp_bits (23 and 8 for float, 52 and 11 for double).
+ * Any int64 x and f in -1000..1000: a value beyond the format's largest
+ * finite one gives infinity, one below its smallest subnormal 0 (never
+ * for the core's outputs, whose ranges the formats hold: docs/FIXED.md).
+ * So the fixed-point core writes the float fields of the public API
+ * (spvs_output_t) without a floating-point helper. */
+static inline uint64_t spvs_q_ieee_bits(int64_t x, int f, int mant_bits, int exp_bits)
+{
+    const uint64_t sign = x < 0 ? (uint64_t)1 << (mant_bits + exp_bits) : 0u;
+    const uint64_t mag = spvs_q_abs64(x);
+    if (mag == 0u) {
+        return sign;
+    }
+    const int bias = (1 << (exp_bits - 1)) - 1;
+    const int emax_field = (1 << exp_bits) - 1;
+    /* mag 2^-f = 1.xxx 2^e with e = bitlen - 1 - f. */
+    const int len = spvs_q_bitlen64(mag);
+    int e = len - 1 - f;
+    int field = e + bias;
+    /* The mantissa's bits kept: mant_bits + 1 for a normal number, fewer
+     * for a subnormal (field <= 0). */
+    int keep = mant_bits + 1;
+    if (field <= 0) {
+        keep = mant_bits + field;
+        field = 0;
+        if (keep < 0) {
+            return sign;
+        }
+    }
+    /* The top `keep` bits of mag, rounded to nearest even. */
+    const int drop = len - keep;
+    uint64_t m;
+    if (drop <= 0) {
+        m = mag << (-drop);
+    } else {
+        const uint64_t q = drop >= 64 ? 0u : mag >> drop;
+        const uint64_t rem = drop >= 64 ? mag : mag - (q << drop);
+        const uint64_t half = drop >= 65 ? 0u : (uint64_t)1 << (drop - 1);
+        m = q + ((rem > half || (rem == half && (q & 1u) != 0u)) ? 1u : 0u);
+    }
+    /* Rounding up may carry into a new bit: a normal number one binade up,
+     * or a subnormal that became the smallest normal. */
+    if (field == 0) {
+        if (m >> mant_bits != 0u) {
+            field = 1;
+        }
+        return sign | ((uint64_t)field << mant_bits) | (m & (((uint64_t)1 << mant_bits) - 1u));
+    }
+    if (m >> (mant_bits + 1) != 0u) {
+        m >>= 1;
+        field++;
+    }
+    if (field >= emax_field) {
+        return sign | ((uint64_t)emax_field << mant_bits);
+    }
+    return sign | ((uint64_t)field << mant_bits) | (m & (((uint64_t)1 << mant_bits) - 1u));
+}
+
 #endif /* SPVS_FIXED_Q_H */

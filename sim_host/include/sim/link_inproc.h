@@ -20,6 +20,11 @@ extern "C" {
 void sim_inproc_params(spvs_params_t *p, int method, double alpha_px,
                        uint32_t seed);
 
+/* The parameters sim_run_inproc() gives the controller for configuration c:
+ * sim_inproc_params() of its method, assumed focal length and seed, and its
+ * arrival noise sigma when set. */
+void sim_inproc_config_params(const sim_config_t *c, spvs_params_t *p);
+
 /* Open an in-process link with a fresh controller (heap-allocated spvs_t)
  * initialised from p.  Close it with out->close(out->ctx).
  * Returns 0, or -1 with a reason in err (no memory, or spvs_init() refused

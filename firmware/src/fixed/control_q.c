@@ -1,0 +1,1037 @@
+/*
+ * control_q.c - Shortest Path Control in fixed point (control_q.h): the
+ * rules of control.c in the same order, on Q inputs.  docs/CONTROL.md
+ * derives every rule; the comments here give the formats and why each
+ * stays in range.
+ *
+ * Ranges used below (control_q.h):  H entries |h| < 2^31 in Q27 (below 16);
+ * every signal int32; a gain's mantissa |m| < 2^31, so gain x signal is
+ * below 2^62 in int64 before its one shift; commands int64 until they are
+ * clamped at v_max, w_max < 128 (Q24).
+ */
+#include <string.h>
+
+#include "control_q.h"
+#include "spvs/homography.h"
+
+#define ONE27 ((int32_t)1 << 27)
+#define ONE54 ((int64_t)1 << 54)
+/* h13 in pixels is h13 in scaled units (Q27) read in Q(27 - 9). */
+#define QH13_PX (SPVS_QH - 9)
+
+_Static_assert(SPVS_COORD_SCALE == 512, "the pixel formats of H assume SPVS_COORD_SCALE 512");
+
+/* ---- small helpers -------------------------------------------------------- */
+
+static int8_t sgn64(int64_t x)
+{
+    return (int8_t)((x > 0) - (x < 0));
+}
+
+static uint64_t abs64(int64_t x)
+{
+    return spvs_q_abs64(x);
+}
+
+/* k x for a gain k (a value) and x in Qfx, as an int64 in Qfout: one
+ * 32 x 32 -> 64-bit product (|k.m x| < 2^62) and one rounding shift,
+ * relative error <= 2^-31 of k plus 1/2 ulp; saturated (flagged). */
+static int64_t kx(spvs_qf_t k, int32_t x, int fx, int fout, uint32_t *sat)
+{
+    if (k.m == 0 || x == 0) {
+        return 0;
+    }
+    const int64_t p = (int64_t)k.m * x;
+    const int32_t s = k.e - fx + fout;
+    if (s >= 0) {
+        return spvs_q_lshift_sat64(p, s > 62 ? 63 : (int)s, sat);
+    }
+    return spvs_q_rshift_rnd64(p, s < -63 ? 63 : (int)-s);
+}
+
+static spvs_qf_t qf_of(int64_t v, int f)
+{
+    return spvs_qf_from_i64(v, -f);
+}
+
+static spvs_qf_t qf_abs(spvs_qf_t a)
+{
+    a.m = a.m < 0 ? -a.m : a.m;
+    return a;
+}
+
+static spvs_qf_t qf_scale2(spvs_qf_t a, int32_t e)
+{
+    if (a.m != 0) {
+        a.e += e;
+    }
+    return a;
+}
+
+static SPVS_Q_NOINLINE spvs_qf_t qf_div(spvs_qf_t a, spvs_qf_t b, uint32_t *sat)
+{
+    return spvs_qf_mul(a, spvs_qf_recip(b, sat));
+}
+
+/* sqrt(a) for a >= 0 (a negative a gives 0): the mantissa widened to 62 or
+ * 63 bits with an even exponent, its exact integer root (31 bits),
+ * relative error <= 2^-30. */
+static SPVS_Q_NOINLINE spvs_qf_t qf_sqrt(spvs_qf_t a)
+{
+    if (a.m <= 0) {
+        return qf_of(0, 0);
+    }
+    int32_t e = a.e - 32;
+    uint64_t m = (uint64_t)a.m << 32;
+    if (e & 1) {
+        m >>= 1;
+        e += 1;
+    }
+    return spvs_qf_from_i64((int64_t)spvs_q_isqrt64(m), e / 2);
+}
+
+/* n / d rounded to nearest (ties away), d > 0, for the per-frame means. */
+static int64_t div_rnd(int64_t n, uint32_t d)
+{
+    const uint64_t an = abs64(n);
+    const uint64_t q = (an + d / 2u) / d;
+    return n < 0 ? -(int64_t)q : (int64_t)q;
+}
+
+static int32_t clamp_cmd(int64_t x, int32_t lim)
+{
+    return x > lim ? lim : (x < -(int64_t)lim ? -lim : (int32_t)x);
+}
+
+/* |x| < tol for an int32 signal and its tolerance in the same format. */
+static int under(int64_t x, int64_t tol)
+{
+    return abs64(x) < (uint64_t)tol;
+}
+
+/* ---- conversions (float bits, integer operations only) -------------------- */
+
+static spvs_q_ieee_t real_parts(spvs_real x)
+{
+#if SPVS_USE_DOUBLE
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f64(b);
+#else
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f32(b);
+#endif
+}
+
+/* x in Qf; a nonzero x that rounds to 0 keeps its sign as one ulp, and
+ * the clamp of q.h is flagged, also at exactly +-2^31 ulp. */
+static int32_t q_real(spvs_real x, int f, uint32_t *sat)
+{
+    const spvs_q_ieee_t v = real_parts(x);
+    int32_t q = spvs_q_from_ieee(v, f, sat, 0);
+    if (q == 0 && v.mant != 0u && !v.nonfinite) {
+        q = v.neg ? -1 : 1;
+    }
+    if (q == SPVS_Q_I32_MAX || q == SPVS_Q_I32_MIN) {
+        *sat |= SPVS_Q_SAT;
+    }
+    return q;
+}
+
+static spvs_qf_t qf_real(spvs_real x, uint32_t *sat)
+{
+    return spvs_qf_from_ieee(real_parts(x), sat);
+}
+
+/* A positive tolerance in Qf: 0 (rounded away) or a clamp is a config
+ * error, as it would change which frames pass. */
+static int32_t tol_real(spvs_real x, int f, uint32_t *bad)
+{
+    uint32_t sat = 0;
+    const int32_t q = spvs_q_from_ieee(real_parts(x), f, &sat, 0);
+    if (sat != 0u || q == SPVS_Q_I32_MAX || q <= 0) {
+        *bad = 1u;
+    }
+    return q;
+}
+
+static void params_coeffs(spvs_q_ctl_params_t *q, const spvs_control_params_t *p,
+                          uint32_t *bad)
+{
+    uint32_t sat = 0;
+    const spvs_qf_t ax = qf_real(p->alpha_x, &sat), ay = qf_real(p->alpha_y, &sat);
+    q->c13 = qf_scale2(spvs_qf_recip(ax, &sat), 9);
+    q->c31 = qf_scale2(ax, -9);
+    q->c32 = qf_scale2(ay, -9);
+    q->c12 = qf_div(ay, ax, &sat);
+    q->alpha_x = tol_real(p->alpha_x, SPVS_QCTL_PX, bad);
+    (void)tol_real(p->alpha_y, SPVS_QCTL_PX, bad);
+    q->k_w = qf_real(p->k_w, &sat);
+    q->k_v = qf_real(p->k_v, &sat);
+    q->k_w3 = qf_real(p->k_w3, &sat);
+    q->k_w11 = qf_real(p->k_w11, &sat);
+    q->hold_heading_ratio = qf_real(p->hold_heading_ratio, &sat);
+    const spvs_qf_t r = qf_real(p->min_signal_ratio, &sat);
+    q->min_signal_ratio2 = spvs_qf_mul(r, r);
+    /* (SPVS_CTL_FIT_MIN_SPREAD_UM 1e-6 m)^2, m^2. */
+    const spvs_qf_t spread = qf_div(qf_of(SPVS_CTL_FIT_MIN_SPREAD_UM, 0),
+                                    qf_of(1000000, 0), &sat);
+    q->fit_min_den = spvs_qf_mul(spread, spread);
+    *bad |= sat;
+}
+
+static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *p,
+                           uint32_t *bad)
+{
+    uint32_t sat = 0;
+    const spvs_qf_t ks = spvs_qf_mul(qf_real(p->arrival_k, &sat),
+                                     qf_real(p->arrival_sigma_px, &sat));
+    q->arrival_a = qf_scale2(spvs_qf_mul(spvs_qf_mul(ks, ks),
+                                         qf_real(p->arrival_leverage, &sat)), 1);
+    q->corner_x = qf_real(p->arrival_corner_x_px, &sat);
+    q->corner_y = qf_real(p->arrival_corner_y_px, &sat);
+    q->corner_r = qf_sqrt(spvs_qf_add(spvs_qf_mul(q->corner_x, q->corner_x),
+                                      spvs_qf_mul(q->corner_y, q->corner_y)));
+    q->resolution = qf_real(p->arrival_resolution_px, &sat);
+    /* SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x 1.665 sigma. */
+    const spvs_qf_t par = qf_div(qf_of((int64_t)SPVS_CTL_ARRIVAL_PARALLAX_X100 * 1665, 0),
+                                 qf_of(100000, 0), &sat);
+    q->arrival_par_max =
+        spvs_qf_to_q32(spvs_qf_mul(par, qf_real(p->arrival_sigma_px, &sat)), SPVS_QCTL_PX, &sat);
+    q->arrival_frames = p->arrival_frames;
+    q->arrival_max_frames = p->arrival_max_frames;
+    *bad |= sat;
+}
+
+int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q, const spvs_control_params_t *p)
+{
+    if (q == 0 || p == 0) {
+        return SPVS_E_ARG;
+    }
+    uint32_t bad = 0;
+    q->method = p->method;
+    params_coeffs(q, p, &bad);
+    q->v_max = tol_real(p->v_max, SPVS_QCTL_CMD, &bad);
+    q->w_max = tol_real(p->w_max, SPVS_QCTL_CMD, &bad);
+    uint32_t sat = 0;
+    q->w_min_escape = q_real(p->w_min_escape, SPVS_QCTL_CMD, &sat);
+    q->tol_align = tol_real(p->tol_align,
+                            p->method == SPVS_METHOD_III ? SPVS_QCTL_PX : SPVS_QH, &bad);
+    q->tol_translate = tol_real(p->tol_translate, SPVS_QH, &bad);
+    q->tol_h13 = tol_real(p->tol_h13_px, QH13_PX, &bad);
+    q->lock_ex = tol_real(p->lock_ex_px, SPVS_QCTL_PX, &bad);
+    q->switch_parallax = q_real(p->switch_parallax_px, SPVS_QCTL_PX, &sat);
+    q->tol_det = spvs_qf_to_q64(qf_real(p->tol_det, &sat), 54, &sat);
+    q->step_timeout = tol_real(p->step_timeout_s, SPVS_QCTL_T, &bad);
+    q->hold_frames = p->hold_frames;
+    q->fit_min_frames = p->fit_min_frames;
+    q->fit_min_span = tol_real(p->fit_min_span_m, SPVS_QCTL_S, &bad);
+    params_arrival(q, p, &bad);
+    if (q->tol_det <= 0) {
+        bad = 1u;
+    }
+    return (bad | sat) != 0u ? SPVS_E_CONFIG : SPVS_OK;
+}
+
+int spvs_q_ctl_input_from_real(spvs_q_ctl_input_t *q, const spvs_control_input_t *in)
+{
+    if (q == 0 || in == 0) {
+        return SPVS_E_ARG;
+    }
+    uint32_t sat = 0, clamp = 0;
+    /* Scaled units: h13 / 512, h31 and h32 x 512, exact powers of two. */
+    for (int k = 0; k < 9; k++) {
+        const int f = k == SPVS_H13 ? QH13_PX : (k == SPVS_H31 || k == SPVS_H32) ? SPVS_QH + 9
+                                                                                  : SPVS_QH;
+        q->H[k] = q_real(in->H[k], f, &sat);
+    }
+    q->t = q_real(in->t_s, SPVS_QCTL_T, &sat);
+    q->e_valid = in->e_valid;
+    q->e_x = in->e_valid ? q_real(in->e_x_px, SPVS_QCTL_PX, &clamp) : 0;
+    const spvs_q_ieee_t ez = real_parts(in->e_dir_z);
+    q->e_side = (int8_t)(ez.mant == 0u ? 0 : (ez.neg ? -1 : 1));
+    const spvs_q_ieee_t par = real_parts(in->parallax_px);
+    /* Any negative parallax is "unknown", however small. */
+    q->parallax = (par.neg && par.mant != 0u) ? -((int32_t)1 << SPVS_QCTL_PX)
+                                              : q_real(in->parallax_px, SPVS_QCTL_PX, &clamp);
+    q->n_inliers = in->n_inliers;
+    if (((sat | clamp) & SPVS_Q_NONFINITE) != 0u || ez.nonfinite) {
+        return SPVS_E_NONFINITE;
+    }
+    return sat != 0u ? SPVS_E_RANGE : SPVS_OK;
+}
+
+/* ---- state ---------------------------------------------------------------- */
+
+static void fit_clear(spvs_q_ctl_t *c)
+{
+    c->fit_n = 0u;
+    c->fit_s = c->fit_d = c->fit_h33 = 0;
+    c->fit_ss = c->fit_sd = c->fit_sh33 = qf_of(0, 0);
+}
+
+void spvs_q_ctl_reset(spvs_q_ctl_t *c)
+{
+    SPVS_ASSERT(c != 0);
+    memset(c, 0, sizeof *c);
+    c->step = SPVS_STEP_ROTATE;
+    c->status = SPVS_OK;
+    c->step_t0 = -((int32_t)1 << SPVS_QCTL_T);
+    c->cos_phit = (int64_t)1 << SPVS_QCTL_ODO;
+    for (int k = 0; k < 4; k++) {
+        c->t_step_end[k] = -((int32_t)1 << SPVS_QCTL_T);
+    }
+    c->last_t = -((int32_t)1 << SPVS_QCTL_T);
+    fit_clear(c);
+    c->slope_sig = c->slope_h33 = qf_of(0, 0);
+}
+
+static int fail(spvs_q_ctl_t *c, int status)
+{
+    c->step = SPVS_STEP_FAILED;
+    c->status = status;
+    return status;
+}
+
+static void next_step(spvs_q_ctl_t *c, spvs_step_t step, int32_t t)
+{
+    c->t_step_end[c->step] = t;
+    c->step = step;
+    c->step_t0 = t;
+    c->hold = 0;
+    c->run_sign = 0;
+    c->held_sign = 0;
+    c->run_len = 0;
+}
+
+/* control.c's step_done: a sign change that holds hold_frames frames after
+ * the old sign had, or |signal| under tol for hold_frames frames. */
+static int step_done(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t signal,
+                     int32_t tol)
+{
+    const int8_t s = sgn64(signal);
+    if (s != 0 && s == c->run_sign) {
+        if (c->run_len < UINT16_MAX) {
+            c->run_len++;
+        }
+    } else {
+        c->run_sign = s;
+        c->run_len = 1;
+    }
+    int crossed = 0;
+    if (s != 0 && c->run_len >= p->hold_frames) {
+        if (c->held_sign == 0) {
+            c->held_sign = s;
+        } else if (c->held_sign != s) {
+            crossed = 1;
+        }
+    }
+    if (under(signal, tol)) {
+        c->hold++;
+    } else {
+        c->hold = 0;
+    }
+    return crossed || c->hold >= p->hold_frames;
+}
+
+/* ---- the signals ------------------------------------------------------------ */
+
+/* Eq. (19): f = h11^2 + (h13 / alpha_x)^2 - 1 in Q27.  h13 / alpha_x =
+ * c13 h13 (scaled); each square halved first so that the sum of two
+ * squares below 2^62 stays below 2^62 (the halving's floor is 2^-55). */
+static int32_t f_signal(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
+                        uint32_t *sat)
+{
+    const int64_t h11 = in->H[SPVS_H11];
+    const int64_t h13n = spvs_q_sat32(kx(p->c13, in->H[SPVS_H13], SPVS_QH, SPVS_QH, sat), sat);
+    const int64_t f53 = ((h11 * h11) >> 1) + ((h13n * h13n) >> 1) - (ONE54 >> 1);
+    return spvs_q_sat32(spvs_q_rshift_rnd64(f53, 26), sat);
+}
+
+static int32_t align_signal(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
+                            uint32_t *sat)
+{
+    if (p->method == SPVS_METHOD_I) {
+        return f_signal(p, in, sat);
+    }
+    if (p->method == SPVS_METHOD_II) {
+        return in->H[SPVS_H12];
+    }
+    return in->e_x;
+}
+
+/* h11 - h33, or alpha_y h32 (Method II), Q27. */
+static int32_t translate_signal(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
+                                uint32_t *sat)
+{
+    if (p->method == SPVS_METHOD_II) {
+        return spvs_q_sat32(kx(p->c32, in->H[SPVS_H32], SPVS_QH, SPVS_QH, sat), sat);
+    }
+    return spvs_q_sat32((int64_t)in->H[SPVS_H11] - in->H[SPVS_H33], sat);
+}
+
+/* det H - 1 in Q54, exact unless saturated (then far past any tol_det):
+ * h13 h31 is the same product in scaled units as in pixels. */
+static int64_t det_minus_1(const spvs_q_ctl_input_t *in, uint32_t *sat)
+{
+    const int32_t *H = in->H;
+    const int64_t a = (int64_t)H[SPVS_H11] * H[SPVS_H33];
+    const int64_t b = (int64_t)H[SPVS_H13] * H[SPVS_H31];
+    return spvs_q_add64(spvs_q_add64(a, -b, sat), -ONE54, sat);
+}
+
+static int far_from_line(const spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                         const spvs_q_ctl_input_t *in)
+{
+    const int64_t locks = c->step == SPVS_STEP_ROTATE ? SPVS_CTL_FALSE_ZERO_LOCKS : 1;
+    return in->e_valid && abs64(in->e_x) > (uint64_t)(locks * p->lock_ex);
+}
+
+/* The rotation command of steps 1 and 2, Q24, before its clamp. */
+static int64_t rotation(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                        const spvs_q_ctl_input_t *in)
+{
+    const int32_t *H = in->H;
+    switch (p->method) {
+    case SPVS_METHOD_I: {
+        /* Eq. (20) with the false-zero escape of control.c. */
+        const int32_t f = f_signal(p, in, &c->sat);
+        const int misaligned = far_from_line(c, p, in);
+        if (misaligned && f != 0) {
+            c->sign_w = (int8_t)(sgn64(f) * sgn64(in->e_x));
+        }
+        int64_t w = -c->sign_w * kx(p->k_w, f, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+        if (misaligned && abs64(w) < (uint64_t)p->w_min_escape) {
+            w = -sgn64(in->e_x) * (int64_t)p->w_min_escape;
+        }
+        return w;
+    }
+    case SPVS_METHOD_II:
+        /* Eq. (21). */
+        return -c->sign_w * kx(p->k_w, H[SPVS_H12], SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+    case SPVS_METHOD_III:
+    default:
+        if (c->use_eq11) {
+            /* Eq. (11), cos phi_t from Q40 to Q27. */
+            const int64_t cos27 = spvs_q_rshift_rnd64(c->cos_phit, SPVS_QCTL_ODO - SPVS_QH);
+            const int32_t d = spvs_q_sat32(H[SPVS_H11] - cos27, &c->sat);
+            return c->sign_sin_phit * kx(p->k_w11, d, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+        }
+        /* Eq. (22). */
+        return -kx(p->k_w, in->e_x, SPVS_QCTL_PX, SPVS_QCTL_CMD, &c->sat);
+    }
+}
+
+/* Method III learns cos phi_t from h11 on the line (eq. 8): a running mean,
+ * then an exponential one, in Q40 (each update's rounding 2^-41). */
+static void learn_phit(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                       const spvs_q_ctl_input_t *in)
+{
+    if (p->method != SPVS_METHOD_III || c->use_eq11 || c->reentered || !in->e_valid ||
+        abs64(in->e_x) > (uint64_t)p->lock_ex) {
+        return;
+    }
+    if (c->n_phit < (uint32_t)SPVS_CTL_PHIT_FRAMES) {
+        c->n_phit++;
+    }
+    const int64_t h11 = (int64_t)in->H[SPVS_H11] * ((int64_t)1 << (SPVS_QCTL_ODO - SPVS_QH));
+    c->cos_phit += div_rnd(h11 - c->cos_phit, c->n_phit);
+    const int8_t s = sgn64(in->H[SPVS_H13]);
+    if (s != 0) {
+        c->sign_sin_phit = s;
+    }
+}
+
+/* ---- the start -------------------------------------------------------------- */
+
+static int32_t odo_s24(const spvs_q_ctl_t *c, uint32_t *sat)
+{
+    return spvs_q_sat32(spvs_q_rshift_rnd64(c->odo, SPVS_QCTL_ODO - SPVS_QCTL_S), sat);
+}
+
+/* Odometry from the commands (control.c): |v| Q24 times dt Q16 is Q40,
+ * below 2^31 x 2^32; the sum saturates (flagged) past 2^23 m. */
+static void odometry(spvs_q_ctl_t *c, int32_t t)
+{
+    if (c->last_t >= 0 && t > c->last_t) {
+        const uint64_t v = abs64(c->last_v);
+        const int64_t dt = (int64_t)t - c->last_t;
+        c->odo = spvs_q_add64(c->odo, (int64_t)(v * (uint64_t)dt), &c->sat);
+    }
+    c->last_v = 0;
+    c->last_t = t;
+}
+
+static int start_without_parallax(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                  const spvs_q_ctl_input_t *in)
+{
+    const int32_t *H = in->H;
+    const int64_t D = (int64_t)H[SPVS_H11] - H[SPVS_H33];
+    const int64_t Dy = kx(p->c32, H[SPVS_H32], SPVS_QH, SPVS_QH, &c->sat);
+    const int still = under(D, p->tol_translate) && under(Dy, p->tol_translate) &&
+                      under(det_minus_1(in, &c->sat), p->tol_det);
+    c->at_target = still ? (uint16_t)(c->at_target + 1u) : 0u;
+    if (c->at_target < p->hold_frames) {
+        return still ? SPVS_OK : SPVS_E_NO_PARALLAX;
+    }
+    next_step(c, SPVS_STEP_TRANSLATE, in->t);
+    next_step(c, SPVS_STEP_ALIGN, in->t);
+    c->checked_plane = 1;
+    return SPVS_OK;
+}
+
+/* The plane check's sums (control.c's plane_accumulate): the epipole's
+ * unit direction (e_x, alpha_x) / |.| in Q30 from Q15 pixels (squares below
+ * 2^61, the root below 2^31), P = h11 - h33 and Q = h13 / alpha_x +
+ * alpha_x h31 in Q27; each product below 2^61, a sum of two below 2^62,
+ * rounded to Q27 into int64 sums. */
+static SPVS_Q_NOINLINE void plane_accumulate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                             const spvs_q_ctl_input_t *in)
+{
+    const int32_t *H = in->H;
+    uint32_t *sat = &c->sat;
+    const int64_t ex = spvs_q_rshift_rnd64(in->e_x, 1), ax = spvs_q_rshift_rnd64(p->alpha_x, 1);
+    const uint32_t en = spvs_q_isqrt64((uint64_t)(ex * ex) + (uint64_t)(ax * ax));
+    const int64_t side = in->e_side > 0 ? 1 : -1;
+    const int64_t e1 = side * spvs_q_div64_32(ex * ((int64_t)1 << 30), (int32_t)en, sat);
+    const int64_t e3 = side * spvs_q_div64_32(ax * ((int64_t)1 << 30), (int32_t)en, sat);
+    const int64_t P = spvs_q_sat32((int64_t)H[SPVS_H11] - H[SPVS_H33], sat);
+    const int64_t Q = spvs_q_sat32(kx(p->c13, H[SPVS_H13], SPVS_QH, SPVS_QH, sat) +
+                                       kx(p->c31, H[SPVS_H31], SPVS_QH, SPVS_QH, sat),
+                                   sat);
+    const int64_t Y = spvs_q_sat32(kx(p->c32, H[SPVS_H32], SPVS_QH, SPVS_QH, sat), sat);
+    const int64_t X = spvs_q_sat32(kx(p->c12, H[SPVS_H12], SPVS_QH, SPVS_QH, sat), sat);
+    c->normal_est[0] += spvs_q_rshift_rnd64(-e1 * P - e3 * Q, 30);
+    c->normal_est[2] += spvs_q_rshift_rnd64(e3 * P - e1 * Q, 30);
+    c->normal_est[1] += spvs_q_rshift_rnd64(-(e3 * Y + e1 * X), 30);
+}
+
+/* |n_y| (Method II) or |n_z| must exceed min_signal_ratio |n|: compared
+ * squared, both sides non-negative, so no square root is taken. */
+static SPVS_Q_NOINLINE int plane_check(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p)
+{
+    spvs_qf_t sq[3];
+    for (int k = 0; k < 3; k++) {
+        const spvs_qf_t n = qf_of(c->normal_est[k], SPVS_QH);
+        sq[k] = spvs_qf_mul(n, n);
+    }
+    const spvs_qf_t norm2 = spvs_qf_add(spvs_qf_add(sq[0], sq[1]), sq[2]);
+    const int ny = p->method == SPVS_METHOD_II;
+    if (norm2.m == 0) {
+        return fail(c, ny ? SPVS_E_PLANE_NY : SPVS_E_PLANE_NZ);
+    }
+    const spvs_qf_t need = spvs_qf_mul(p->min_signal_ratio2, norm2);
+    if (spvs_qf_le(sq[ny ? 1 : 2], need)) {
+        return fail(c, ny ? SPVS_E_PLANE_NY : SPVS_E_PLANE_NZ);
+    }
+    return SPVS_OK;
+}
+
+static void choose_rotation_sign(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                 const spvs_q_ctl_input_t *in)
+{
+    switch (p->method) {
+    case SPVS_METHOD_I:
+        c->sign_w = (int8_t)(sgn64(f_signal(p, in, &c->sat)) * sgn64(in->e_x));
+        if (c->sign_w == 0) {
+            c->sign_w = 1;
+        }
+        break;
+    case SPVS_METHOD_II:
+        c->sign_w = sgn64(c->h32_sum);
+        break;
+    case SPVS_METHOD_III:
+    default:
+        c->sign_w = 1;
+        break;
+    }
+}
+
+static int start_with_parallax(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                               const spvs_q_ctl_input_t *in)
+{
+    c->at_target = 0;
+    plane_accumulate(c, p, in);
+    c->h32_sum += in->H[SPVS_H32];
+    c->ahead_votes = (int16_t)(c->ahead_votes + in->e_side);
+    c->n_start++;
+    if (c->n_start < p->hold_frames) {
+        return SPVS_OK;
+    }
+    c->ahead = c->ahead_votes >= 0 ? 1 : -1;
+    const int rc = plane_check(c, p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    choose_rotation_sign(c, p, in);
+    c->checked_plane = 1;
+    return SPVS_OK;
+}
+
+static int eq11_switch(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                       const spvs_q_ctl_input_t *in)
+{
+    if (p->method != SPVS_METHOD_III || c->step == SPVS_STEP_ALIGN || c->reentered ||
+        c->use_eq11) {
+        return SPVS_OK;
+    }
+    const int low = c->step == SPVS_STEP_TRANSLATE && in->parallax >= 0 &&
+                    in->parallax < p->switch_parallax;
+    c->low_parallax = low ? (uint16_t)(c->low_parallax + 1u) : 0u;
+    if (c->low_parallax >= p->hold_frames) {
+        c->use_eq11 = 1;
+        if (c->n_phit == 0u) {
+            c->cos_phit = (int64_t)in->H[SPVS_H11] * ((int64_t)1 << (SPVS_QCTL_ODO - SPVS_QH));
+            c->sign_sin_phit = sgn64(in->H[SPVS_H13]);
+        }
+    } else if (!in->e_valid) {
+        return SPVS_E_NO_PARALLAX;
+    }
+    return SPVS_OK;
+}
+
+/* ---- steps 1 and 2 ------------------------------------------------------------ */
+
+static void step_rotate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                        const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+{
+    learn_phit(c, p, in);
+    *vc = 0;
+    *wc = rotation(c, p, in);
+    const int32_t a = align_signal(p, in, &c->sat);
+    int done = step_done(c, p, a, p->tol_align);
+    if (p->method == SPVS_METHOD_I && far_from_line(c, p, in)) {
+        done = 0;
+        c->held_sign = sgn64(a);
+        c->hold = 0;
+    }
+    if (done) {
+        next_step(c, SPVS_STEP_TRANSLATE, in->t);
+        c->trans_sign0 = 0;
+        c->odo = 0;
+        fit_clear(c);
+    }
+}
+
+/* Step 2's least-squares line D ~ a + b s (control.c's fitted_signal).
+ * n, sum s (Q24, s < 2^31, n < 2^32: below 2^63), sum D and sum h33 (Q27)
+ * are exact int64 sums; s^2, s D and s h33 (exact int64 products) are
+ * summed in spvs_qf_t, 2^-31 per addition.  The value at s is written
+ * mean(D) + b (n s - sum s) / n, n s - sum s exact. */
+static SPVS_Q_NOINLINE int32_t fitted_signal(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t D,
+                             int32_t h33)
+{
+    uint32_t *sat = &c->sat;
+    const int32_t s = odo_s24(c, sat);
+    c->fit_h33 += h33;
+    c->fit_sh33 = spvs_qf_add(c->fit_sh33, qf_of((int64_t)s * h33, SPVS_QCTL_S + SPVS_QH));
+    if (c->fit_n < UINT32_MAX) {
+        c->fit_n++;
+    }
+    c->fit_s += s;
+    c->fit_ss = spvs_qf_add(c->fit_ss, qf_of((int64_t)s * s, 2 * SPVS_QCTL_S));
+    c->fit_d += D;
+    c->fit_sd = spvs_qf_add(c->fit_sd, qf_of((int64_t)s * D, SPVS_QCTL_S + SPVS_QH));
+    if (c->fit_n < p->fit_min_frames || s < p->fit_min_span) {
+        return D;
+    }
+    /* Sequential assignments to few named values (spvs_qf_t results go
+     * through memory on the AAPCS). */
+    const spvs_qf_t n = qf_of(c->fit_n, 0), S = qf_of(c->fit_s, SPVS_QCTL_S);
+    spvs_qf_t den, t, iden, b;
+    den = spvs_qf_mul(n, c->fit_ss);
+    t = spvs_qf_mul(S, S);
+    den = spvs_qf_sub(den, t); /* n^2 var(s) */
+    t = spvs_qf_mul(n, n);
+    t = spvs_qf_mul(p->fit_min_den, t);
+    if (spvs_qf_le(den, t)) {
+        return D;
+    }
+    iden = spvs_qf_recip(den, sat);
+    b = spvs_qf_mul(n, c->fit_sd);
+    t = spvs_qf_mul(S, qf_of(c->fit_d, SPVS_QH));
+    b = spvs_qf_sub(b, t);
+    b = spvs_qf_mul(b, iden);
+    c->slope_sig = b;
+    t = spvs_qf_mul(n, c->fit_sh33);
+    den = spvs_qf_mul(S, qf_of(c->fit_h33, SPVS_QH));
+    t = spvs_qf_sub(t, den);
+    c->slope_h33 = spvs_qf_mul(t, iden);
+    t = spvs_qf_mul(b, qf_of((int64_t)c->fit_n * s - c->fit_s, SPVS_QCTL_S));
+    t = spvs_qf_add(qf_of(c->fit_d, SPVS_QH), t);
+    t = spvs_qf_mul(t, spvs_qf_recip(n, sat));
+    return spvs_qf_to_q32(t, SPVS_QH, sat);
+}
+
+static void translate_begin(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                            const spvs_q_ctl_input_t *in, int32_t D)
+{
+    c->trans_sign0 = sgn64(D);
+    c->trans_d0 = spvs_q_sat32((int64_t)abs64(D), &c->sat);
+    if (in->e_valid && in->e_side != 0) {
+        c->ahead = in->e_side;
+    }
+    if (c->reentered) {
+        return;
+    }
+    if (p->method == SPVS_METHOD_II) {
+        c->sign_v = (int8_t)(-c->sign_w * c->ahead);
+    } else {
+        c->sign_v = (int8_t)(-c->trans_sign0 * c->ahead);
+    }
+}
+
+static SPVS_Q_NOINLINE void back_off(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int64_t *vc)
+{
+    const int64_t dist = ((int64_t)SPVS_CTL_ARRIVAL_BACKOFF_DM << SPVS_QCTL_ODO) / 10;
+    if (c->odo < dist) {
+        *vc = -(int64_t)p->v_max;
+        return;
+    }
+    /* What survives the new start (control.c's list), kept in locals: a
+     * copy of the whole state would cost its size in stack. */
+    const int32_t last_t = c->last_t, fig[6] = {c->arrival_corner_px, c->arrival_bound_px,
+                                                 c->arrival_lateral_px, c->arrival_depth_px,
+                                                 c->arrival_h13_px, c->arrival_parallax_px};
+    const uint8_t reentries = c->reentries, next = c->arrival_next;
+    const uint16_t arrive_n = c->arrive_n;
+    const uint32_t sat = c->sat;
+    spvs_q_ctl_reset(c);
+    c->last_t = last_t;
+    c->reentries = reentries;
+    c->arrival_next = next;
+    c->arrival_corner_px = fig[0];
+    c->arrival_bound_px = fig[1];
+    c->arrival_lateral_px = fig[2];
+    c->arrival_depth_px = fig[3];
+    c->arrival_h13_px = fig[4];
+    c->arrival_parallax_px = fig[5];
+    c->arrive_n = arrive_n;
+    c->sat = sat;
+}
+
+/* A re-entered step 2 drives the check's row-3 residual away by odometry
+ * on the first line's slope: D = d0 - sign(d0) |b| s, Q27. */
+static SPVS_Q_NOINLINE void step_translate_again(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                 const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+{
+    uint32_t *sat = &c->sat;
+    const int32_t d0 = c->reentry_d0;
+    const spvs_qf_t run = spvs_qf_mul(qf_abs(c->slope_sig), qf_of(odo_s24(c, sat), SPVS_QCTL_S));
+    const int64_t D64 = (int64_t)d0 - sgn64(d0) * spvs_qf_to_q64(run, SPVS_QH, sat);
+    const int32_t D = spvs_q_sat32(D64, sat);
+    *vc = -c->sign_v * kx(p->k_v, D, SPVS_QH, SPVS_QCTL_CMD, sat);
+    *wc = 0;
+    if (sgn64(D) != sgn64(d0) || under(D, p->tol_translate)) {
+        next_step(c, SPVS_STEP_ALIGN, in->t);
+        *vc = 0;
+    }
+}
+
+static void step_translate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                           const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+{
+    if (c->backing) {
+        back_off(c, p, vc);
+        return;
+    }
+    if (c->reentered && c->slope_sig.m != 0 && c->reentry_d0 != 0) {
+        step_translate_again(c, p, in, vc, wc);
+        return;
+    }
+    learn_phit(c, p, in);
+    const int32_t D = translate_signal(p, in, &c->sat);
+    if (c->trans_sign0 == 0) {
+        translate_begin(c, p, in, D);
+    }
+    const int32_t Df = fitted_signal(c, p, D, in->H[SPVS_H33]);
+    const int det_ok = under(det_minus_1(in, &c->sat), p->tol_det);
+    *vc = -c->sign_v * kx(p->k_v, Df, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+    *wc = rotation(c, p, in);
+    const int64_t hold_below = kx(p->hold_heading_ratio, c->trans_d0, SPVS_QH, SPVS_QH, &c->sat);
+    if (under(Df, hold_below) && !(p->method == SPVS_METHOD_III && c->use_eq11)) {
+        *wc = 0;
+    }
+    if (c->reentered) {
+        *wc = 0;
+    }
+    if (step_done(c, p, Df, p->tol_translate) && det_ok) {
+        next_step(c, SPVS_STEP_ALIGN, in->t);
+        *vc = 0;
+        *wc = 0;
+    }
+}
+
+/* ---- the arrival check ---------------------------------------------------------- */
+
+/* One corner's three transfers: returns 0 for w <= 0.  Written as a
+ * sequence of assignments to few named values: every spvs_qf_t result is
+ * returned through memory on the AAPCS, and nested calls would each keep
+ * their own slot. */
+static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
+                                      int k, spvs_qf_t fig[3], uint32_t *sat)
+{
+    const spvs_qf_t u = (k & 1) ? p->corner_x : spvs_qf_neg(p->corner_x);
+    const spvs_qf_t v = (k & 2) ? p->corner_y : spvs_qf_neg(p->corner_y);
+    spvs_qf_t g, t, a, b;
+    /* h31 and h32 per pixel: 2^-9 of the scaled entries. */
+    g = spvs_qf_mul(qf_scale2(r[3], -9), u);
+    t = spvs_qf_mul(qf_scale2(r[4], -9), v);
+    g = spvs_qf_add(g, t);
+    g = spvs_qf_add(g, r[5]);
+    a = spvs_qf_add(qf_of(1, 0), g); /* w */
+    if (a.m <= 0) {
+        return 0;
+    }
+    a = spvs_qf_recip(a, sat); /* 1 / w */
+    b = spvs_qf_mul(r[0], u);
+    t = spvs_qf_mul(r[1], v);
+    b = spvs_qf_add(b, t); /* x1 - u */
+    fig[1] = spvs_qf_add(fig[1], qf_scale2(qf_abs(b), -2));
+    b = spvs_qf_add(b, qf_scale2(r[2], 9)); /* h13 in pixels */
+    t = spvs_qf_mul(u, g);
+    b = spvs_qf_sub(b, t);
+    b = spvs_qf_mul(b, a); /* dx */
+    g = spvs_qf_mul(g, a); /* g / w */
+    t = spvs_qf_mul(qf_abs(g), p->corner_r);
+    fig[2] = spvs_qf_add(fig[2], qf_scale2(t, -2));
+    g = spvs_qf_mul(v, g); /* -dy */
+    b = spvs_qf_mul(b, b);
+    g = spvs_qf_mul(g, g);
+    t = qf_sqrt(spvs_qf_add(b, g));
+    fig[0] = spvs_qf_add(fig[0], qf_scale2(t, -2));
+    return 1;
+}
+
+/* The mean corner transfers of H = I + r (control.c's corner_figures), r
+ * the averaged residual in scaled units (r[2] h13, r[3], r[4] h31, h32),
+ * in spvs_qf_t, written without the cancellations of (H p) / w - p:
+ * with g = r31 u + r32 v + r33 and w = 1 + g,
+ *   dx = (r11 u + r12 v + r13 - u g) / w,  dy = -v g / w,  1/w - 1 = -g / w,
+ * and the row-1 transfer x1 - u = r11 u + r12 v.  A corner with w <= 0
+ * (behind the camera) makes all and depth the largest value.  fig: all,
+ * lateral, depth, each a quarter of the four corners' sum. */
+static SPVS_Q_NOINLINE void corner_figures(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
+                                           spvs_qf_t fig[3], uint32_t *sat)
+{
+    fig[0] = fig[1] = fig[2] = qf_of(0, 0);
+    for (int k = 0; k < 4; k++) {
+        if (!corner_one(p, r, k, fig, sat)) {
+            fig[0].m = fig[2].m = SPVS_Q_I32_MAX;
+            fig[0].e = fig[2].e = 1000;
+            return;
+        }
+    }
+}
+
+static void arrival_begin(spvs_q_ctl_t *c)
+{
+    c->arriving = 1;
+    c->arrive_n = 0;
+    for (int k = 0; k < 6; k++) {
+        c->arrive_sum[k] = 0;
+    }
+    c->arrive_inv_n = 0;
+    c->arrive_par_sum = 0;
+    c->arrive_par_n = 0;
+}
+
+static int reenter(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in, spvs_step_t step)
+{
+    if (c->reentries >= (uint8_t)SPVS_CTL_ARRIVAL_MAX_REENTRIES) {
+        return fail(c, SPVS_E_NOT_AT_TARGET);
+    }
+    c->reentries++;
+    c->reentered = 1;
+    c->arriving = 0;
+    c->backing = (uint8_t)(step == SPVS_STEP_ROTATE);
+    next_step(c, c->backing ? SPVS_STEP_TRANSLATE : step, in->t);
+    c->trans_sign0 = 0;
+    c->odo = 0;
+    fit_clear(c);
+    return SPVS_OK;
+}
+
+/* The row-3 part of the step-2 signal in r (control.c's reentry_signal). */
+static SPVS_Q_NOINLINE spvs_qf_t reentry_signal(const spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                const spvs_qf_t r[6], uint32_t *sat)
+{
+    if (p->method != SPVS_METHOD_II) {
+        return spvs_qf_neg(r[5]);
+    }
+    const spvs_qf_t h33 =
+        spvs_qf_mul(qf_of(SPVS_CTL_H32_NOISE_RATIO, 0), qf_abs(c->slope_h33));
+    if (!spvs_qf_le(h33, qf_abs(c->slope_sig))) {
+        return spvs_qf_mul(r[5], qf_div(c->slope_sig, c->slope_h33, sat));
+    }
+    return spvs_qf_mul(p->c32, r[4]);
+}
+
+/* bound^2 = 2 (k sigma)^2 L sum(1 / n) / frames^2, its root in pixels. */
+static SPVS_Q_NOINLINE spvs_qf_t arrival_bound(const spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                               uint32_t *sat)
+{
+    const spvs_qf_t nf = qf_of(c->arrive_n, 0);
+    const spvs_qf_t var = spvs_qf_mul(spvs_qf_mul(p->arrival_a, qf_of(c->arrive_inv_n, 32)),
+                                      spvs_qf_recip(spvs_qf_mul(nf, nf), sat));
+    return qf_sqrt(var);
+}
+
+/* The verdict (control.c's arrival_decide); the figures in few named
+ * values, as in corner_one. */
+static SPVS_Q_NOINLINE int arrival_decide(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                          const spvs_q_ctl_input_t *in)
+{
+    uint32_t *sat = &c->sat;
+    uint32_t tel = 0; /* telemetry clamps (a corner behind the camera) */
+    spvs_qf_t r[6], fig[3], t;
+    t = spvs_qf_recip(qf_of(c->arrive_n, 0), sat);
+    for (int k = 0; k < 6; k++) {
+        r[k] = spvs_qf_mul(qf_of(c->arrive_sum[k], SPVS_QH), t);
+    }
+    corner_figures(p, r, fig, sat);
+    c->arrival_corner_px = spvs_qf_to_q32(fig[0], SPVS_QCTL_PX, &tel);
+    c->arrival_lateral_px = spvs_qf_to_q32(fig[1], SPVS_QCTL_PX, &tel);
+    c->arrival_depth_px = spvs_qf_to_q32(fig[2], SPVS_QCTL_PX, &tel);
+    c->arrival_h13_px = spvs_qf_to_q32(qf_scale2(r[2], 9), SPVS_QCTL_PX, &tel);
+    t = arrival_bound(c, p, sat);
+    c->arrival_bound_px = spvs_qf_to_q32(t, SPVS_QCTL_PX, &tel);
+    c->arriving = 0;
+    c->arrival_parallax_px = c->arrive_par_n > 0u
+                                 ? spvs_q_sat32(div_rnd(c->arrive_par_sum, c->arrive_par_n), sat)
+                                 : -((int32_t)1 << SPVS_QCTL_PX);
+    const int par_ok = c->arrival_parallax_px <= p->arrival_par_max;
+    if (spvs_qf_le(fig[0], t) && par_ok) {
+        c->arrival_next = 0;
+        next_step(c, SPVS_STEP_DONE, in->t);
+        return SPVS_OK;
+    }
+    t = qf_abs(qf_scale2(r[2], 9)); /* the heading's share: |h13|, pixels */
+    spvs_step_t step = SPVS_STEP_ROTATE;
+    if (par_ok && spvs_qf_le(fig[1], fig[2]) && spvs_qf_le(t, fig[2])) {
+        step = SPVS_STEP_TRANSLATE;
+    } else if (par_ok && spvs_qf_le(fig[1], t)) {
+        step = SPVS_STEP_ALIGN;
+    }
+    c->arrival_next = (uint8_t)step;
+    c->reentry_d0 = spvs_qf_to_q32(reentry_signal(c, p, r, sat), SPVS_QH, sat);
+    return reenter(c, in, step);
+}
+
+/* Standing still after step 3: H - I summed exactly (Q27, at most
+ * SPVS_CTL_ARRIVAL_MAX_FRAMES x 2^32), 1 / n_inliers in Q32 (each rounded,
+ * 2^-33), the parallax in Q16 pixels. */
+static int arrival_frame(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                         const spvs_q_ctl_input_t *in)
+{
+    const int32_t *H = in->H;
+    c->arrive_sum[0] += (int64_t)H[SPVS_H11] - ONE27;
+    c->arrive_sum[1] += H[SPVS_H12];
+    c->arrive_sum[2] += H[SPVS_H13];
+    c->arrive_sum[3] += H[SPVS_H31];
+    c->arrive_sum[4] += H[SPVS_H32];
+    c->arrive_sum[5] += (int64_t)H[SPVS_H33] - ONE27;
+    const uint32_t n = in->n_inliers > 4u ? in->n_inliers : 4u;
+    c->arrive_inv_n += div_rnd((int64_t)1 << 32, n);
+    if (in->parallax >= 0) {
+        c->arrive_par_sum += in->parallax;
+        c->arrive_par_n++;
+    }
+    c->arrive_n++;
+    if (c->arrive_n < p->arrival_frames) {
+        return SPVS_OK;
+    }
+    if (c->arrive_n < p->arrival_max_frames &&
+        !spvs_qf_le(arrival_bound(c, p, &c->sat), p->resolution)) {
+        return SPVS_OK;
+    }
+    return arrival_decide(c, p, in);
+}
+
+static int step_align(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                      const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+{
+    *vc = 0;
+    *wc = 0;
+    if (c->arriving) {
+        return arrival_frame(c, p, in);
+    }
+    *wc = -kx(p->k_w3, in->H[SPVS_H13], QH13_PX, SPVS_QCTL_CMD, &c->sat);
+    if (step_done(c, p, in->H[SPVS_H13], p->tol_h13)) {
+        arrival_begin(c);
+        *wc = 0;
+    }
+    return SPVS_OK;
+}
+
+/* The start and the checks before the step (control.c's spvs_control_step
+ * up to the step's switch): SPVS_OK to go on, 1 to return SPVS_OK with a
+ * stop, or an error status. */
+static int before_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                       const spvs_q_ctl_input_t *in)
+{
+    if (c->step_t0 < 0) {
+        c->step_t0 = in->t;
+    }
+    if ((int64_t)in->t - c->step_t0 > p->step_timeout) {
+        return fail(c, SPVS_E_STEP_TIMEOUT);
+    }
+    if (!c->checked_plane) {
+        const int rc = (!in->e_valid || in->e_side == 0) ? start_without_parallax(c, p, in)
+                                                         : start_with_parallax(c, p, in);
+        if (rc != SPVS_OK) {
+            return rc;
+        }
+        if (!c->checked_plane) {
+            return 1;
+        }
+    }
+    const int64_t back_max = ((int64_t)SPVS_CTL_ARRIVAL_BACKOFF_DM << SPVS_QCTL_ODO) / 5;
+    if (c->step == SPVS_STEP_TRANSLATE && c->reentries > 0u && c->odo > back_max) {
+        return fail(c, SPVS_E_NOT_AT_TARGET);
+    }
+    return eq11_switch(c, p, in);
+}
+
+int spvs_q_ctl_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
+                    int32_t *v, int32_t *w)
+{
+    if (c == 0 || p == 0 || in == 0 || v == 0 || w == 0) {
+        return SPVS_E_ARG;
+    }
+    *v = 0;
+    *w = 0;
+    odometry(c, in->t);
+    if (c->step == SPVS_STEP_DONE) {
+        return SPVS_OK;
+    }
+    if (c->step == SPVS_STEP_FAILED) {
+        return c->status;
+    }
+    int rc = before_step(c, p, in);
+    if (rc != SPVS_OK) {
+        return rc == 1 ? SPVS_OK : rc;
+    }
+    int64_t vc = 0, wc = 0;
+    switch (c->step) {
+    case SPVS_STEP_ROTATE:
+        step_rotate(c, p, in, &vc, &wc);
+        break;
+    case SPVS_STEP_TRANSLATE:
+        step_translate(c, p, in, &vc, &wc);
+        break;
+    case SPVS_STEP_ALIGN:
+        rc = step_align(c, p, in, &vc, &wc);
+        break;
+    default:
+        break;
+    }
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    *v = clamp_cmd(vc, p->v_max);
+    *w = clamp_cmd(wc, p->w_max);
+    c->last_v = *v;
+    return SPVS_OK;
+}

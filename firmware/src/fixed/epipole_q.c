@@ -1,0 +1,254 @@
+/*
+ * epipole_q.c - the epipole from plane plus parallax in fixed point
+ * (epipole_q.h).  epipole.c's comments say why each step is made; here
+ * they say where the fixed-point version differs and why it stays in
+ * range.
+ */
+#include "epipole_q.h"
+
+/* epipole.c's DIR_MIN2 (1e-12 on the squared direction, scaled units) on
+ * a direction d = d' 2^(sh - 79 + s) (d' the reduced integers, n2 =
+ * |d'|^2 in [2^58, 2^61]): n2 2^E > 1e-12 with E = 2 (sh + s) - 158 is
+ * true for E >= -97 (2^-39 > 1e-12), false for E <= -102 (2^-41 < 1e-12),
+ * and between, n2 > floor(1e-12 2^-E), these. */
+static const uint64_t DIR_MIN2_N2[4] = {2535301200456458752u, 1267650600228229376u,
+                                        633825300114114688u, 316912650057057344u};
+
+static SPVS_Q_INLINE int dir_usable(uint64_t n2, int E)
+{
+    if (E >= -97) {
+        return 1;
+    }
+    if (E <= -102) {
+        return 0;
+    }
+    return n2 > DIR_MIN2_N2[E + 101];
+}
+
+/* (dx, dz) as a unit vector in Q30, |u| within 2^-27 of 1 (the
+ * reciprocal square root's error plus 1/2 unit).  The vector is first
+ * reduced to d' = d 2^-sh with max(|d'_x|, |d'_z|) in [2^29, 2^30]
+ * (rounded, or shifted left exactly), so n2 = |d'|^2 is in [2^58, 2^61]
+ * and the rsqrt's half is 30 or 31; each product d' y is below 2^61.
+ * Returns 0 (u = 0) for d = 0. */
+static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, int *sh_out,
+                              uint64_t *n2_out)
+{
+    const uint64_t m = spvs_q_abs64(dx) | spvs_q_abs64(dz);
+    if (m == 0u) {
+        *ux = 0;
+        *uz = 0;
+        return 0;
+    }
+    const int sh = spvs_q_bits(m) - 30;
+    int32_t x, z;
+    if (sh > 0) {
+        x = (int32_t)spvs_q_rsh(dx, sh);
+        z = (int32_t)spvs_q_rsh(dz, sh);
+    } else {
+        x = (int32_t)(dx * ((int64_t)1 << -sh));
+        z = (int32_t)(dz * ((int64_t)1 << -sh));
+    }
+    const uint64_t n2 = (uint64_t)((int64_t)x * x) + (uint64_t)((int64_t)z * z);
+    int half;
+    uint32_t f;
+    const uint32_t y = spvs_q_rsqrt(n2, &half, &f);
+    *ux = (int32_t)spvs_q_rsh((int64_t)x * y, half);
+    *uz = (int32_t)spvs_q_rsh((int64_t)z * y, half);
+    *sh_out = sh;
+    *n2_out = n2;
+    return 1;
+}
+
+/* Per candidate: l = p_cur x q with q = H p_tgt rounded per point
+ * (spvs_q_hp), l1 = y_cur q3 - q2 and l3 = x_cur q2 - y_cur q1 in int64
+ * Q(79 - s) (each product below 2^60, each difference below 2^61), the
+ * signed direction sign(y_cur) (l3, -l1) as a Q30 unit vector, or 0 when
+ * epipole.c's DIR_MIN2 test fails on it (the same quantity: the lines'
+ * integers are the float lines' values times 2^(79 - s)).  A zero vector
+ * has a zero dot product with every other, so it neither supports nor
+ * gets support (epipole.c's test on n2 at each use). */
+static void line_directions(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
+                            uint16_t n_cand, uint8_t *support_out, spvs_q_epipole_work_t *work)
+{
+    for (uint16_t i = 0; i < n_cand; i++) {
+        const int32_t *p = pts[cand[i]];
+        const spvs_q_hp_t h = spvs_q_hp(H, p);
+        const int64_t l1 = (int64_t)p[3] * h.q3 - (int64_t)h.q2 * ((int64_t)1 << 26);
+        const int64_t l3 = (int64_t)p[2] * h.q2 - (int64_t)p[3] * h.q1;
+        const int neg = p[3] < 0;
+        int sh = 0;
+        uint64_t n2 = 0;
+        if (unit(neg ? -l3 : l3, neg ? l1 : -l1, &work->ux[i], &work->uz[i], &sh, &n2) &&
+            !dir_usable(n2, 2 * (sh + h.s) - 158)) {
+            work->ux[i] = 0;
+            work->uz[i] = 0;
+        }
+        if (support_out) {
+            support_out[i] = 0;
+        }
+    }
+}
+
+/* 1 when unit direction (xi, zi) lies within the cone of squared sine
+ * tol (Q62) around (xj, zj): dot > 0 and cross^2 <= tol.  dot and cross
+ * are Q60 (|.| < 2^61 for |u| <= 2^30 (1 + 2^-27)); |cross| truncated to
+ * Q31 (below 2^32) and squared in Q62 (below 2^64): the test is exact up
+ * to 2^-31 on the sine (2^-30 sin on sin^2, 1e-8 of the default 0.01). */
+static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj, uint64_t tol)
+{
+    const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
+    if (dot <= 0) {
+        return 0;
+    }
+    const int64_t crs = (int64_t)xi * zj - (int64_t)zi * xj;
+    const uint32_t c = (uint32_t)(spvs_q_abs64(crs) >> 29);
+    return (uint64_t)c * c <= tol;
+}
+
+/* epipole.c's 1-point consensus on the unit directions: the same
+ * hypotheses, the same test (in_cone), the same tie rule (the first best).
+ * Bound: SPVS_EPIPOLE_MAX_HYP x n_cand pair tests. */
+static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, uint64_t tol,
+                          uint16_t *best)
+{
+    const int32_t *ux = work->ux, *uz = work->uz;
+    uint16_t best_support = 0;
+    *best = 0;
+    const uint16_t n_hyp = n_cand < SPVS_EPIPOLE_MAX_HYP ? n_cand : (uint16_t)SPVS_EPIPOLE_MAX_HYP;
+    for (uint16_t h = 0; h < n_hyp; h++) {
+        const uint16_t j = (uint16_t)(((uint32_t)h * n_cand) / n_hyp);
+        const int32_t xj = ux[j], zj = uz[j];
+        if (xj == 0 && zj == 0) {
+            continue;
+        }
+        uint16_t support = 0;
+        for (uint16_t i = 0; i < n_cand; i++) {
+            support = (uint16_t)(support + in_cone(ux[i], uz[i], xj, zj, tol));
+        }
+        if (support > best_support) {
+            best_support = support;
+            *best = j;
+        }
+    }
+    return best_support;
+}
+
+/* cos of the angle whose sine is s (Q30), for a supporter (dot > 0, so
+ * the cosine is the positive root): sqrt(2^60 - s^2), floor, Q30. */
+static int64_t cos_of(int32_t s)
+{
+    const int64_t s2 = (int64_t)s * s;
+    const int64_t one = (int64_t)1 << 60;
+    return s2 >= one ? 0 : (int64_t)spvs_q_isqrt64((uint64_t)(one - s2));
+}
+
+/* The median turn of b = (bx, bz) by the supporters' sines v[0..n)
+ * (sorted, n >= 1) as (c, s), the turn's cosine and sine up to one
+ * positive factor, Q30 (|.| <= 2^31).  epipole.c turns b by the median
+ * of tan(delta_i) (their mean for an even n).  The tangent is monotone
+ * in the sine over (-90, 90) degrees, so the median element is the same;
+ * for an odd n the turn is (cos, sin) of it, with no division; for an
+ * even n, (1, (t1 + t2) / 2) is along (2 c1 c2, s1 c2 + s2 c1). */
+static void median_turn(const int32_t *v, uint16_t n, int64_t *c, int64_t *s)
+{
+    if ((n & 1u) != 0u) {
+        *s = v[n / 2];
+        *c = cos_of(v[n / 2]);
+        return;
+    }
+    const int32_t s1 = v[n / 2 - 1], s2 = v[n / 2];
+    const int64_t c1 = cos_of(s1), c2 = cos_of(s2);
+    *c = (c1 * c2) >> 29;
+    *s = (s1 * c2 + s2 * c1) >> 30;
+}
+
+/* e_x = SPVS_COORD_SCALE dir_x / dir_z in Q16 pixels, clamped at
+ * SPVS_EPIPOLE_MAX_PX as epipole.c does (|e_x| >= the limit: 512 |x| >=
+ * 20000 |z|, exact in int64, with the sign of x / z).  The quotient is
+ * below 20000 2^16 < 2^31 when not clamped; one 64-by-32-bit division. */
+static int32_t e_x_q16(int32_t dx, int32_t dz)
+{
+    const int64_t ax = (int64_t)spvs_q_abs64(dx), az = (int64_t)spvs_q_abs64(dz);
+    if (ax * SPVS_COORD_SCALE >= (int64_t)SPVS_Q_EPIPOLE_MAX_PX * az) {
+        return ((dx < 0) != (dz < 0)) ? -SPVS_Q_EPIPOLE_MAX_Q16 : SPVS_Q_EPIPOLE_MAX_Q16;
+    }
+    uint32_t sat = 0;
+    _Static_assert(SPVS_COORD_SCALE == 512, "e_x's shift assumes a scale of 2^9");
+    return spvs_q_div64_32((int64_t)dx * ((int64_t)1 << 25), dz, &sat);
+}
+
+/* epipole.c's refine: the supporters of hypothesis `best` (the same test
+ * as the consensus, so the same set), their sines about b = u[best]
+ * (Q30) into ux[] and parallaxes (Q16 px) into uz[], entry k <= i written
+ * after entry i was read; the median turn, the epipole's direction and
+ * e_x, the median parallax (the upper median, as epipole.c). */
+static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
+                   uint16_t n_cand, uint64_t tol, uint16_t best, spvs_q_epipole_t *out,
+                   uint8_t *support_out, spvs_q_epipole_work_t *work)
+{
+    int32_t *const sines = work->ux;
+    int32_t *const par = work->uz;
+    const int32_t bx = work->ux[best], bz = work->uz[best];
+    uint16_t n_t = 0, n_par = 0;
+    for (uint16_t i = 0; i < n_cand; i++) {
+        const int32_t xi = work->ux[i], zi = work->uz[i];
+        if (!in_cone(xi, zi, bx, bz, tol)) {
+            continue;
+        }
+        if (support_out) {
+            support_out[i] = 1;
+        }
+        /* cross(b, d_i) in Q60 to Q30: |.| <= 2^30 (1 + 2^-26). */
+        sines[n_t++] = (int32_t)spvs_q_rsh((int64_t)bx * zi - (int64_t)bz * xi, 30);
+        int32_t du, dv;
+        if (spvs_q_transfer(H, pts[cand[i]], &du, &dv)) {
+            const uint64_t e2 = (uint64_t)((int64_t)du * du) + (uint64_t)((int64_t)dv * dv);
+            par[n_par++] = spvs_q_sqrt_q52_px16(e2);
+        }
+    }
+    spvs_q_sort_i32(sines, n_t);
+    int64_t c, s;
+    median_turn(sines, n_t, &c, &s);
+    /* b turned: (bx c - bz s, bz c + bx s), each product below 2^61 (1 +
+     * 2^-26), the sums below 2^63. */
+    int sh;
+    uint64_t n2;
+    (void)unit(bx * c - bz * s, bz * c + bx * s, &out->dir_x, &out->dir_z, &sh, &n2);
+    out->e_x_q16 = e_x_q16(out->dir_x, out->dir_z);
+    spvs_q_sort_i32(par, n_par);
+    if (n_par > 0) {
+        out->parallax_q16 = par[n_par / 2];
+    }
+}
+
+int spvs_q_epipole_estimate(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
+                            uint16_t n_cand, int32_t sin_tol2_q30, uint16_t min_support,
+                            spvs_q_epipole_t *out, uint8_t *support_out,
+                            spvs_q_epipole_work_t *work)
+{
+    if (H == 0 || pts == 0 || out == 0 || work == 0 || (cand == 0 && n_cand > 0) ||
+        n_cand > SPVS_MAX_OFFPLANE || min_support < 1u) {
+        return SPVS_E_ARG;
+    }
+    out->e_x_q16 = 0;
+    out->dir_x = 0;
+    out->dir_z = 0;
+    out->parallax_q16 = 0;
+    out->n_support = 0;
+    line_directions(H, pts, cand, n_cand, support_out, work);
+    /* A negative tolerance admits no candidate, as float's crs^2 <= tol2
+     * n2 n2 never holds then. */
+    if (sin_tol2_q30 < 0) {
+        return SPVS_E_NO_PARALLAX;
+    }
+    const uint64_t tol = (uint64_t)sin_tol2_q30 << 32; /* Q62, below 2^63 */
+    uint16_t best = 0;
+    const uint16_t best_support = consensus(work, n_cand, tol, &best);
+    if (best_support < min_support) {
+        return SPVS_E_NO_PARALLAX;
+    }
+    refine(H, pts, cand, n_cand, tol, best, out, support_out, work);
+    out->n_support = best_support;
+    return SPVS_OK;
+}

@@ -1,0 +1,305 @@
+/*
+ * spvs_q.c - the update pipeline in fixed point (spvs_q.h): spvs.c's
+ * order and rules on the Q stages; the comments of spvs.c say why each
+ * step is made, these say where the formats enter.
+ */
+#include <string.h>
+
+#include "../core_util.h"
+#include "spvs_q.h"
+
+/* ---- the core's scalar, through its bits ---------------------------------- */
+
+static spvs_q_ieee_t real_in(spvs_real x)
+{
+#if SPVS_USE_DOUBLE
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f64(b);
+#else
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f32(b);
+#endif
+}
+
+/* x 2^-f as the core's scalar, to nearest (spvs_q_ieee_bits). */
+static spvs_real real_out(int64_t x, int f)
+{
+    spvs_real r;
+#if SPVS_USE_DOUBLE
+    const uint64_t b = spvs_q_ieee_bits(x, f, 52, 11);
+#else
+    const uint32_t b = (uint32_t)spvs_q_ieee_bits(x, f, 23, 8);
+#endif
+    memcpy(&r, &b, sizeof r);
+    return r;
+}
+
+/* log2 of SPVS_COORD_SCALE, a power of two (points_q.h). */
+static int log2_scale(void)
+{
+    return spvs_q_bitlen64((uint64_t)SPVS_COORD_SCALE) - 1;
+}
+
+/* x in Qf, or *sat flagged. */
+static int32_t q_in(spvs_real x, int f, uint32_t *sat)
+{
+    return spvs_q_from_ieee(real_in(x), f, sat, 0);
+}
+
+/* ---- parameters ------------------------------------------------------------ */
+
+/* spvs.c's rules on the parameters (noise_px in (0, 300), confidence in
+ * (0, 1), max_iters, offplane_px at least the inlier threshold,
+ * epipole_sin_tol in (0, 1), min_support, max_frame_gap_s > 0), made on
+ * the Q values, and the conversions. */
+static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
+{
+    uint32_t sat = 0;
+    const int32_t noise = q_in(p->noise_px, 16, &sat);
+    const int32_t conf31 = q_in(p->confidence, 31, &sat);
+    q->offplane_q16 = q_in(p->offplane_px, 16, &sat);
+    const int32_t sin_tol = q_in(p->epipole_sin_tol, 30, &sat);
+    q->max_gap_q16 = q_in(p->max_frame_gap_s, 16, &sat);
+    if (sat != 0u || noise <= 0 || noise >= (300 << 16) || conf31 <= 0 ||
+        conf31 >= SPVS_Q_I32_MAX || p->max_iters < 1u || p->max_iters > SPVS_RANSAC_MAX_ITERS ||
+        sin_tol <= 0 || sin_tol >= (1 << 30) || p->min_support < 1u || q->max_gap_q16 <= 0) {
+        return SPVS_E_CONFIG;
+    }
+    /* The inlier threshold noise_px sqrt(chi2 / 100) in Q16 pixels (for the
+     * offplane_px rule), and its square in scaled units as spvs_qf_t:
+     * noise^2 chi2 / 100 / SPVS_COORD_SCALE^2 (relative 2^-28). */
+    const int64_t n2c = (int64_t)noise * noise * SPVS_INLIER_CHI2_X100;
+    const int64_t inlier2 = n2c / 100;
+    const int32_t inlier = (int32_t)spvs_q_isqrt64((uint64_t)inlier2);
+    if (q->offplane_q16 < inlier) {
+        return SPVS_E_CONFIG;
+    }
+    const spvs_qf_t hundred = spvs_qf_from_i64(100, 0);
+    q->t2 = spvs_qf_mul(spvs_qf_from_i64(n2c, -32 - 2 * log2_scale()),
+                        spvs_qf_recip(hundred, &sat));
+    q->confidence_q32 = (uint32_t)conf31 << 1;
+    q->sin_tol2_q30 = (int32_t)(((int64_t)sin_tol * sin_tol) >> 30);
+    q->max_iters = p->max_iters;
+    q->min_support = p->min_support;
+    q->seed = p->seed;
+    if (spvs_control_params_check(&p->ctl) != SPVS_OK) {
+        return SPVS_E_CONFIG;
+    }
+    return spvs_q_ctl_params_from_real(&q->ctl_p, &p->ctl);
+}
+
+int spvs_q_init(spvs_q_t *s, const spvs_params_t *p)
+{
+    if (s == 0 || p == 0) {
+        return SPVS_E_ARG;
+    }
+    const int rc = params_from_real(&s->p, p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    spvs_q_reset(s);
+    return SPVS_OK;
+}
+
+void spvs_q_reset(spvs_q_t *s)
+{
+    SPVS_ASSERT(s != 0);
+    spvs_q_ctl_reset(&s->ctl);
+    spvs_rng_seed(&s->rng, s->p.seed);
+    s->last_t = 0;
+    s->last_good_t = 0;
+    s->has_last = 0;
+    s->has_good = 0;
+    s->est.n_plane = 0;
+    s->est.n_pts = 0;
+    s->n_ehist = 0;
+    s->i_ehist = 0;
+    spvs_q_offplane_reset(&s->off);
+}
+
+/* ---- one frame -------------------------------------------------------------- */
+
+static void clear_output(spvs_output_t *out, uint16_t n)
+{
+    memset(out, 0, sizeof *out);
+    out->parallax_px = SPVS_R(-1.0);
+    out->n_matches = n;
+}
+
+/* H (scaled units, Q27) in centred pixels: the scale is a power of two, so
+ * h13 in pixels is the same integer in Q(27 - log2 scale) and h31, h32 in
+ * Q(27 + log2 scale). */
+static void h_out(const int32_t H[9], spvs_real out[9])
+{
+    const int ls = log2_scale();
+    for (int k = 0; k < 9; k++) {
+        const int f = k == 2 ? SPVS_QH - ls : (k == 6 || k == 7 ? SPVS_QH + ls : SPVS_QH);
+        out[k] = real_out(H[k], f);
+    }
+}
+
+/* spvs.c's estimate(): split, load, estimate. */
+static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+{
+    if (n > SPVS_MAX_MATCHES) {
+        return SPVS_E_CAPACITY;
+    }
+    if (m == 0 && n > 0) {
+        return SPVS_E_ARG;
+    }
+    if (n < 3u) {
+        return SPVS_E_TOO_FEW;
+    }
+    const uint16_t *order = 0;
+    uint16_t n_plane = n;
+    if (s->off.n_known != 0u) {
+        n_plane = spvs_q_offplane_split(&s->off, m, n, s->est.idx);
+        order = s->est.idx;
+    }
+    int rc = spvs_q_plane_h_load(&s->est, m, n, order, n_plane);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    uint32_t iters = 0;
+    rc = spvs_q_plane_h_estimate(&s->est, s->p.t2, s->p.confidence_q32, s->p.max_iters, &s->rng,
+                                 &iters);
+    out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    h_out(s->est.H, out->H);
+    out->n_inliers = s->est.n_inliers;
+    out->h_valid = 1;
+    return SPVS_OK;
+}
+
+/* spvs.c's epipole_filter, in Q16 pixels (bound: SPVS_EPIPOLE_MEDIAN). */
+static void epipole_filter(spvs_q_t *s, const spvs_q_epipole_t *ep, spvs_q_ctl_input_t *in)
+{
+    s->ehist_x[s->i_ehist] = ep->e_x_q16;
+    s->ehist_z[s->i_ehist] = (int8_t)(ep->dir_z > 0 ? 1 : -1);
+    s->i_ehist = (uint8_t)((s->i_ehist + 1u) % SPVS_EPIPOLE_MEDIAN);
+    if (s->n_ehist < SPVS_EPIPOLE_MEDIAN) {
+        s->n_ehist++;
+    }
+    int32_t v[SPVS_EPIPOLE_MEDIAN];
+    int votes = 0;
+    for (uint8_t i = 0; i < s->n_ehist; i++) {
+        v[i] = s->ehist_x[i];
+        votes += s->ehist_z[i];
+    }
+    spvs_q_sort_i32(v, s->n_ehist);
+    in->e_x = v[s->n_ehist / 2];
+    const int8_t own = (int8_t)(ep->dir_z > 0 ? 1 : (ep->dir_z < 0 ? -1 : 0));
+    in->e_side = (int8_t)(votes > 0 ? 1 : (votes < 0 ? -1 : own));
+}
+
+/* spvs.c's begin_frame: the time (Q16 s) and H. */
+static int begin_frame(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                       int32_t *t, spvs_output_t *out)
+{
+    uint32_t sat = 0;
+    *t = q_in(t_s, 16, &sat);
+    int rc = SPVS_OK;
+    if ((sat & SPVS_Q_NONFINITE) != 0u) {
+        rc = SPVS_E_NONFINITE;
+    } else if (sat != 0u) {
+        rc = SPVS_E_RANGE;
+    } else if (s->has_last && !(*t > s->last_t)) {
+        rc = SPVS_E_STALE;
+    }
+    if (rc == SPVS_OK) {
+        s->last_t = *t;
+        s->has_last = 1;
+        rc = estimate(s, m, n, out);
+    }
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    if (s->has_good && (int64_t)*t - s->last_good_t > s->p.max_gap_q16) {
+        s->ctl.hold = 0;
+        s->ctl.run_sign = 0;
+        s->ctl.run_len = 0;
+    }
+    s->has_good = 1;
+    s->last_good_t = *t;
+    return SPVS_OK;
+}
+
+/* The controller's figures into the output. */
+static void ctl_out(const spvs_q_ctl_t *c, spvs_output_t *out)
+{
+    out->eq11 = c->use_eq11;
+    out->step = (uint8_t)c->step;
+    out->arrival_corner_px = real_out(c->arrival_corner_px, SPVS_QCTL_PX);
+    out->arrival_bound_px = real_out(c->arrival_bound_px, SPVS_QCTL_PX);
+    out->arrival_lateral_px = real_out(c->arrival_lateral_px, SPVS_QCTL_PX);
+    out->arrival_depth_px = real_out(c->arrival_depth_px, SPVS_QCTL_PX);
+    out->arrival_h13_px = real_out(c->arrival_h13_px, SPVS_QCTL_PX);
+    out->arrival_parallax_px = real_out(c->arrival_parallax_px, SPVS_QCTL_PX);
+    out->arrival_frames = c->arrive_n;
+    out->arrival_reentries = c->reentries;
+    out->arrival_next = c->arrival_next;
+    out->arriving = c->arriving;
+}
+
+/* spvs.c's after_h: the off-plane points, the epipole, the command. */
+static int after_h(spvs_q_t *s, int32_t t, spvs_output_t *out)
+{
+    spvs_q_offplane_t *const o = &s->off;
+    spvs_q_offplane_collect(o, &s->est, s->p.offplane_q16);
+    int32_t parallax = spvs_q_offplane_known_parallax_q16(o, s->est.H, s->scratch);
+    spvs_q_epipole_t ep;
+    const int e_ok = spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts,
+                                             o->cand_ord, o->n_cand, s->p.sin_tol2_q30,
+                                             s->p.min_support, &ep, o->support,
+                                             &s->ework) == SPVS_OK;
+    if (parallax < 0 && e_ok) {
+        parallax = ep.parallax_q16;
+    }
+    spvs_q_offplane_remember(o, &s->est, e_ok, parallax, s->p.offplane_q16);
+
+    spvs_q_ctl_input_t in;
+    memcpy(in.H, s->est.H, sizeof in.H);
+    in.e_x = 0;
+    in.e_side = 0;
+    if (e_ok) {
+        epipole_filter(s, &ep, &in);
+    }
+    in.parallax = parallax;
+    in.t = t;
+    in.e_valid = (uint8_t)e_ok;
+    in.n_inliers = out->n_inliers;
+
+    int32_t v = 0, w = 0;
+    const int rc = spvs_q_ctl_step(&s->ctl, &s->p.ctl_p, &in, &v, &w);
+    out->v = rc == SPVS_OK ? real_out(v, SPVS_QCTL_CMD) : SPVS_R(0.0);
+    out->w = rc == SPVS_OK ? real_out(w, SPVS_QCTL_CMD) : SPVS_R(0.0);
+    out->e_x_px = real_out(in.e_x, SPVS_QCTL_PX);
+    out->parallax_px = real_out(parallax, SPVS_QCTL_PX);
+    out->n_offplane = e_ok ? ep.n_support : 0u;
+    out->e_valid = (uint8_t)e_ok;
+    out->status = (int16_t)rc;
+    ctl_out(&s->ctl, out);
+    return rc;
+}
+
+int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                  spvs_output_t *out)
+{
+    if (s == 0 || out == 0) {
+        return SPVS_E_ARG;
+    }
+    clear_output(out, n);
+    int32_t t = 0;
+    const int rc = begin_frame(s, m, n, t_s, &t, out);
+    if (rc != SPVS_OK) {
+        s->ctl.last_v = 0;
+        out->status = (int16_t)rc;
+        out->step = (uint8_t)s->ctl.step;
+        return rc;
+    }
+    return after_h(s, t, out);
+}

@@ -1,0 +1,83 @@
+/*
+ * spvs_q.h - the update pipeline in fixed point: spvs.h's spvs_update on
+ * the Q stages, one call per frame, matches in and command out (private;
+ * formats in docs/FIXED.md).
+ *
+ *   matches -> H: the Q estimator (plane_h_q.h: RANSAC, re-selection,
+ *              refit on the Q26 store, H in Q27)
+ *           -> off-plane candidates and memory (offplane_q.h)
+ *           -> epipole and parallax (epipole_q.h), the epipole median
+ *           -> step logic and control law (control_q.h) -> (v, w)
+ *
+ * The interface is the float core's: the parameters (spvs_params_t), the
+ * matches (spvs_match_t) and the output (spvs_output_t) keep the core's
+ * scalar, read and written through their bits with integer operations only
+ * (q.h: spvs_q_ieee_f32 / f64 in, spvs_q_ieee_bits out), so a caller of
+ * spvs_update can call spvs_q_update instead with nothing else changed, and
+ * the simulator runs either core (spvs-sim --transport fixed).
+ *
+ * Where it differs from the float core (each a range of a Q format):
+ *   - the frame time is Q16 seconds: |t_s| < 32768 s (9.1 hours), else
+ *     SPVS_E_RANGE; two frames less than 2^-16 s (15 us) apart are one
+ *     time, so the second is SPVS_E_STALE;
+ *   - an H entry outside (-16, 16) in scaled units is no model (the
+ *     estimator's range; docs/FIXED.md measures that no consensus is lost);
+ *   - the parameters are checked by their Q conversions as well as by
+ *     spvs.c's rules: a value beyond its Q format is SPVS_E_CONFIG.
+ * Not yet here: spvs_update_with_h and spvs_estimate_h's twins, and an
+ * integer twin of spvs_control_params_check (spvs_q_init calls the float
+ * one, so this file is for the host until that twin exists).
+ */
+#ifndef SPVS_FIXED_SPVS_Q_H
+#define SPVS_FIXED_SPVS_Q_H
+
+#include "control_q.h"
+#include "epipole_q.h"
+#include "offplane_q.h"
+#include "plane_h_q.h"
+#include "spvs/spvs.h"
+
+typedef struct {
+    spvs_q_ctl_params_t ctl_p;
+    spvs_qf_t t2;             /* squared inlier threshold, scaled units^2  */
+    uint32_t confidence_q32;  /* RANSAC's confidence 2^-32                 */
+    uint32_t max_iters;
+    int32_t offplane_q16;     /* pixels, Q16                              */
+    int32_t sin_tol2_q30;     /* the epipole's support cone, sine^2, Q30  */
+    uint16_t min_support;
+    int32_t max_gap_q16;      /* seconds, Q16                             */
+    uint32_t seed;
+} spvs_q_params_t;
+
+typedef struct {
+    spvs_q_params_t p;
+    spvs_q_ctl_t ctl;
+    spvs_rng_t rng;
+    int32_t last_t;           /* s, Q16: the last update's time           */
+    int32_t last_good_t;      /* s, Q16: the last frame with a valid H    */
+    uint8_t has_last;
+    uint8_t has_good;
+    spvs_q_plane_h_t est;
+    spvs_q_offplane_t off;
+    spvs_q_epipole_work_t ework;
+    int32_t scratch[SPVS_MAX_OFFPLANE];
+    /* The last SPVS_EPIPOLE_MEDIAN epipole estimates (x, Q16 px; side). */
+    int32_t ehist_x[SPVS_EPIPOLE_MEDIAN];
+    int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
+    uint8_t n_ehist;
+    uint8_t i_ehist;
+} spvs_q_t;
+
+/* spvs_init: p converted and checked (SPVS_E_ARG for NULL, SPVS_E_CONFIG
+ * for a value out of range, spvs.c's rules and the Q formats'). */
+SPVS_NODISCARD int spvs_q_init(spvs_q_t *s, const spvs_params_t *p);
+
+/* spvs_reset. */
+void spvs_q_reset(spvs_q_t *s);
+
+/* spvs_update: the same contract and statuses (and SPVS_E_RANGE for a
+ * time outside Q16's range, above). */
+SPVS_NODISCARD int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                                 spvs_output_t *out);
+
+#endif /* SPVS_FIXED_SPVS_Q_H */
