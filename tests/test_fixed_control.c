@@ -14,6 +14,7 @@
  * zero rows (the plane check's statuses) and the arrival check's paths
  * (accepted, re-entered, spent: SPVS_E_NOT_AT_TARGET).
  */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -576,6 +577,167 @@ static void test_conversions(void **state)
     assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_E_NONFINITE);
 }
 
+/* ---- the parameter check on the bits ------------------------------------ */
+
+#if SPVS_USE_DOUBLE
+#define R_NEXT(x, toward) nextafter((x), (toward))
+#define R_TYPE_MAX DBL_MAX
+#define R_NORM_MIN DBL_MIN
+#else
+#define R_NEXT(x, toward) nextafterf((x), (toward))
+#define R_TYPE_MAX FLT_MAX
+#define R_NORM_MIN FLT_MIN
+#endif
+
+#define RF(f) {offsetof(spvs_control_params_t, f), #f}
+/* Every spvs_real field of the parameters. */
+static const struct {
+    size_t off;
+    const char *name;
+} real_fields[] = {
+    RF(alpha_x), RF(alpha_y), RF(k_w), RF(k_v), RF(k_w3), RF(k_w11), RF(v_max),
+    RF(w_max), RF(w_min_escape), RF(tol_align), RF(tol_translate), RF(tol_h13_px),
+    RF(lock_ex_px), RF(switch_parallax_px), RF(hold_heading_ratio), RF(tol_det),
+    RF(min_signal_ratio), RF(step_timeout_s), RF(fit_min_span_m), RF(arrival_sigma_px),
+    RF(arrival_k), RF(arrival_leverage), RF(arrival_corner_x_px), RF(arrival_corner_y_px),
+    RF(arrival_resolution_px)};
+/* ... and every integer one. */
+static const struct {
+    size_t off;
+    const char *name;
+} u16_fields[] = {RF(hold_frames), RF(fit_min_frames), RF(arrival_frames),
+                  RF(arrival_max_frames)};
+#define N_REAL_FIELDS (sizeof real_fields / sizeof real_fields[0])
+_Static_assert(sizeof real_fields / sizeof real_fields[0] == 25 &&
+                   sizeof u16_fields / sizeof u16_fields[0] == 4,
+               "control.h's parameters: 25 reals, 4 counts and the method");
+
+/* Magnitudes the values are made around: control.c's bounds (0, 1,
+ * SPVS_REAL_MAX; w_max for w_min_escape, arrival_frames for
+ * arrival_max_frames: the other field's defaults), the type's extremes
+ * and every default of the three methods. */
+#define MAX_MAGS (5 + 3 * N_REAL_FIELDS)
+/* Each magnitude, the next float down and up, in both signs; infinity,
+ * NaN and the NaN next to infinity's bits (a signalling NaN, payload 1),
+ * in both signs. */
+#define MAX_VALUES (6 * MAX_MAGS + 6)
+
+static int real_values(spvs_real *v)
+{
+    spvs_real mags[MAX_MAGS];
+    int nm = 0;
+    mags[nm++] = 0;
+    mags[nm++] = 1;
+    mags[nm++] = SPVS_REAL_MAX;
+    mags[nm++] = R_TYPE_MAX;
+    mags[nm++] = R_NORM_MIN;
+    for (int m = SPVS_METHOD_I; m <= SPVS_METHOD_III; m++) {
+        spvs_control_params_t d;
+        spvs_control_params_default(&d, (spvs_method_t)m);
+        for (size_t f = 0; f < N_REAL_FIELDS; f++) {
+            memcpy(&mags[nm++], (const char *)&d + real_fields[f].off, sizeof(spvs_real));
+        }
+    }
+    volatile spvs_real zero = 0;
+    const spvs_real inf = 1 / zero, nan = zero / zero;
+    int n = 0;
+    for (int i = 0; i < nm; i++) {
+        const spvs_real around[3] = {R_NEXT(mags[i], -inf), mags[i], R_NEXT(mags[i], inf)};
+        for (int k = 0; k < 3; k++) {
+            v[n++] = around[k];
+            v[n++] = -around[k];
+        }
+    }
+    v[n++] = inf;
+    v[n++] = -inf;
+    v[n++] = nan;
+    v[n++] = (spvs_real)copysign(nan, -1.0);
+#if SPVS_USE_DOUBLE
+    const uint64_t snan_bits[2] = {0x7ff0000000000001u, 0xfff0000000000001u};
+#else
+    const uint32_t snan_bits[2] = {0x7f800001u, 0xff800001u};
+#endif
+    memcpy(&v[n], snan_bits, sizeof snan_bits);
+    n += 2;
+    assert_int_equal(n, MAX_VALUES);
+    return n;
+}
+
+typedef struct {
+    int cases, ok, config;
+} check_count_t;
+
+/* Both checks on p: the same status; a parameter the float check refuses
+ * is refused by the conversion too. */
+static void check_one(const spvs_control_params_t *p, check_count_t *c)
+{
+    const int rf = spvs_control_params_check(p);
+    const int rq = spvs_q_ctl_params_check(p);
+    if (rq != rf) {
+        fail_msg("check %d, float check %d", rq, rf);
+    }
+    if (rf != SPVS_OK) {
+        spvs_q_ctl_params_t q;
+        assert_int_equal(spvs_q_ctl_params_from_real(&q, p), SPVS_E_CONFIG);
+    }
+    c->cases++;
+    c->ok += rf == SPVS_OK;
+    c->config += rf == SPVS_E_CONFIG;
+}
+
+/* spvs_q_ctl_params_check against spvs_control_params_check: the three
+ * methods' defaults, then each field of each method's defaults set in
+ * turn to values at, just inside and just outside every bound (the next
+ * float up and down), NaN and infinities; the counts at and around
+ * theirs. */
+static void test_params_check(void **state)
+{
+    (void)state;
+    static spvs_real vals[MAX_VALUES];
+    const int nv = real_values(vals);
+    const uint16_t counts[] = {0, 1, 2, 3, 9, 10, 11, 19, 20, 21, 79, 80, 81,
+                               SPVS_CTL_ARRIVAL_MAX_FRAMES - 1, SPVS_CTL_ARRIVAL_MAX_FRAMES,
+                               SPVS_CTL_ARRIVAL_MAX_FRAMES + 1, UINT16_MAX};
+    const int methods[] = {-1, 0, 1, 2, 3, 4, 255};
+    check_count_t c = {0, 0, 0};
+    assert_int_equal(spvs_q_ctl_params_check(NULL), SPVS_E_ARG);
+    for (int m = SPVS_METHOD_I; m <= SPVS_METHOD_III; m++) {
+        spvs_control_params_t d;
+        spvs_control_params_default(&d, (spvs_method_t)m);
+        assert_int_equal(spvs_q_ctl_params_check(&d), SPVS_OK);
+        check_one(&d, &c);
+        for (size_t f = 0; f < N_REAL_FIELDS; f++) {
+            for (int i = 0; i < nv; i++) {
+                spvs_control_params_t p = d;
+                memcpy((char *)&p + real_fields[f].off, &vals[i], sizeof(spvs_real));
+                check_one(&p, &c);
+            }
+        }
+        for (size_t f = 0; f < sizeof u16_fields / sizeof u16_fields[0]; f++) {
+            for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++) {
+                spvs_control_params_t p = d;
+                memcpy((char *)&p + u16_fields[f].off, &counts[i], sizeof(uint16_t));
+                check_one(&p, &c);
+            }
+        }
+        for (size_t i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+            spvs_control_params_t p = d;
+            p.method = (spvs_method_t)methods[i];
+            check_one(&p, &c);
+        }
+    }
+    const int expect = 3 * (1 + (int)N_REAL_FIELDS * nv +
+                            (int)(sizeof u16_fields / sizeof u16_fields[0] *
+                                  (sizeof counts / sizeof counts[0])) +
+                            (int)(sizeof methods / sizeof methods[0]));
+    assert_int_equal(c.cases, expect);
+    assert_int_equal(c.ok + c.config, c.cases);
+    /* Both answers are common: each field's bounds are straddled. */
+    assert_true(c.ok > c.cases / 10 && c.config > c.cases / 10);
+    print_message("  %d parameter sets compared with the float check: %d pass, %d refused\n",
+                  c.cases, c.ok, c.config);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -584,6 +746,7 @@ int main(void)
         cmocka_unit_test(test_plane_zero_rows),
         cmocka_unit_test(test_arrival_paths),
         cmocka_unit_test(test_conversions),
+        cmocka_unit_test(test_params_check),
     };
     return cmocka_run_group_tests_name("fixed_control", tests, NULL, NULL);
 }

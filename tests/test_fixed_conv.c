@@ -12,6 +12,7 @@
 
 #include <cmocka.h>
 
+#include "fixed/points_q.h"
 #include "fixed/q.h"
 
 static uint64_t rnd64(uint64_t *s)
@@ -80,10 +81,64 @@ static void test_q_ieee_bits(void **state)
     assert_int_equal(differ64, 0);
 }
 
+/* The loader's conversion of the matches' coordinates (points_q.c; in the
+ * float build a 32-bit-only path) against q.h's general conversion of the
+ * same bits: every coordinate within SPVS_MAX_COORD_PX, random bit patterns
+ * of every exponent (subnormals, tiny values, the limit and the floats next
+ * to it), the same integer and the same range decision. */
+static void test_q_load_bits(void **state)
+{
+    (void)state;
+    static spvs_q_store_t st;
+    uint16_t feat[1];
+    spvs_match_t m[1];
+    uint64_t s = 1234567u;
+    const int px_frac = SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE));
+    long n = 0, differ = 0, refused = 0;
+    for (int k = 0; k < 400000; k++) {
+        spvs_real c;
+        if (k < 4) {
+            const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
+            c = k == 0 ? lim : (k == 1 ? -lim : (k == 2 ? nextafterf(lim, 1e9f) : nextafterf(lim, 0)));
+        } else if (sizeof(spvs_real) == 4) {
+            uint32_t b = (uint32_t)rnd64(&s);
+            /* Exponents from subnormal to just above the limit's. */
+            b = (b & 0x807fffffu) | ((uint32_t)(rnd64(&s) % 142u) << 23);
+            memcpy(&c, &b, sizeof c);
+        } else {
+            c = (spvs_real)ldexp((double)(int32_t)rnd64(&s), -(int)(rnd64(&s) % 80u));
+        }
+        m[0].x_tgt = m[0].y_tgt = m[0].x_cur = m[0].y_cur = c;
+        m[0].feature = 0;
+        const uint32_t bad = spvs_q_pts_load(&st, feat, m, 1, 1, NULL, 1);
+        uint32_t sat = 0;
+        int below = 0;
+#if SPVS_USE_DOUBLE
+        uint64_t bits;
+        memcpy(&bits, &c, sizeof bits);
+        const spvs_q_ieee_t v = spvs_q_ieee_f64(bits);
+#else
+        uint32_t bits;
+        memcpy(&bits, &c, sizeof bits);
+        const spvs_q_ieee_t v = spvs_q_ieee_f32(bits);
+#endif
+        const int32_t q = spvs_q_from_ieee(v, px_frac, &sat, &below);
+        const int out = fabs((double)c) > (double)SPVS_MAX_COORD_PX;
+        n++;
+        refused += bad != 0u;
+        differ += (bad != 0u) != out || (!out && st.v[0] != q);
+    }
+    print_message("load bits: %ld coordinates, %ld out of range, %ld differ\n", n, refused,
+                  differ);
+    assert_int_equal(differ, 0);
+    assert_true(refused > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_q_ieee_bits),
+        cmocka_unit_test(test_q_load_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,38 +1,12 @@
 /*
- * ransac.c - RANSAC against the estimator interface of ransac.h, and the
- * SplitMix-style PRNG.
+ * ransac.c - RANSAC against the estimator interface of ransac.h.  The
+ * SplitMix-style PRNG it draws samples with is in rng.c.
  */
 #include <math.h>
 #include <string.h>
 
 #include "core_util.h"
 #include "spvs/ransac.h"
-
-
-void spvs_rng_seed(spvs_rng_t *rng, uint32_t seed)
-{
-    SPVS_ASSERT(rng != 0);
-    rng->state = seed;
-}
-
-uint32_t spvs_rng_next(spvs_rng_t *rng)
-{
-    /* A Weyl step followed by a 32-bit avalanche mix: every state gives a
-     * well-mixed output and the period is 2^32. */
-    uint32_t z = (rng->state += 0x9E3779B9u);
-    z = (z ^ (z >> 16)) * 0x85EBCA6Bu;
-    z = (z ^ (z >> 13)) * 0xC2B2AE35u;
-    return z ^ (z >> 16);
-}
-
-uint32_t spvs_rng_below(spvs_rng_t *rng, uint32_t bound)
-{
-    /* Multiply-shift maps 32 random bits onto [0, bound) with a bias below
-     * bound / 2^32, negligible for bound <= SPVS_MAX_MATCHES, and without the
-     * unbounded rejection loop of the exact method. */
-    uint64_t m = (uint64_t)spvs_rng_next(rng) * (uint64_t)bound;
-    return (uint32_t)(m >> 32);
-}
 
 /* spvs_ransac_needed with num = log(1 - confidence) given (spvs_ransac
  * computes it once per run). */

@@ -1,7 +1,7 @@
 /* gen.c - host side of run.sh: one synthetic frame (the default scene of
  * DESIGN.md section 5, start pose (-3, -10, -30 deg), 0.5 px noise on the
- * current image, a share of mismatches), its float store (rows) and Q
- * store, H and t2, written as a C header for m3.c.
+ * current image, a share of mismatches), its matches, its float store
+ * (rows) and Q store, H and t2, written as a C header for m3.c.
  *   gen N MISMATCH_SHARE > data.h */
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,6 +55,14 @@ int main(int argc, char **argv)
     for (int k = 0; k < 9; k++) printf("%d,", Hq[k]);
     uint32_t tb; memcpy(&tb, &t2, 4);
     printf("};\nstatic const uint32_t t2bits = %uu;\nstatic const int32_t qt2m = %d, qt2e = %d;\n", tb, qt2.m, qt2.e);
+    /* The frame's matches as given to spvs_update (bits of x_tgt, y_tgt,
+     * x_cur, y_cur; the feature is the index). */
+    printf("static const uint32_t mbits[] = {");
+    for (unsigned i = 0; i < n; i++) {
+        const float c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int k = 0; k < 4; k++) { uint32_t b; memcpy(&b, &c[k], 4); printf("%uu,", b); }
+    }
+    printf("};\n");
     printf("#define EXPECT_F %u\n#define EXPECT_Q %u\n", spvs_pts_score(&fs, n, Hs, t2, 0, mask), spvs_q_pts_score(&qs, n, Hq, &thr, 0, mask));
     return 0;
 }

@@ -7,6 +7,8 @@
 #include "fixed/points_q.h"
 #include "fixed/fit_q.h"
 #include "fixed/plane_h_q.h"
+#include "fixed/spvs_q.h"
+#include "spvs/spvs.h"
 #include "spvs/plane_h.h"
 #include "h_fit.h"
 #include "spvs/homography.h"
@@ -28,14 +30,27 @@ static void putu(const char *k, uint32_t v)
     do { b[--i] = (char)('0' + v % 10u); v /= 10u; } while (v);
     puts_(k); puts_(b + i); puts_("\n");
 }
-static uint32_t now(void) { return 0x00FFFFFFu - SYST_CVR; }
+/* SysTick's 24 bits wrap after 16.7 M ticks (10.5 M instructions); its
+ * interrupt counts the wraps, so a soft-float update is timed whole. */
+static volatile uint32_t g_wraps;
+void systick(void);
+void systick(void) { g_wraps++; }
+static uint32_t now(void)
+{
+    uint32_t w, c;
+    do {
+        w = g_wraps;
+        c = SYST_CVR;
+    } while (w != g_wraps);
+    return w * 0x01000000u + (0x00FFFFFFu - c);
+}
 static spvs_point_store_t fs;
 static spvs_q_store_t qs;
 static uint8_t mask[256], use[256];
 int main(void);
 int main(void)
 {
-    SYST_CSR = 0; SYST_RVR = 0x00FFFFFFu; SYST_CVR = 0; SYST_CSR = 5u;
+    SYST_CSR = 0; SYST_RVR = 0x00FFFFFFu; SYST_CVR = 0; SYST_CSR = 7u;
     memcpy(fs.v, fbits, sizeof fbits); memcpy(fs.cur_max, fmax_bits, sizeof fmax_bits);
     memcpy(qs.v, qv, sizeof qv); qs.cur_max[0] = qmax[0]; qs.cur_max[1] = qmax[1]; qs.tgt_max[0] = tmax[0]; qs.tgt_max[1] = tmax[1];
     float H[9], t2; memcpy(H, hbits, sizeof H); memcpy(&t2, &t2bits, 4);
@@ -118,6 +133,27 @@ int main(void)
     const uint32_t conf_q32 = 4252017623u; /* 0.99 2^32, rounded down */
     t0 = now(); const int req = spvs_q_plane_h_estimate(&eq, qt2, conf_q32, 200u, &rng, &it_q); t1 = now();
     putu("est_q ", t1 - t0); putu("cnt_est_q_ok ", req == 0); putu("cnt_est_q_inl ", eq.n_inliers); putu("cnt_est_q_it ", it_q);
+    /* One whole update (spvs_update, spvs_q_update) of a fresh Method III
+     * controller on the frame's matches: the estimate, the off-plane stage
+     * and the epipole (the frame has no off-plane point, so it finds no
+     * parallax and the controller waits), the control step. */
+    static spvs_match_t mm[N];
+    for (int i = 0; i < N; i++) {
+        memcpy(&mm[i].x_tgt, &mbits[4 * i], 4); memcpy(&mm[i].y_tgt, &mbits[4 * i + 1], 4);
+        memcpy(&mm[i].x_cur, &mbits[4 * i + 2], 4); memcpy(&mm[i].y_cur, &mbits[4 * i + 3], 4);
+        mm[i].feature = (uint16_t)i;
+    }
+    static spvs_t sf;
+    static spvs_q_t sq;
+    static spvs_output_t out;
+    spvs_params_t pp;
+    spvs_params_default(&pp, SPVS_METHOD_III);
+    pp.seed = 1u;
+    const int if_ = spvs_init(&sf, &pp), iq_ = spvs_q_init(&sq, &pp);
+    t0 = now(); const int uf = spvs_update(&sf, mm, N, 0.1f, &out); t1 = now();
+    putu("update_f ", t1 - t0); putu("cnt_update_f_init ", (uint32_t)if_); putu("cnt_update_f_st ", (uint32_t)(uf + 100)); putu("cnt_update_f_inl ", out.n_inliers);
+    t0 = now(); const int uq = spvs_q_update(&sq, mm, N, 0.1f, &out); t1 = now();
+    putu("update_q ", t1 - t0); putu("cnt_update_q_init ", (uint32_t)iq_); putu("cnt_update_q_st ", (uint32_t)(uq + 100)); putu("cnt_update_q_inl ", out.n_inliers);
     static const int exit_args[2] = {0x20026, 0};
     semi(0x18, exit_args);
     for (;;) {}
@@ -133,4 +169,5 @@ void reset(void)
 #endif
     main();
 }
-__attribute__((section(".vectors"), used)) static const void *const vectors[2] = {&__stack_top, (void *)reset};
+__attribute__((section(".vectors"), used)) static const void *const vectors[16] = {
+    &__stack_top, (void *)reset, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, (void *)systick};

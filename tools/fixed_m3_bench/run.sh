@@ -40,7 +40,8 @@ for cpu in $cpus; do
       arm-none-eabi-gcc $flags -Os -std=c11 -ffunction-sections -fdata-sections \
         -I"$root/firmware/include" -I"$src" -I"$work" -DSPVS_USE_DOUBLE=0 -DNDEBUG -DENABLE_FPU=$fpu \
         -nostartfiles -T "$here/m3.ld" -Wl,--gc-sections "$here/m3.c" "$src"/fixed/*.c \
-        "$src/points.c" "$src/homography.c" "$src/plane_h.c" "$src/ransac.c" "$src/common.c" --specs=nano.specs -lm -lc -lgcc -lnosys -o "$work/k.elf"
+        "$src/points.c" "$src/homography.c" "$src/plane_h.c" "$src/ransac.c" "$src/rng.c" "$src/common.c" \
+        "$src/spvs.c" "$src/offplane.c" "$src/epipole.c" "$src/control.c" --specs=nano.specs -lm -lc -lgcc -lnosys -o "$work/k.elf"
       printf '%s N=%s out=%s ' $cpu $n $out
       timeout 120 qemu-system-arm -M $machine -nographic -monitor none -serial null \
         -semihosting-config enable=on,target=native -icount shift=6 -kernel "$work/k.elf" 2>&1 |

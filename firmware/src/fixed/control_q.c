@@ -9,6 +9,7 @@
  * below 2^62 in int64 before its one shift; commands int64 until they are
  * clamped at v_max, w_max < 128 (Q24).
  */
+#include <stddef.h>
 #include <string.h>
 
 #include "control_q.h"
@@ -204,10 +205,99 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
     *bad |= sat;
 }
 
+/* ---- the parameter check (control.c's rules, on the bits) ----------------- */
+
+/* The spvs_real at field as an integer with the order of the values.  An
+ * IEEE-754 number of either sign bit orders as its magnitude bits (the
+ * sign cleared) read as an unsigned integer, infinity above every finite
+ * value; the key is those bits, negated for a negative sign, so keys
+ * compare exactly as the values do, +0 and -0 equal (a double's bits
+ * below 2^63 fit an int64).  Returns 0 for a NaN (magnitude bits above
+ * infinity's), which compares false with everything. */
+static int real_key(const void *field, int64_t *key)
+{
+#if SPVS_USE_DOUBLE
+    uint64_t b;
+    memcpy(&b, field, sizeof b);
+    const uint64_t mag = b & ~((uint64_t)1 << 63), inf = (uint64_t)0x7ff << 52;
+    const int neg = (int)(b >> 63);
+#else
+    uint32_t b;
+    memcpy(&b, field, sizeof b);
+    const uint64_t mag = b & 0x7fffffffu, inf = 0x7f800000u;
+    const int neg = (int)(b >> 31);
+#endif
+    *key = neg ? -(int64_t)mag : (int64_t)mag;
+    return mag <= inf;
+}
+
+/* lo < x < hi for the spvs_real at field (lo_incl, hi_incl: <=); false for
+ * a NaN, as control.c's comparisons are. */
+static int key_in(const void *field, int64_t lo, int lo_incl, int64_t hi, int hi_incl)
+{
+    int64_t k;
+    return real_key(field, &k) && (lo_incl ? k >= lo : k > lo) && (hi_incl ? k <= hi : k < hi);
+}
+
+#define PRM(f) ((uint8_t)offsetof(spvs_control_params_t, f))
+_Static_assert(sizeof(spvs_control_params_t) <= 255, "the fields' offsets are kept in bytes");
+
+/* control.c's positive finite fields, as offsets (a table in flash rather
+ * than control.c's copy of the values on the stack). */
+static const uint8_t pos_fields[] = {
+    PRM(alpha_x), PRM(alpha_y), PRM(k_w), PRM(k_v), PRM(k_w3),
+    PRM(k_w11), PRM(v_max), PRM(w_max), PRM(tol_align),
+    PRM(tol_translate), PRM(tol_h13_px), PRM(lock_ex_px), PRM(tol_det),
+    PRM(step_timeout_s), PRM(arrival_sigma_px), PRM(arrival_k),
+    PRM(arrival_leverage), PRM(arrival_corner_x_px),
+    PRM(arrival_corner_y_px), PRM(arrival_resolution_px)};
+
+int spvs_q_ctl_params_check(const spvs_control_params_t *p)
+{
+    if (p == 0) {
+        return SPVS_E_ARG;
+    }
+    if (p->method != SPVS_METHOD_I && p->method != SPVS_METHOD_II &&
+        p->method != SPVS_METHOD_III) {
+        return SPVS_E_CONFIG;
+    }
+    /* The bounds' keys: the literals' bits, read (no float operation); 0
+     * is +-0's key, and hi_inf as an upper bound admits +infinity. */
+    static const spvs_real one = SPVS_R(1.0), real_max = SPVS_REAL_MAX;
+    int64_t k_one, k_max, k_wmax;
+    (void)real_key(&one, &k_one);
+    (void)real_key(&real_max, &k_max);
+    const int64_t hi_inf = SPVS_Q_I64_MAX;
+    const unsigned char *const base = (const unsigned char *)p;
+    for (unsigned i = 0; i < sizeof pos_fields; i++) {
+        if (!key_in(base + pos_fields[i], 0, 0, k_max, 0)) {
+            return SPVS_E_CONFIG;
+        }
+    }
+    /* w_max passed above: a number, so its key is a bound. */
+    (void)real_key(&p->w_max, &k_wmax);
+    if (!key_in(&p->w_min_escape, 0, 1, k_wmax, 1) ||
+        !key_in(&p->switch_parallax_px, 0, 1, hi_inf, 1) ||
+        !key_in(&p->hold_heading_ratio, 0, 1, k_one, 0) ||
+        !key_in(&p->min_signal_ratio, 0, 1, k_one, 0) ||
+        p->hold_frames < 1u || p->fit_min_frames < 2u ||
+        !key_in(&p->fit_min_span_m, 0, 0, hi_inf, 1) || p->arrival_frames < 1u ||
+        p->arrival_max_frames < p->arrival_frames ||
+        p->arrival_max_frames > SPVS_CTL_ARRIVAL_MAX_FRAMES) {
+        return SPVS_E_CONFIG;
+    }
+    return SPVS_OK;
+}
+
 int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q, const spvs_control_params_t *p)
 {
     if (q == 0 || p == 0) {
         return SPVS_E_ARG;
+    }
+    /* control.c's rules first: the conversions below assume their ranges. */
+    const int rc = spvs_q_ctl_params_check(p);
+    if (rc != SPVS_OK) {
+        return rc;
     }
     uint32_t bad = 0;
     q->method = p->method;

@@ -160,11 +160,19 @@ typedef struct {
     uint32_t sat;             /* sticky q.h flags: a signal was clamped */
 } spvs_q_ctl_t;
 
-/* control.h's parameters in Q.  p must have passed
- * spvs_control_params_check().  Returns SPVS_OK, SPVS_E_ARG (NULL) or
- * SPVS_E_CONFIG: a value outside its Q format (alpha_x, alpha_y and the
- * pixel tolerances under 32768, v_max and w_max under 128, the timeout
- * under 32768 s, a tolerance that rounds to 0). */
+/* spvs_control_params_check's twin: every rule of it (the method, the
+ * positive finite fields under SPVS_REAL_MAX, w_min_escape in [0, w_max],
+ * the ratios in [0, 1), the frame counts), each made exactly on the
+ * parameters' bits, so it returns SPVS_OK or SPVS_E_CONFIG wherever the
+ * float check does (NaN and infinities included) without a float
+ * operation; SPVS_E_ARG for NULL. */
+SPVS_NODISCARD int spvs_q_ctl_params_check(const spvs_control_params_t *p);
+
+/* control.h's parameters in Q, checked first by spvs_q_ctl_params_check.
+ * Returns SPVS_OK, SPVS_E_ARG (NULL) or SPVS_E_CONFIG: a parameter the
+ * check refuses, or a value outside its Q format (alpha_x, alpha_y and
+ * the pixel tolerances under 32768, v_max and w_max under 128, the
+ * timeout under 32768 s, a tolerance that rounds to 0). */
 SPVS_NODISCARD int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q,
                                                const spvs_control_params_t *p);
 

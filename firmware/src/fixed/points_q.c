@@ -55,11 +55,59 @@ spvs_qf_t spvs_q_t2_from_real(spvs_real t2, uint32_t *sat)
  * the same integers.  Flags a coordinate above SPVS_MAX_COORD_PX (compared
  * before rounding: a value just above the limit that rounds down to it is
  * still out) with SPVS_Q_SAT, NaN or infinity with SPVS_Q_NONFINITE. */
+#if !SPVS_USE_DOUBLE
+/* spvs_q_from_ieee for a float32 in Qf, in 32-bit operations only (the
+ * same result, rounding and flags): the frame's 4 N conversions are the
+ * loader's whole cost, and on the Cortex-M3 the general conversion's
+ * 64-bit shifts by a per-value amount cost about 120 instructions each.
+ * The 24-bit mantissa shifted left by s <= 7 stays below 2^31; s > 7 is
+ * beyond int32 (saturated); a right shift of 25 or more leaves 0. */
+static int32_t from_f32(spvs_real c, int f, uint32_t *sat, int *below)
+{
+    uint32_t b;
+    memcpy(&b, &c, sizeof b);
+    const uint32_t ex = (b >> 23) & 0xffu;
+    const int neg = (int)(b >> 31);
+    *below = 0;
+    if (ex == 0xffu) {
+        *sat |= SPVS_Q_NONFINITE;
+        return 0;
+    }
+    const uint32_t mant = ex == 0u ? (b & 0x7fffffu) : ((b & 0x7fffffu) | 0x800000u);
+    const int s = (ex == 0u ? 1 : (int)ex) - 150 + f;
+    uint32_t mag;
+    if (s > 7) {
+        if (mant == 0u) {
+            return 0;
+        }
+        *sat |= SPVS_Q_SAT;
+        return neg ? SPVS_Q_I32_MIN : SPVS_Q_I32_MAX;
+    }
+    if (s >= 0) {
+        mag = mant << s;
+    } else if (s <= -25) {
+        *below = mant != 0u;
+        return 0;
+    } else {
+        const int r = -s;
+        const uint32_t half = (uint32_t)1 << (r - 1);
+        const uint32_t rem = mant & ((half << 1) - 1u);
+        mag = (mant >> r) + (rem >= half ? 1u : 0u);
+        *below = rem != 0u && rem < half;
+    }
+    return neg ? -(int32_t)mag : (int32_t)mag;
+}
+#endif
+
 static int32_t load_coord(spvs_real c, int px_frac, int32_t lim, uint32_t *bad)
 {
     uint32_t f = 0;
     int below = 0;
+#if SPVS_USE_DOUBLE
     const int32_t q = spvs_q_from_ieee(real_parts(c), px_frac, &f, &below);
+#else
+    const int32_t q = from_f32(c, px_frac, &f, &below);
+#endif
     const int32_t a = q < 0 ? (q == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -q) : q;
     *bad |= (f & SPVS_Q_NONFINITE) | ((a > lim || (a == lim && below)) ? SPVS_Q_SAT : 0u);
     return q;

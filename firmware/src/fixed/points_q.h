@@ -126,12 +126,14 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
 void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4]);
 
 /* The 3-point minimal solver (homography.c, spvs_h_solve3_strided) on the
- * Q store's points idx[0..2]: H (Q27, h22 = 1) with the two 3 x 3 systems
- * on the target points' cofactors, exact in integers up to the 2 x 2
- * minors and in spvs_qf_t after.  SPVS_OK, or SPVS_E_DEGENERATE for
- * collinear target points, a current y of 0, a point with w <= SPVS_W_EPS,
- * or an entry outside (-16, 16) (the kernels' range; no consensus keeps
- * such a model, docs/FIXED.md); Hq is then unchanged. */
+ * Q store's points idx[0..2] (solve3_q.c): H (Q27, h22 = 1) from the two
+ * 3 x 3 systems on the target points' cofactors, in integers: det P and the
+ * 2 x 2 minors exact in int64, w = y_tgt / y_cur and x_cur w in 31 and 30
+ * bits at a scale per row, one reciprocal of det P (error bound in
+ * solve3_q.c).  SPVS_OK, or SPVS_E_DEGENERATE for collinear target points
+ * (|det P| <= 1e-7), a current y of 0, a point with w <= SPVS_W_EPS,
+ * |det(D P)| <= 1e-7, or an entry outside (-16, 16) (the kernels' range; no
+ * consensus keeps such a model, docs/FIXED.md); Hq is then unchanged. */
 int spvs_q_solve3(const spvs_q_store_t *st, const uint16_t idx[3], int32_t Hq[9]);
 
 /* spvs_pts_score on the Q store: the inliers of Hq (Q27) among the first

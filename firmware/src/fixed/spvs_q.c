@@ -84,9 +84,6 @@ static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
     q->max_iters = p->max_iters;
     q->min_support = p->min_support;
     q->seed = p->seed;
-    if (spvs_control_params_check(&p->ctl) != SPVS_OK) {
-        return SPVS_E_CONFIG;
-    }
     return spvs_q_ctl_params_from_real(&q->ctl_p, &p->ctl);
 }
 

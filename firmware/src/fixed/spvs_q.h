@@ -22,11 +22,12 @@
  *     time, so the second is SPVS_E_STALE;
  *   - an H entry outside (-16, 16) in scaled units is no model (the
  *     estimator's range; docs/FIXED.md measures that no consensus is lost);
- *   - the parameters are checked by their Q conversions as well as by
- *     spvs.c's rules: a value beyond its Q format is SPVS_E_CONFIG.
- * Not yet here: spvs_update_with_h and spvs_estimate_h's twins, and an
- * integer twin of spvs_control_params_check (spvs_q_init calls the float
- * one, so this file is for the host until that twin exists).
+ *   - the parameters are checked on their bits (spvs.c's rules and
+ *     control_q.h's spvs_q_ctl_params_check, the float check's twin) and
+ *     by their Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
+ * Linked alone (firmware/src/fixed/, rng.c, common.c) it references no
+ * floating-point helper, heap or stdio (docs/FIXED.md).
+ * Not yet here: spvs_update_with_h and spvs_estimate_h's twins.
  */
 #ifndef SPVS_FIXED_SPVS_Q_H
 #define SPVS_FIXED_SPVS_Q_H
