@@ -43,13 +43,13 @@ int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
 
 /* ---- RANSAC's callbacks (ransac_q.h) -------------------------------------- */
 
-static int est_fit(void *ctx, const uint16_t *sample, int32_t *model)
+static int q_est_fit(void *ctx, const uint16_t *sample, int32_t *model)
 {
     const spvs_q_plane_h_t *e = (const spvs_q_plane_h_t *)ctx;
     return spvs_q_solve3(&e->pts, sample, model);
 }
 
-static uint16_t est_score(void *ctx, const int32_t *H, const void *thr, uint16_t need,
+static uint16_t q_est_score(void *ctx, const int32_t *H, const void *thr, uint16_t need,
                           uint8_t *mask)
 {
     const spvs_q_plane_h_t *e = (const spvs_q_plane_h_t *)ctx;
@@ -58,7 +58,7 @@ static uint16_t est_score(void *ctx, const int32_t *H, const void *thr, uint16_t
 
 /* The tie-break cost; a saturated sum (above 2^12 scaled units^2, far
  * beyond any consensus's) compares as the largest, which it is. */
-static uint64_t est_cost(void *ctx, const int32_t *H, const void *thr)
+static uint64_t q_est_cost(void *ctx, const int32_t *H, const void *thr)
 {
     const spvs_q_plane_h_t *e = (const spvs_q_plane_h_t *)ctx;
     uint32_t sat = 0;
@@ -67,7 +67,7 @@ static uint64_t est_cost(void *ctx, const int32_t *H, const void *thr)
 
 /* plane_h.c's est_refine: two linear fits on the first SPVS_LO_POINTS
  * points, the second on the first one's inliers. */
-static int est_refine(void *ctx, int32_t *H, const uint8_t *mask)
+static int q_est_refine(void *ctx, int32_t *H, const uint8_t *mask)
 {
     spvs_q_plane_h_t *e = (spvs_q_plane_h_t *)ctx;
     const uint16_t m = e->n_plane < SPVS_LO_POINTS ? e->n_plane : SPVS_LO_POINTS;
@@ -195,7 +195,8 @@ int spvs_q_plane_h_estimate(spvs_q_plane_h_t *e, spvs_qf_t t2, uint32_t confiden
 {
     SPVS_ASSERT(e != 0 && rng != 0 && iters != 0);
     e->thr = spvs_q_thr(t2);
-    spvs_q_estimator_t est = {3u, e->n_plane, e, est_fit, est_score, est_cost, est_refine};
+    spvs_q_estimator_t est = {3u,        e->n_plane,  e,         q_est_fit,
+                              q_est_score, q_est_cost, q_est_refine};
     spvs_q_ransac_opts_t opts = {&e->thr, confidence_q32, max_iters, SPVS_MIN_INLIERS};
     spvs_q_ransac_stats_t st;
     int32_t model[SPVS_MODEL_MAX];
