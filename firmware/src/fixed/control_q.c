@@ -112,24 +112,12 @@ static int under(int64_t x, int64_t tol)
 
 /* ---- conversions (float bits, integer operations only) -------------------- */
 
-static spvs_q_ieee_t real_parts(spvs_real x)
-{
-#if SPVS_USE_DOUBLE
-    uint64_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f64(b);
-#else
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f32(b);
-#endif
-}
 
 /* x in Qf; a nonzero x that rounds to 0 keeps its sign as one ulp, and
  * the clamp of q.h is flagged, also at exactly +-2^31 ulp. */
 static int32_t q_real(spvs_real x, int f, uint32_t *sat)
 {
-    const spvs_q_ieee_t v = real_parts(x);
+    const spvs_q_ieee_t v = spvs_q_real_parts(x);
     int32_t q = spvs_q_from_ieee(v, f, sat, 0);
     if (q == 0 && v.mant != 0u && !v.nonfinite) {
         q = v.neg ? -1 : 1;
@@ -142,7 +130,7 @@ static int32_t q_real(spvs_real x, int f, uint32_t *sat)
 
 static spvs_qf_t qf_real(spvs_real x, uint32_t *sat)
 {
-    return spvs_qf_from_ieee(real_parts(x), sat);
+    return spvs_qf_from_ieee(spvs_q_real_parts(x), sat);
 }
 
 /* A positive tolerance in Qf: 0 (rounded away) or a clamp is a config
@@ -150,7 +138,7 @@ static spvs_qf_t qf_real(spvs_real x, uint32_t *sat)
 static int32_t tol_real(spvs_real x, int f, uint32_t *bad)
 {
     uint32_t sat = 0;
-    const int32_t q = spvs_q_from_ieee(real_parts(x), f, &sat, 0);
+    const int32_t q = spvs_q_from_ieee(spvs_q_real_parts(x), f, &sat, 0);
     if (sat != 0u || q == SPVS_Q_I32_MAX || q <= 0) {
         *bad = 1u;
     }
@@ -339,9 +327,9 @@ int spvs_q_ctl_input_from_real(spvs_q_ctl_input_t *q, const spvs_control_input_t
     q->t = q_real(in->t_s, SPVS_QCTL_T, &sat);
     q->e_valid = in->e_valid;
     q->e_x = in->e_valid ? q_real(in->e_x_px, SPVS_QCTL_PX, &clamp) : 0;
-    const spvs_q_ieee_t ez = real_parts(in->e_dir_z);
+    const spvs_q_ieee_t ez = spvs_q_real_parts(in->e_dir_z);
     q->e_side = (int8_t)(ez.mant == 0u ? 0 : (ez.neg ? -1 : 1));
-    const spvs_q_ieee_t par = real_parts(in->parallax_px);
+    const spvs_q_ieee_t par = spvs_q_real_parts(in->parallax_px);
     /* Any negative parallax is "unknown", however small. */
     q->parallax = (par.neg && par.mant != 0u) ? -((int32_t)1 << SPVS_QCTL_PX)
                                               : q_real(in->parallax_px, SPVS_QCTL_PX, &clamp);

@@ -13,8 +13,7 @@
 
 /* ---- loading a frame ------------------------------------------------------ */
 
-int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
-                        const uint16_t *order, uint16_t n_plane)
+int spvs_q_plane_h_check(const spvs_match_t *m, uint16_t n)
 {
     if (n > SPVS_MAX_MATCHES) {
         return SPVS_E_CAPACITY;
@@ -24,6 +23,16 @@ int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
     }
     if (n < 3u) {
         return SPVS_E_TOO_FEW;
+    }
+    return SPVS_OK;
+}
+
+int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
+                        const uint16_t *order, uint16_t n_plane)
+{
+    const int rc = spvs_q_plane_h_check(m, n);
+    if (rc != SPVS_OK) {
+        return rc;
     }
     if (order == 0) {
         n_plane = n;

@@ -44,6 +44,11 @@ typedef struct {
     spvs_q_thr_t thr;
 } spvs_q_plane_h_t;
 
+/* spvs_plane_h_check: the frame's size and pointer (SPVS_OK,
+ * SPVS_E_CAPACITY, SPVS_E_ARG or SPVS_E_TOO_FEW), before anything reads
+ * the matches. */
+SPVS_NODISCARD int spvs_q_plane_h_check(const spvs_match_t *m, uint16_t n);
+
 /* spvs_plane_h_load on the Q store: the same checks and statuses
  * (SPVS_E_CAPACITY, SPVS_E_ARG, SPVS_E_TOO_FEW, SPVS_E_NONFINITE for a NaN
  * or infinite coordinate, SPVS_E_RANGE for one above SPVS_MAX_COORD_PX or a

@@ -20,24 +20,12 @@
 
 /* ---- conversions --------------------------------------------------------- */
 
-static spvs_q_ieee_t real_parts(spvs_real x)
-{
-#if SPVS_USE_DOUBLE
-    uint64_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f64(b);
-#else
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f32(b);
-#endif
-}
 
 uint32_t spvs_q_h_from_real(const spvs_real H[9], int32_t Hq[9])
 {
     uint32_t sat = 0;
     for (int k = 0; k < 9; k++) {
-        Hq[k] = spvs_q_from_ieee(real_parts(H[k]), SPVS_QH, &sat, 0);
+        Hq[k] = spvs_q_from_ieee(spvs_q_real_parts(H[k]), SPVS_QH, &sat, 0);
         /* +-16 itself is outside (-16, 16): it would clamp to 2^31 - 1. */
         sat |= (Hq[k] == SPVS_Q_I32_MAX || Hq[k] == SPVS_Q_I32_MIN) ? SPVS_Q_SAT : 0u;
     }
@@ -46,7 +34,7 @@ uint32_t spvs_q_h_from_real(const spvs_real H[9], int32_t Hq[9])
 
 spvs_qf_t spvs_q_t2_from_real(spvs_real t2, uint32_t *sat)
 {
-    return spvs_qf_from_ieee(real_parts(t2), sat);
+    return spvs_qf_from_ieee(spvs_q_real_parts(t2), sat);
 }
 
 /* ---- the loader ---------------------------------------------------------- */
@@ -104,7 +92,7 @@ static int32_t load_coord(spvs_real c, int px_frac, int32_t lim, uint32_t *bad)
     uint32_t f = 0;
     int below = 0;
 #if SPVS_USE_DOUBLE
-    const int32_t q = spvs_q_from_ieee(real_parts(c), px_frac, &f, &below);
+    const int32_t q = spvs_q_from_ieee(spvs_q_real_parts(c), px_frac, &f, &below);
 #else
     const int32_t q = from_f32(c, px_frac, &f, &below);
 #endif

@@ -28,6 +28,9 @@
 #define SPVS_FIXED_Q_H
 
 #include <stdint.h>
+#include <string.h>
+
+#include "spvs/common.h"
 
 /* Sticky flag bits (OR-ed into *sat). */
 #define SPVS_Q_SAT 1u       /* a result was clamped to its format's range    */
@@ -469,6 +472,22 @@ static inline spvs_q_ieee_t spvs_q_ieee_f64(uint64_t bits)
     r.mant = ex == 0u ? fr : (fr | ((uint64_t)1 << 52));
     r.exp2 = (ex == 0u ? 1 : (int32_t)ex) - 1023 - 52;
     return r;
+}
+
+/* The core's scalar (float, or double with SPVS_USE_DOUBLE) as its IEEE
+ * parts, read through its bits: how every fixed-point stage takes the
+ * float API's values without a floating-point operation. */
+static inline spvs_q_ieee_t spvs_q_real_parts(spvs_real x)
+{
+#if SPVS_USE_DOUBLE
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f64(b);
+#else
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return spvs_q_ieee_f32(b);
+#endif
 }
 
 /* The value as an int32 in Qf, rounded to nearest (ties away from zero),

@@ -82,22 +82,9 @@ uint64_t spvs_q_log_fail(uint64_t fail, uint32_t frac)
     return l < 1 ? 1u : (uint64_t)l;
 }
 
-static spvs_q_ieee_t real_parts(spvs_real x)
-{
-#if SPVS_USE_DOUBLE
-    uint64_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f64(b);
-#else
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f32(b);
-#endif
-}
-
 uint64_t spvs_q_log_fail_real(spvs_real confidence, uint32_t *sat)
 {
-    const spvs_q_ieee_t c = real_parts(confidence);
+    const spvs_q_ieee_t c = spvs_q_real_parts(confidence);
     if (c.nonfinite) {
         *sat |= SPVS_Q_NONFINITE;
         return 0u;

@@ -10,19 +10,6 @@
 
 /* ---- the core's scalar, through its bits ---------------------------------- */
 
-static spvs_q_ieee_t real_in(spvs_real x)
-{
-#if SPVS_USE_DOUBLE
-    uint64_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f64(b);
-#else
-    uint32_t b;
-    memcpy(&b, &x, sizeof b);
-    return spvs_q_ieee_f32(b);
-#endif
-}
-
 /* x 2^-f as the core's scalar, to nearest (spvs_q_ieee_bits). */
 static spvs_real real_out(int64_t x, int f)
 {
@@ -45,7 +32,7 @@ static int log2_scale(void)
 /* x in Qf, or *sat flagged. */
 static int32_t q_in(spvs_real x, int f, uint32_t *sat)
 {
-    return spvs_q_from_ieee(real_in(x), f, sat, 0);
+    return spvs_q_from_ieee(spvs_q_real_parts(x), f, sat, 0);
 }
 
 /* ---- parameters ------------------------------------------------------------ */
@@ -140,14 +127,9 @@ static void h_out(const int32_t H[9], spvs_real out[9])
 /* spvs.c's estimate(): split, load, estimate. */
 static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
 {
-    if (n > SPVS_MAX_MATCHES) {
-        return SPVS_E_CAPACITY;
-    }
-    if (m == 0 && n > 0) {
-        return SPVS_E_ARG;
-    }
-    if (n < 3u) {
-        return SPVS_E_TOO_FEW;
+    int rc = spvs_q_plane_h_check(m, n);
+    if (rc != SPVS_OK) {
+        return rc;
     }
     const uint16_t *order = 0;
     uint16_t n_plane = n;
@@ -155,7 +137,7 @@ static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_
         n_plane = spvs_q_offplane_split(&s->off, m, n, s->est.idx);
         order = s->est.idx;
     }
-    int rc = spvs_q_plane_h_load(&s->est, m, n, order, n_plane);
+    rc = spvs_q_plane_h_load(&s->est, m, n, order, n_plane);
     if (rc != SPVS_OK) {
         return rc;
     }
