@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds the float and double variants, the rows
-# layout and the sanitizer build, and runs every test with ctest.  This is
-# the README's test command and what CI runs.
+# layout, the fixed-point build and the sanitizer build, and runs every
+# test with ctest.  This is the README's test command and what CI runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -39,6 +39,18 @@ echo "=== ctest (float32 core, rows layout, core tests) ==="
 ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "^($(echo $core_tests | tr ' ' '|'))\$" || status=1
 echo "=== closed loop: columns build against rows build ==="
 tests/compare_layouts.sh build/test-float/sim_host/spvs-sim "$dir/sim_host/spvs-sim" || status=1
+
+# Fixed point (SPVS_FIXED=ON): spvs.h's pipeline on the Q stages, no float
+# stage in the core: the closed loops and the scenarios with the float
+# build's limits, and spvs-sim's in-process run equal to the Q pipeline's.
+dir=build/test-fixed
+fixed_tests="test_sim test_closed_loop test_scenarios"
+echo "=== configure and build (fixed-point core, pipeline tests) ==="
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_FIXED=ON >/dev/null
+cmake --build "$dir" -j "$jobs" --target $fixed_tests spvs-sim
+echo "=== ctest (fixed-point core, pipeline tests) ==="
+ctest --test-dir "$dir" --output-on-failure -j "$jobs" \
+  -R "^($(echo $fixed_tests | tr ' ' '|')|sim_fixed_build_is_q)\$" || status=1
 
 # Sanitizers: the core's tests and the closed loop under ASan and UBSan.
 dir=build/test-sanitize

@@ -9,7 +9,9 @@ if(TARGET spvs_link_lockstep)
                 LABELS unit lcm TIMEOUT 60)
 endif()
 
-if(SPVS_DOUBLE)
+if(SPVS_FIXED)
+  set(cli_variant fixed)
+elseif(SPVS_DOUBLE)
   set(cli_variant double)
 else()
   set(cli_variant float)
@@ -53,7 +55,7 @@ if(TARGET spvs_node_lib AND TARGET spvs-sim)
 endif()
 
 # The bench programs (tools/bench, with OpenCV).
-if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt)
+if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt AND NOT SPVS_FIXED)
   cli_refused(bench_n spvs-bench spvs-bench "--n: '3' is not an integer in 4.." --short --n 3)
   cli_refused(bench_sigma spvs-bench spvs-bench "--sigma: '1e999'" --short --sigma 1e999)
   cli_refused(homing_method spvs-bench-homing spvs-bench-homing

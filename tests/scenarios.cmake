@@ -7,7 +7,9 @@
 if(TARGET spvs_sim)
   spvs_add_test(NAME test_scenarios SOURCES test_scenarios.c LIBS spvs_sim
                 LABELS scenario TIMEOUT 240)
-  spvs_add_test(NAME test_scenarios_fixed SOURCES test_scenarios.c LIBS spvs_sim
-                LABELS "scenario;fixed" TIMEOUT 240)
-  target_compile_definitions(test_scenarios_fixed PRIVATE SPVS_TEST_FIXED=1)
+  if(NOT SPVS_FIXED)
+    spvs_add_test(NAME test_scenarios_fixed SOURCES test_scenarios.c LIBS spvs_sim
+                  LABELS "scenario;fixed" TIMEOUT 240)
+    target_compile_definitions(test_scenarios_fixed PRIVATE SPVS_TEST_FIXED=1)
+  endif()
 endif()

@@ -3,10 +3,13 @@
 spvs_add_test(NAME test_sim SOURCES test_sim.c LIBS spvs_sim LABELS unit)
 spvs_add_test(NAME test_closed_loop SOURCES test_closed_loop.c LIBS spvs_sim
               LABELS closedloop TIMEOUT 120)
-# The same closed loops on the fixed-point core (docs/FIXED.md).
-spvs_add_test(NAME test_closed_loop_fixed SOURCES test_closed_loop.c LIBS spvs_sim
-              LABELS "closedloop;fixed" TIMEOUT 120)
-target_compile_definitions(test_closed_loop_fixed PRIVATE SPVS_TEST_FIXED=1)
+# The same closed loops on the fixed-point core (docs/FIXED.md), beside the
+# float core.  (In the fixed-point build, test_closed_loop itself runs it.)
+if(NOT SPVS_FIXED)
+  spvs_add_test(NAME test_closed_loop_fixed SOURCES test_closed_loop.c LIBS spvs_sim
+                LABELS "closedloop;fixed" TIMEOUT 120)
+  target_compile_definitions(test_closed_loop_fixed PRIVATE SPVS_TEST_FIXED=1)
+endif()
 
 # The command line contract of spvs-sim, checked by a small script.
 set(sim_cli_check /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_sim_cli.py)
@@ -46,7 +49,9 @@ if(NOT TARGET spvs_zenoh_link)
 endif()
 get_property(sim_cli_tests DIRECTORY PROPERTY TESTS)
 list(FILTER sim_cli_tests INCLUDE REGEX "^sim_cli_")
-if(SPVS_DOUBLE)
+if(SPVS_FIXED)
+  set(sim_variant fixed)
+elseif(SPVS_DOUBLE)
   set(sim_variant double)
 else()
   set(sim_variant float)
@@ -70,4 +75,13 @@ if(TARGET spvs-node AND TARGET spvs_lcm_link)
     set_tests_properties(sim_lcm_matches_inproc_m${method} PROPERTIES
                          LABELS "${sim_variant};lcm" TIMEOUT 240 SKIP_RETURN_CODE 77)
   endforeach()
+endif()
+
+# The fixed-point build's pipeline is the Q pipeline: spvs-sim in process
+# (spvs_update) and --transport fixed (spvs_q_update) give the same runs.
+if(SPVS_FIXED)
+  add_test(NAME sim_fixed_build_is_q
+           COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_fixed_build.py
+                   $<TARGET_FILE:spvs-sim>)
+  set_tests_properties(sim_fixed_build_is_q PROPERTIES LABELS "fixed;cli" TIMEOUT 120)
 endif()

@@ -9,20 +9,6 @@
 #include "core_util.h"
 #include "spvs/spvs.h"
 
-void spvs_params_default(spvs_params_t *p, spvs_method_t method)
-{
-    SPVS_ASSERT(p != 0);
-    spvs_control_params_default(&p->ctl, method);
-    p->noise_px = SPVS_R(1.0);
-    p->confidence = SPVS_R(0.99);
-    p->max_iters = SPVS_RANSAC_MAX_ITERS;
-    p->offplane_px = SPVS_R(8.0);
-    p->epipole_sin_tol = SPVS_R(0.1);
-    p->min_support = 3;
-    p->max_frame_gap_s = SPVS_R(1.0);
-    p->seed = 0;
-}
-
 spvs_real spvs_inlier_px(const spvs_params_t *p)
 {
     return p->noise_px * SPVS_SQRT((spvs_real)SPVS_INLIER_CHI2_X100 / SPVS_R(100.0));

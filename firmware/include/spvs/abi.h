@@ -10,7 +10,7 @@
  * link error instead, spvs_init is a macro for a name that spells out every
  * setting that changes the layout of spvs_t:
  *
- *   spvs_init__<float|double>_matches<SPVS_MAX_MATCHES>
+ *   spvs_init__<float|double|fixed_float|fixed_double>_matches<SPVS_MAX_MATCHES>
  *       _features<SPVS_MAX_FEATURES>_offplane<SPVS_MAX_OFFPLANE>
  *       _lo<SPVS_LO_POINTS>_median<SPVS_EPIPOLE_MEDIAN>
  *
@@ -34,7 +34,11 @@
 
 #include "spvs/spvs_config.h"
 
-#if SPVS_USE_DOUBLE
+#if SPVS_USE_FIXED && SPVS_USE_DOUBLE
+#define SPVS_ABI_SCALAR fixed_double
+#elif SPVS_USE_FIXED
+#define SPVS_ABI_SCALAR fixed_float
+#elif SPVS_USE_DOUBLE
 #define SPVS_ABI_SCALAR double
 #else
 #define SPVS_ABI_SCALAR float

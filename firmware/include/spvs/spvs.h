@@ -78,6 +78,12 @@ typedef struct {
     uint8_t arriving;             /* standing still for the check now       */
 } spvs_output_t;
 
+#if SPVS_USE_FIXED
+/* The fixed-point build (SPVS_FIXED=ON, docs/FIXED.md): the instance is
+ * the Q pipeline's state, spvs_q_t of firmware/src/fixed/spvs_q.h (included
+ * at the end of this header), and the functions below run the Q stages. */
+typedef struct spvs_q_s spvs_t;
+#else
 typedef struct {
     spvs_params_t p;
     spvs_control_t ctl;
@@ -95,13 +101,17 @@ typedef struct {
     uint8_t n_ehist;
     uint8_t i_ehist;
 } spvs_t;
+#endif
 
 /* Parameters for a method: the defaults of docs/CONTROL.md. */
 void spvs_params_default(spvs_params_t *p, spvs_method_t method);
 
+#if !SPVS_USE_FIXED
 /* The inlier threshold, pixels, on the Sampson error: noise_px times
- * sqrt(SPVS_INLIER_CHI2_X100 / 100) (3.03 noise_px by default). */
+ * sqrt(SPVS_INLIER_CHI2_X100 / 100) (3.03 noise_px by default).  Not in
+ * the fixed-point build, whose threshold is spvs_q_params_t's t2. */
 spvs_real spvs_inlier_px(const spvs_params_t *p);
+#endif
 
 /* Set up an instance (copies p) and reset it.
  * Returns SPVS_OK, SPVS_E_ARG (NULL) or SPVS_E_CONFIG (p out of range). */
@@ -120,6 +130,9 @@ void spvs_reset(spvs_t *s);
  * The robot has converged when out->step == SPVS_STEP_DONE. */
 SPVS_NODISCARD int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                spvs_real t_s, spvs_output_t *out);
+
+#if !SPVS_USE_FIXED
+/* Not yet in the fixed-point build (docs/FIXED.md, "What remains"). */
 
 /* spvs_update with H given by the caller instead of estimated: H_px is
  * H_cur_tgt in centred pixels (planar form, h22 = 1; its middle row is
@@ -142,9 +155,14 @@ SPVS_NODISCARD int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t
  * Returns the same input and estimation statuses as spvs_update(). */
 SPVS_NODISCARD int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                    spvs_output_t *out);
+#endif
 
 #ifdef __cplusplus
 }
+#endif
+
+#if SPVS_USE_FIXED
+#include "spvs_q.h"
 #endif
 
 #endif /* SPVS_SPVS_H */

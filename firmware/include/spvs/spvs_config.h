@@ -25,6 +25,14 @@
 #define SPVS_USE_DOUBLE 0
 #endif
 
+/* 1: the pipeline (spvs.h) runs the fixed-point core of firmware/src/fixed
+ * (CMake SPVS_FIXED=ON, docs/FIXED.md); the interface keeps spvs_real, read
+ * and written through its bits with integer operations only. 0 (default):
+ * the pipeline computes in spvs_real. */
+#ifndef SPVS_USE_FIXED
+#define SPVS_USE_FIXED 0
+#endif
+
 /* Largest number of matches one update accepts. */
 #ifndef SPVS_MAX_MATCHES
 #define SPVS_MAX_MATCHES 256
@@ -179,6 +187,9 @@
 #endif
 #if (SPVS_USE_DOUBLE != 0) && (SPVS_USE_DOUBLE != 1)
 #error "SPVS_USE_DOUBLE must be 0 or 1"
+#endif
+#if (SPVS_USE_FIXED != 0) && (SPVS_USE_FIXED != 1)
+#error "SPVS_USE_FIXED must be 0 or 1"
 #endif
 #if (SPVS_MAX_MATCHES < 8) || (SPVS_MAX_MATCHES > 4096)
 #error "SPVS_MAX_MATCHES must be in 8..4096"

@@ -50,7 +50,7 @@ typedef struct {
     uint32_t seed;
 } spvs_q_params_t;
 
-typedef struct {
+typedef struct spvs_q_s {
     spvs_q_params_t p;
     spvs_q_ctl_t ctl;
     spvs_rng_t rng;

@@ -1,0 +1,28 @@
+/*
+ * spvs_fixed.c - the pipeline of spvs.h in the fixed-point build
+ * (SPVS_FIXED=ON, SPVS_USE_FIXED=1): spvs_t is the Q pipeline's state
+ * (spvs_q.h) and each call is its Q twin, so a program written against
+ * spvs.h runs the fixed-point core with nothing else changed.  The
+ * parameters' defaults are params.c's, shared with the float build.
+ */
+#include "spvs/spvs.h"
+
+#if !SPVS_USE_FIXED
+#error "spvs_fixed.c belongs to the fixed-point build only (SPVS_FIXED=ON)"
+#endif
+
+int spvs_init(spvs_t *s, const spvs_params_t *p)
+{
+    return spvs_q_init(s, p);
+}
+
+void spvs_reset(spvs_t *s)
+{
+    spvs_q_reset(s);
+}
+
+int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                spvs_output_t *out)
+{
+    return spvs_q_update(s, m, n, t_s, out);
+}
