@@ -80,6 +80,15 @@ else()
   set(SPVS_USE_DOUBLE_VALUE 0)
   set(SPVS_SCALAR_NAME float32)
 endif()
+if(SPVS_FIXED)
+  set(SPVS_FIXED_BOOL ON)
+  # The interface's scalar stays spvs_real; the core computes in Q formats.
+  set(SPVS_SCALAR_NAME "fixed-point (${SPVS_SCALAR_NAME} interface)")
+  set(SPVS_PC_FIXED " -I\${includedir}/spvs/fixed -DSPVS_USE_FIXED=1")
+else()
+  set(SPVS_FIXED_BOOL OFF)
+  set(SPVS_PC_FIXED " -DSPVS_USE_FIXED=0")
+endif()
 set(SPVS_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/spvs)
 set(SPVS_INSTALL_TOOLCHAINDIR ${CMAKE_INSTALL_DATADIR}/spvs/cmake)
 set(SPVS_INSTALL_SHAREDIR ${CMAKE_INSTALL_DATADIR}/spvs)
@@ -90,6 +99,18 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/firmware/include/spvs
         COMPONENT core FILES_MATCHING PATTERN "*.h")
 install(FILES ${spvs_gen_include}/spvs/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spvs COMPONENT core)
+if(SPVS_FIXED)
+  # spvs.h includes the Q pipeline's header (spvs_t is spvs_q_t): the Q
+  # stages' headers in spvs/fixed/, and the point store's declarations they
+  # include (../points.h) beside the public headers.
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/firmware/src/fixed/
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spvs/fixed
+          COMPONENT core FILES_MATCHING PATTERN "*.h")
+  install(FILES ${PROJECT_SOURCE_DIR}/firmware/src/points.h
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spvs COMPONENT core)
+  target_include_directories(spvs_core PUBLIC
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/spvs/fixed>)
+endif()
 install(TARGETS spvs_core EXPORT spvsTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT core)
 install(EXPORT spvsTargets NAMESPACE spvs:: FILE spvsTargets.cmake
