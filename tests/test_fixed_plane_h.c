@@ -17,6 +17,7 @@
 
 #include "core_util.h"
 #include "fixed/plane_h_q.h"
+#include "fixed/spvs_q.h"
 #include "fixed_scene.h"
 #include "golden/golden_vectors.h"
 #include "spvs/plane_h.h"
@@ -213,6 +214,78 @@ static void test_plane_h_golden(void **state)
     assert_true(worst_fq <= TOL_AGREE_PX);
 }
 
+/* ---- the pipeline's estimation stage (spvs_q_estimate_h) ------------------- */
+
+/* The mean distance between the transfers of the image corners by two H
+ * in centred pixels (out->H), pixels. */
+static double corner_px_px(const spvs_real A[9], const spvs_real B[9])
+{
+    static const double c[4][2] = {{-320, -240}, {320, -240}, {320, 240}, {-320, 240}};
+    double sum = 0;
+    for (int k = 0; k < 4; k++) {
+        double t[2][2];
+        const spvs_real *H[2] = {A, B};
+        for (int j = 0; j < 2; j++) {
+            const double w = (double)H[j][6] * c[k][0] + (double)H[j][7] * c[k][1] + (double)H[j][8];
+            t[j][0] = ((double)H[j][0] * c[k][0] + (double)H[j][1] * c[k][1] + (double)H[j][2]) / w;
+            t[j][1] = c[k][1] / w;
+        }
+        sum += hypot(t[0][0] - t[1][0], t[0][1] - t[1][1]);
+    }
+    return sum / 4;
+}
+
+static spvs_t g_sf;
+static spvs_q_t g_sq;
+
+/* spvs_estimate_h's twin on every golden case: the same status, every
+ * match an inlier, the command (0, 0), and H in pixels within
+ * TOL_AGREE_PX (corner transfer) of the float pipeline's; the input
+ * statuses as the float pipeline's. */
+static void test_estimate_h_pipeline(void **state)
+{
+    (void)state;
+    spvs_params_t p;
+    spvs_params_default(&p, SPVS_METHOD_III);
+    assert_int_equal(spvs_init(&g_sf, &p), SPVS_OK);
+    assert_int_equal(spvs_q_init(&g_sq, &p), SPVS_OK);
+    static spvs_match_t m[SPVS_GOLDEN_N_NOISY];
+    double worst = 0;
+    for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
+        const spvs_golden_h_t *g = &spvs_golden_h[c];
+        for (uint16_t i = 0; i < SPVS_GOLDEN_N_NOISY; i++) {
+            m[i].x_tgt = (spvs_real)g->noisy[i][0];
+            m[i].y_tgt = (spvs_real)g->noisy[i][1];
+            m[i].x_cur = (spvs_real)g->noisy[i][2];
+            m[i].y_cur = (spvs_real)g->noisy[i][3];
+            m[i].feature = i;
+        }
+        spvs_output_t of, oq;
+        assert_int_equal(spvs_estimate_h(&g_sf, m, SPVS_GOLDEN_N_NOISY, &of), SPVS_OK);
+        assert_int_equal(spvs_q_estimate_h(&g_sq, m, SPVS_GOLDEN_N_NOISY, &oq), SPVS_OK);
+        assert_int_equal(oq.status, SPVS_OK);
+        assert_int_equal(oq.h_valid, 1);
+        assert_int_equal(oq.n_matches, SPVS_GOLDEN_N_NOISY);
+        assert_int_equal(oq.n_inliers, SPVS_GOLDEN_N_NOISY);
+        assert_int_equal(of.n_inliers, SPVS_GOLDEN_N_NOISY);
+        assert_true(oq.ransac_iters >= 1);
+        assert_true(oq.v == SPVS_R(0.0) && oq.w == SPVS_R(0.0));
+        worst = fmax(worst, corner_px_px(of.H, oq.H));
+    }
+    print_message("estimate_h golden: float and Q pipelines' H at most %.4f px apart\n", worst);
+    assert_true(worst <= TOL_AGREE_PX);
+    spvs_output_t o;
+    assert_int_equal(spvs_q_estimate_h(NULL, m, 10, &o), SPVS_E_ARG);
+    assert_int_equal(spvs_q_estimate_h(&g_sq, m, 10, NULL), SPVS_E_ARG);
+    assert_int_equal(spvs_q_estimate_h(&g_sq, m, 2, &o), SPVS_E_TOO_FEW);
+    assert_int_equal(spvs_estimate_h(&g_sf, m, 2, &o), SPVS_E_TOO_FEW);
+    assert_int_equal(o.h_valid, 0);
+    m[3].x_cur = (spvs_real)NAN;
+    assert_int_equal(spvs_q_estimate_h(&g_sq, m, 20, &o), SPVS_E_NONFINITE);
+    assert_int_equal(o.status, SPVS_E_NONFINITE);
+    assert_int_equal(spvs_estimate_h(&g_sf, m, 20, &o), SPVS_E_NONFINITE);
+}
+
 /* ---- the input checks ------------------------------------------------------ */
 
 static void test_plane_h_load_statuses(void **state)
@@ -250,6 +323,7 @@ int main(void)
         cmocka_unit_test(test_plane_h_load_statuses),
         cmocka_unit_test(test_plane_h_golden),
         cmocka_unit_test(test_plane_h_random),
+        cmocka_unit_test(test_estimate_h_pipeline),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -146,6 +146,7 @@ SPVS_NODISCARD int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n,
 SPVS_NODISCARD int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                       spvs_real t_s, const spvs_real H_px[9],
                                       spvs_output_t *out);
+#endif
 
 /* The estimation stage alone: validate the matches, run the planar RANSAC and
  * the refit, and fill out->H (pixels), n_matches, n_inliers, ransac_iters,
@@ -155,7 +156,6 @@ SPVS_NODISCARD int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t
  * Returns the same input and estimation statuses as spvs_update(). */
 SPVS_NODISCARD int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                    spvs_output_t *out);
-#endif
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,8 @@
 /*
  * spvs_fixed.c - the pipeline of spvs.h in the fixed-point build
  * (SPVS_FIXED=ON, SPVS_USE_FIXED=1): spvs_t is the Q pipeline's state
- * (spvs_q.h) and each call is its Q twin, so a program written against
+ * (spvs_q.h) and each call is its Q twin (spvs_update_with_h has none
+ * yet), so a program written against
  * spvs.h runs the fixed-point core with nothing else changed.  The
  * parameters' defaults are params.c's, shared with the float build.
  */
@@ -25,4 +26,9 @@ int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                 spvs_output_t *out)
 {
     return spvs_q_update(s, m, n, t_s, out);
+}
+
+int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+{
+    return spvs_q_estimate_h(s, m, n, out);
 }

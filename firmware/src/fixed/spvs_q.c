@@ -154,6 +154,17 @@ static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_
     return SPVS_OK;
 }
 
+int spvs_q_estimate_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+{
+    if (s == 0 || out == 0) {
+        return SPVS_E_ARG;
+    }
+    clear_output(out, n);
+    const int rc = estimate(s, m, n, out);
+    out->status = (int16_t)rc;
+    return rc;
+}
+
 /* spvs.c's epipole_filter, in Q16 pixels (bound: SPVS_EPIPOLE_MEDIAN). */
 static void epipole_filter(spvs_q_t *s, const spvs_q_epipole_t *ep, spvs_q_ctl_input_t *in)
 {

@@ -27,7 +27,7 @@
  *     by their Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
  * Linked alone (firmware/src/fixed/, rng.c, common.c) it references no
  * floating-point helper, heap or stdio (docs/FIXED.md).
- * Not yet here: spvs_update_with_h and spvs_estimate_h's twins.
+ * Not yet here: spvs_update_with_h's twin.
  */
 #ifndef SPVS_FIXED_SPVS_Q_H
 #define SPVS_FIXED_SPVS_Q_H
@@ -80,5 +80,12 @@ void spvs_q_reset(spvs_q_t *s);
  * time outside Q16's range, above). */
 SPVS_NODISCARD int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                                  spvs_output_t *out);
+
+/* spvs_estimate_h: the frame checked and loaded, the remembered off-plane
+ * features kept out, H estimated (out->H in centred pixels, n_matches,
+ * n_inliers, ransac_iters, h_valid, status; the command (0, 0)); the
+ * off-plane memory and the controller are not touched. */
+SPVS_NODISCARD int spvs_q_estimate_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n,
+                                     spvs_output_t *out);
 
 #endif /* SPVS_FIXED_SPVS_Q_H */
