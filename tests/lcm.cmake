@@ -19,6 +19,9 @@ if(TARGET spvs_node_lib)
     set(lcm_tol_m 1e-9)
     set(lcm_tol_deg 1e-7)
   endif()
+  if(SPVS_FIXED)
+    set(lcm_variant fixed)
+  endif()
 
   add_test(NAME lcm_node_robust
            COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/node_robust.sh

@@ -17,6 +17,9 @@ else()
   # the runs must be identical.
   set(zenoh_tol --tol-m 0 --tol-deg 0)
 endif()
+if(SPVS_FIXED)
+  set(zenoh_variant fixed)
+endif()
 set(zenoh_root ${PROJECT_SOURCE_DIR})
 set(zenoh_run sh ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/netns.sh ${zenoh_root})
 set(zenoh_check ${zenoh_root}/.venv/bin/python

@@ -140,7 +140,7 @@ int main(void)
     check(fabs((double)out.w - w_expected) < 1e-3 * w_expected, "w = k_w |e_x| to 0.1 %");
 
     printf("version %s\n", SPVS_VERSION_STRING);
-    printf("scalar %s\n", SPVS_USE_DOUBLE ? "double" : "float");
+    printf("scalar %s%s\n", SPVS_USE_FIXED ? "fixed_" : "", SPVS_USE_DOUBLE ? "double" : "float");
     printf("sizeof_spvs_t %u\n", (unsigned)sizeof(spvs_t));
     printf("matches %u\n", (unsigned)out.n_matches);
     printf("inliers %u\n", (unsigned)out.n_inliers);

@@ -4,8 +4,8 @@
 # must name the configuration it wanted (spvs/abi.h).  A test that must fail:
 # it passes only when the build fails for that reason.
 #   scalar          against a library built here with the other scalar type
-#                   (a double library for a float build under test, and the
-#                   other way round): a consumer compiled for this build's
+#                   (a double library for a float build under test, a float
+#                   one for a double or a fixed-point build): a consumer compiled for this build's
 #                   type must fail; with the library's pkg-config flags, or
 #                   through find_package, it links and runs (the control).
 #   matches PREFIX  find_package(spvs) against PREFIX, the consumer compiled
@@ -28,7 +28,11 @@ expect_link_failure() {
 
 case $mode in
   scalar)
-    if [ "$SPVS_SCALAR" = double ]; then lib=float libdouble=OFF; else lib=double libdouble=ON; fi
+    # (For the fixed-point build, the other library is the float one.)
+    case $SPVS_SCALAR in
+      double|fixed_*) lib=float libdouble=OFF ;;
+      *) lib=double libdouble=ON ;;
+    esac
     "$CMAKE" -S "$SPVS_SOURCE" -B "$tmp/lib" -G "$SPVS_GENERATOR" -DSPVS_HOST=OFF \
         -DSPVS_DOUBLE=$libdouble -DCMAKE_BUILD_TYPE=Release >"$tmp/lib.log" 2>&1 &&
       "$CMAKE" --build "$tmp/lib" >>"$tmp/lib.log" 2>&1 &&
@@ -51,8 +55,14 @@ case $mode in
     check_consumer_output "$tmp/cm.txt" "$lib"
     # The mismatch: this build's scalar type against the other library.
     def=$([ "$SPVS_SCALAR" = double ] && echo 1 || echo 0)
+    this=()
+    case $SPVS_SCALAR in
+      # The fixed-point build's headers from the source tree, as its install
+      # lays them out (spvs.h includes spvs_q.h).
+      fixed_*) this=(-DSPVS_USE_FIXED=1 -I"$SPVS_SOURCE/firmware/src/fixed") ;;
+    esac
     rc=0
-    "$CC" -std=c11 -DSPVS_USE_DOUBLE=$def -I"$tmp/prefix/include" "$example/main.c" \
+    "$CC" -std=c11 -DSPVS_USE_DOUBLE=$def "${this[@]}" -I"$tmp/prefix/include" "$example/main.c" \
         -o "$tmp/bad" -L"$(dirname "$libspvs")" -lspvs_core -lm >"$tmp/bad.log" 2>&1 || rc=$?
     [ $rc -ne 0 ] && [ ! -e "$tmp/bad" ] ||
       fail "a $SPVS_SCALAR consumer linked against the $lib library"

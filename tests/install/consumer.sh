@@ -32,7 +32,8 @@ case $mode in
     # of cloning SPVS_GIT_REPOSITORY: the README's snippet, on the tree under test.
     "$CMAKE" -S "$example" -B "$tmp/b" -G "$SPVS_GENERATOR" -DSPVS_CONSUMER_FETCH=ON \
         -DSPVS_GIT_REPOSITORY=unused -DFETCHCONTENT_SOURCE_DIR_SPVS="$SPVS_SOURCE" \
-        -DSPVS_DOUBLE="$([ "$SPVS_SCALAR" = double ] && echo ON || echo OFF)" \
+        -DSPVS_DOUBLE="$(case $SPVS_SCALAR in *double) echo ON ;; *) echo OFF ;; esac)" \
+        -DSPVS_FIXED="$(case $SPVS_SCALAR in fixed_*) echo ON ;; *) echo OFF ;; esac)" \
         >"$tmp/configure.log" 2>&1 || { cat "$tmp/configure.log" >&2; fail "configure"; }
     "$CMAKE" --build "$tmp/b" >"$tmp/build.log" 2>&1 || { cat "$tmp/build.log" >&2; fail "build"; }
     # The core only: no host part was configured or built.

@@ -7,18 +7,23 @@ set -euo pipefail
 prefix=$1
 spvs_tmpdir
 n=0
+# The fixed-point build's headers (spvs/fixed/) compile with its flags.
+fixed_flags=()
+if [ -d "$prefix/include/spvs/fixed" ]; then
+  fixed_flags=(-DSPVS_USE_FIXED=1 -I"$prefix/include/spvs/fixed")
+fi
 for h in "$prefix"/include/spvs/*.h; do
   name=spvs/$(basename "$h")
   # (A declaration too: a header of macros alone leaves the unit empty.)
   printf '#include <%s>\ntypedef int spvs_one_header_t;\n' "$name" >"$tmp/one.c"
   for def in 0 1; do
     "$CC" -std=c11 -Wall -Wextra -Werror -pedantic -DSPVS_USE_DOUBLE=$def -I"$prefix/include" \
-        -c "$tmp/one.c" -o "$tmp/one.o" 2>"$tmp/err.txt" ||
+        "${fixed_flags[@]}" -c "$tmp/one.c" -o "$tmp/one.o" 2>"$tmp/err.txt" ||
       { cat "$tmp/err.txt" >&2; fail "$name does not compile alone (SPVS_USE_DOUBLE=$def)"; }
   done
   if command -v c++ >/dev/null; then
     cp "$tmp/one.c" "$tmp/one.cpp"
-    c++ -std=c++17 -Wall -Wextra -Werror -I"$prefix/include" -c "$tmp/one.cpp" -o "$tmp/one.o" \
+    c++ -std=c++17 -Wall -Wextra -Werror -I"$prefix/include" "${fixed_flags[@]}" -c "$tmp/one.cpp" -o "$tmp/one.o" \
         2>"$tmp/err.txt" || { cat "$tmp/err.txt" >&2; fail "$name does not compile alone as C++"; }
   fi
   n=$((n + 1))

@@ -38,8 +38,21 @@ for h in "$SPVS_SOURCE"/firmware/include/spvs/*.h; do
   n_src=$((n_src + 1))
   cmp -s "$h" "$prefix/include/spvs/$(basename "$h")" || fail "header $(basename "$h") missing or different"
 done
+# The fixed-point build's spvs.h includes the Q stages' headers
+# (spvs/fixed/) and the point store's declarations they include.
+n_fixed=0
+case $SPVS_SCALAR in
+  fixed_*)
+    for h in "$SPVS_SOURCE"/firmware/src/fixed/*.h "$SPVS_SOURCE"/firmware/src/points.h; do
+      n_fixed=$((n_fixed + 1))
+      sub=$([ "$(basename "$h")" = points.h ] && echo "" || echo fixed/)
+      cmp -s "$h" "$prefix/include/spvs/$sub$(basename "$h")" ||
+        fail "header $sub$(basename "$h") missing or different"
+    done ;;
+esac
 n_inst=$(find "$prefix/include/spvs" -name '*.h' | wc -l)
-[ "$n_inst" -eq $((n_src + 1)) ] || fail "$n_inst installed headers, want $n_src + version.h"
+[ "$n_inst" -eq $((n_src + n_fixed + 1)) ] ||
+  fail "$n_inst installed headers, want $n_src + $n_fixed + version.h"
 
 # The library holds the core's objects and spvs_init under its ABI name.
 nm -g "$libspvs" | grep -q " T spvs_update$" || fail "spvs_update not defined in $libspvs"

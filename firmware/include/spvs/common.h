@@ -46,6 +46,13 @@ typedef float spvs_real;
 #define SPVS_NODISCARD
 #endif
 
+/* A compile-time check in a header that C++ code may include too. */
+#ifdef __cplusplus
+#define SPVS_STATIC_ASSERT(cond, msg) static_assert(cond, msg)
+#else
+#define SPVS_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
+#endif
+
 /* Programmer errors (a NULL instance, a broken invariant) go to this hook;
  * bad input never does: it returns a status.  Override SPVS_ASSERT to route it
  * to a platform fault handler. */

@@ -162,7 +162,13 @@ SPVS_NODISCARD int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
 #endif
 
 #if SPVS_USE_FIXED
+#ifdef __cplusplus
+extern "C" {
+#endif
 #include "spvs_q.h"
+#ifdef __cplusplus
+}
+#endif
 #endif
 
 #endif /* SPVS_SPVS_H */
