@@ -279,7 +279,7 @@ static SPVS_Q_INLINE int32_t spvs_q_sqrt_q52_px16(uint64_t x)
     const uint64_t sf = ((uint64_t)f * y) >> 32; /* sqrt(F) in Q30, < 2^30 */
     /* sqrt(x) in Q26 scaled units = sf 2^(half - 30); Q16 pixels are
      * Q26 scaled units times 2^(9 - 10) (SPVS_COORD_SCALE = 2^9). */
-    _Static_assert(SPVS_COORD_SCALE == 512, "the pixel conversion assumes a scale of 2^9");
+    SPVS_STATIC_ASSERT(SPVS_COORD_SCALE == 512, "the pixel conversion assumes a scale of 2^9");
     const int sh = half - 31;
     const int64_t v = sh >= 0 ? (int64_t)(sf << sh) : spvs_q_rsh((int64_t)sf, -sh);
     return v > SPVS_Q_I32_MAX ? SPVS_Q_I32_MAX : (int32_t)v;

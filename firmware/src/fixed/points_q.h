@@ -44,9 +44,9 @@
 #define SPVS_QH 27
 #define SPVS_QCOST 52
 
-_Static_assert((SPVS_COORD_SCALE & (SPVS_COORD_SCALE - 1)) == 0,
+SPVS_STATIC_ASSERT((SPVS_COORD_SCALE & (SPVS_COORD_SCALE - 1)) == 0,
                "the Q store scales pixels by a power of two");
-_Static_assert(SPVS_MAX_COORD_PX <= 16 * SPVS_COORD_SCALE,
+SPVS_STATIC_ASSERT(SPVS_MAX_COORD_PX <= 16 * SPVS_COORD_SCALE,
                "scaled coordinates must stay within 16 (Q26 with 2^30 as the bound)");
 
 /* A frame's points in scaled units, Q26, rows; cur_max: the largest |x_cur|
