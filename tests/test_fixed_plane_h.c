@@ -315,6 +315,47 @@ static void test_plane_h_load_statuses(void **state)
     m[4].feature = SPVS_MAX_FEATURES;
     assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_RANGE);
     assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_RANGE);
+    m[4].feature = 4;
+    /* Several kinds of bad value: the first in match order decides, in
+     * both cores. */
+    static const struct {
+        int range_at, nan_at, feature_at, want;
+    } mixed[] = {
+        {0, 1, -1, SPVS_E_RANGE},      /* x_cur out of range, then a NaN */
+        {1, 0, -1, SPVS_E_NONFINITE},  /* the NaN first                  */
+        {-1, 1, 0, SPVS_E_RANGE},      /* a feature out of range first   */
+        {2, 2, -1, SPVS_E_NONFINITE},  /* one match: y_tgt NaN before x_cur */
+    };
+    for (unsigned k = 0; k < sizeof mixed / sizeof mixed[0]; k++) {
+        static spvs_match_t b[20];
+        memcpy(b, m, sizeof b);
+        if (mixed[k].range_at >= 0) {
+            b[mixed[k].range_at].x_cur = (spvs_real)(SPVS_MAX_COORD_PX + 1);
+        }
+        if (mixed[k].nan_at >= 0) {
+            if (mixed[k].nan_at == mixed[k].range_at) {
+                b[mixed[k].nan_at].y_tgt = (spvs_real)NAN;
+            } else {
+                b[mixed[k].nan_at].x_cur = (spvs_real)NAN;
+            }
+        }
+        if (mixed[k].feature_at >= 0) {
+            b[mixed[k].feature_at].feature = SPVS_MAX_FEATURES;
+        }
+        assert_int_equal(spvs_plane_h_load(&g_ef, b, 20, NULL, 0), mixed[k].want);
+        assert_int_equal(spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0), mixed[k].want);
+    }
+    /* Exactly at the limit is in range, one float above it is not. */
+    {
+        static spvs_match_t b[20];
+        memcpy(b, m, sizeof b);
+        b[5].x_tgt = (spvs_real)SPVS_MAX_COORD_PX;
+        assert_int_equal(spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0), SPVS_OK);
+        b[5].x_tgt = nextafterf((float)SPVS_MAX_COORD_PX, 1e9f);
+        b[6].x_cur = (spvs_real)NAN;
+        assert_int_equal(spvs_plane_h_load(&g_ef, b, 20, NULL, 0), SPVS_E_RANGE);
+        assert_int_equal(spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0), SPVS_E_RANGE);
+    }
 }
 
 int main(void)

@@ -2,6 +2,8 @@
 # The documented long fuzzing run (docs/ROBUSTNESS.md): builds the libFuzzer
 # targets with clang (ASan + UBSan) and runs
 #   fuzz_core  for CORE_RUNS executions in all (default 10,000,000),
+#   fuzz_core_fixed for FIXED_SECONDS of wall time per worker (default
+#              600; the fixed-point core with the float core beside it),
 #   fuzz_node  for NODE_SECONDS of wall time per worker (default 300),
 # each split over JOBS independent workers (default: the number of cores;
 # worker K uses libFuzzer -seed=K and its own corpus), all from the
@@ -15,6 +17,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 dir="${1:-$root/build/fuzz-long}"
 core_runs="${CORE_RUNS:-10000000}"
+fixed_seconds="${FIXED_SECONDS:-600}"
 node_seconds="${NODE_SECONDS:-300}"
 jobs="${JOBS:-$(nproc 2>/dev/null || echo 1)}"
 
@@ -39,6 +42,7 @@ run() {
       "$dir/$target"-*.summary
 }
 run fuzz_core "runs=$(( (core_runs + jobs - 1) / jobs ))"
+run fuzz_core_fixed "$fixed_seconds"
 run fuzz_node "$node_seconds"
 echo "fuzz_long: finished $(date -u +%FT%TZ), status $status"
 exit $status

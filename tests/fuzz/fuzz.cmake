@@ -36,7 +36,7 @@ add_test(NAME fuzz_build COMMAND ${CMAKE_COMMAND} -E env SPVS_FUZZ_CC=${SPVS_FUZ
          ${spvs_fuzz_run} build ${spvs_fuzz_dir})
 set_tests_properties(fuzz_build PROPERTIES LABELS fuzz TIMEOUT 300
                      FIXTURES_SETUP spvs_fuzz_targets)
-foreach(target fuzz_core fuzz_node fuzz_serial)
+foreach(target fuzz_core fuzz_core_fixed fuzz_node fuzz_serial)
   add_test(NAME ${target} COMMAND ${spvs_fuzz_run} run ${spvs_fuzz_dir} ${target}
            ${SPVS_FUZZ_SECONDS})
   math(EXPR limit "${SPVS_FUZZ_SECONDS} * 3 + 60")

@@ -1,5 +1,10 @@
 /*
- * fuzz_core.c - libFuzzer target for the core's update pipeline.
+ * fuzz_core.c - libFuzzer target for the core's update pipeline, written
+ * once for both cores: built as fuzz_core it drives the float core
+ * (spvs.h: spvs_update, spvs_estimate_h); built with FUZZ_CORE_FIXED=1 as
+ * fuzz_core_fixed it drives the fixed-point core (firmware/src/fixed,
+ * spvs_q.h: spvs_q_update, spvs_q_estimate_h) through the same decoding of
+ * the same bytes.
  *
  * Each input drives one fresh controller instance through up to MAX_FRAMES
  * frames, so that the step logic, the off-plane memory and the time checks
@@ -15,7 +20,8 @@
  *   - the frame time: one period on, repeated, backwards, NaN, infinite, a
  *     gap longer than max_frame_gap_s, 40 s on (step timeouts), raw bits;
  *   - the plane, from a wall to a floor, and the start pose, which may be
- *     the target itself.
+ *     the target itself;
+ *   - the estimation stage alone (spvs_estimate_h) instead of the update.
  *
  * Invariants checked after every call (a violation aborts, which libFuzzer
  * reports as a crash):
@@ -24,6 +30,9 @@
  *     FAILED;
  *   - v and w are finite and within v_max, w_max;
  *   - step is in 1..5; n_inliers <= n_matches.
+ *
+ * fuzz_core_fixed also runs the float core on the same frames and checks
+ * that both report the same input errors (diff_check below).
  */
 #include <math.h>
 #include <stdint.h>
@@ -34,6 +43,26 @@
 #include "spvs/spvs.h"
 #include "fuzz_reader.h"
 
+#ifndef FUZZ_CORE_FIXED
+#define FUZZ_CORE_FIXED 0
+#endif
+
+/* The core under test, chosen at compile time. */
+#if FUZZ_CORE_FIXED
+#include "spvs_q.h"
+#define TARGET_NAME "fuzz_core_fixed"
+typedef spvs_q_t core_t;
+#define core_init spvs_q_init
+#define core_update spvs_q_update
+#define core_estimate_h spvs_q_estimate_h
+#else
+#define TARGET_NAME "fuzz_core"
+typedef spvs_t core_t;
+#define core_init spvs_init
+#define core_update spvs_update
+#define core_estimate_h spvs_estimate_h
+#endif
+
 #define MAX_FRAMES 16
 /* Counts past the capacity exercise SPVS_E_CAPACITY. */
 #define MAX_N (SPVS_MAX_MATCHES + 8)
@@ -43,7 +72,7 @@
 
 static void fail(const char *what, int status, double v, double w, int step)
 {
-    fprintf(stderr, "fuzz_core: invariant broken: %s (status %d %s, v %g, "
+    fprintf(stderr, TARGET_NAME ": invariant broken: %s (status %d %s, v %g, "
                     "w %g, step %d)\n",
             what, status, spvs_status_str(status), v, w, step);
     abort();
@@ -278,12 +307,170 @@ static double next_time(reader_t *r, double t_s, double *dt_s)
     }
 }
 
+#if FUZZ_CORE_FIXED
+/* The differential check: the float core (the reference) sees the same
+ * frames, and both must report the same input error for the same frame.
+ * By spvs_q.h and docs/FIXED.md the fixed-point core has spvs_update's
+ * contract and statuses, its loader makes the float loader's checks, and
+ * it differs only in the time's Q16 range: |t_s| >= 32768 s is
+ * SPVS_E_RANGE, and two times that are one in Q16 make the second
+ * SPVS_E_STALE.  Everything after the checks (H, the memory, the command)
+ * may part by the rounding of the two arithmetics, so only the checks are
+ * compared.  They depend on the frame and on the last accepted time (an
+ * estimate-only call has no time), which the driver follows here; where the documented Q16 rules make the two
+ * cores accept different times, the histories part and the comparison ends
+ * for the rest of the input.
+ *
+ * A frame with both a non-finite value and an out-of-range one gets the
+ * status of its first bad value in match order from both cores. */
+
+#ifdef FUZZ_CORE_STATS
+/* Frames the check compared, and inputs where the cores' times parted. */
+unsigned long fuzz_core_diff_compared;
+unsigned long fuzz_core_diff_parted;
+#endif
+
+typedef struct {
+    spvs_t ref;
+    int in_step;    /* both cores have accepted the same frame times     */
+    int has_last;
+    spvs_real last_t;
+} diff_t;
+
+static void diff_fail(const char *what, int frame, int rc_q, int rc_f)
+{
+    fprintf(stderr, TARGET_NAME ": the cores disagree: %s (frame %d: fixed %d %s, float %d %s)\n",
+            what, frame, rc_q, spvs_status_str(rc_q), rc_f, spvs_status_str(rc_f));
+    abort();
+}
+
+/* The cores have accepted different frame times: no more comparing. */
+static void diff_part(diff_t *d)
+{
+    d->in_step = 0;
+#ifdef FUZZ_CORE_STATS
+    fuzz_core_diff_parted++;
+#endif
+}
+
+/* t in Q16 as spvs_q_from_ieee rounds it: to nearest, ties away from zero
+ * (exact in double for |t| < 32768). */
+static double q16(spvs_real t)
+{
+    return round((double)t * 65536.0);
+}
+
+static int is_load_error(int rc)
+{
+    return rc == SPVS_E_NONFINITE || rc == SPVS_E_RANGE;
+}
+
+static int is_input_error(int rc)
+{
+    return rc == SPVS_E_ARG || rc == SPVS_E_CAPACITY || rc == SPVS_E_NONFINITE ||
+           rc == SPVS_E_RANGE || rc == SPVS_E_STALE;
+}
+
+/* The time's checks: 1 when both cores took t, and the frame's own checks
+ * follow; 0 when the verdict was compared here (or the histories parted). */
+static int diff_time(diff_t *d, int frame, spvs_real t, int rc_q, int rc_f)
+{
+    if (!isfinite(t)) {
+        if (rc_q != SPVS_E_NONFINITE || rc_f != SPVS_E_NONFINITE) {
+            diff_fail("a non-finite time", frame, rc_q, rc_f);
+        }
+        return 0;
+    }
+    const int float_takes = !d->has_last || t > d->last_t;
+    if (fabs((double)t) >= 32768.0) {
+        if (rc_q != SPVS_E_RANGE) {
+            diff_fail("a time outside Q16 seconds is not out_of_range_input", frame, rc_q, rc_f);
+        }
+        if (float_takes) {
+            diff_part(d);
+        } else if (rc_f != SPVS_E_STALE) {
+            diff_fail("a time not after the last is not stale (float)", frame, rc_q, rc_f);
+        }
+        return 0;
+    }
+    if (!float_takes) {
+        if (rc_q != SPVS_E_STALE || rc_f != SPVS_E_STALE) {
+            diff_fail("a time not after the last", frame, rc_q, rc_f);
+        }
+        return 0;
+    }
+    if (d->has_last && !(q16(t) > q16(d->last_t))) {
+        if (rc_q != SPVS_E_STALE) {
+            diff_fail("a time one with the last in Q16 is not stale", frame, rc_q, rc_f);
+        }
+        diff_part(d);
+        return 0;
+    }
+    d->has_last = 1;
+    d->last_t = t;
+    return 1;
+}
+
+static void diff_check(diff_t *d, int frame, const spvs_match_t *m, uint16_t n, spvs_real t,
+                       int estimate_only, int rc_q, int rc_f)
+{
+    if (!d->in_step) {
+        return;
+    }
+#ifdef FUZZ_CORE_STATS
+    fuzz_core_diff_compared++;
+#endif
+    if (!estimate_only && !diff_time(d, frame, t, rc_q, rc_f)) {
+        return;
+    }
+    if (n > SPVS_MAX_MATCHES) {
+        if (rc_q != SPVS_E_CAPACITY || rc_f != SPVS_E_CAPACITY) {
+            diff_fail("more matches than SPVS_MAX_MATCHES", frame, rc_q, rc_f);
+        }
+        return;
+    }
+    if (n < 3u) {
+        if (rc_q != SPVS_E_TOO_FEW || rc_f != SPVS_E_TOO_FEW) {
+            diff_fail("fewer than 3 matches", frame, rc_q, rc_f);
+        }
+        return;
+    }
+    /* The loader's checks (spvs.h, docs/FIXED.md): a NaN or infinite
+     * coordinate, one beyond SPVS_MAX_COORD_PX, a feature index out of
+     * range. */
+    int nonfinite = 0, range = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int k = 0; k < 4; k++) {
+            if (!isfinite(c[k])) {
+                nonfinite = 1;
+            } else if (fabs((double)c[k]) > (double)SPVS_MAX_COORD_PX) {
+                range = 1;
+            }
+        }
+        range |= m[i].feature >= SPVS_MAX_FEATURES;
+    }
+    if (nonfinite || range) {
+        if (!is_load_error(rc_q) || !is_load_error(rc_f)) {
+            diff_fail("a bad value in the frame is not a load error", frame, rc_q, rc_f);
+        }
+        if (rc_q != rc_f) {
+            diff_fail("a bad value in the frame", frame, rc_q, rc_f);
+        }
+        return;
+    }
+    if (is_input_error(rc_q) || is_input_error(rc_f)) {
+        diff_fail("an input error on a valid frame", frame, rc_q, rc_f);
+    }
+}
+#endif
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     /* Big: static, as on the robot. */
-    static spvs_t s;
+    static core_t s;
     static spvs_match_t m[MAX_N];
     static world_t wd;
     reader_t r = {data, size, 0};
@@ -292,9 +479,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     spvs_params_t p;
     spvs_params_default(&p, (spvs_method_t)(1 + head % 3u));
     p.seed = rd_u8(&r);
-    if (spvs_init(&s, &p) != SPVS_OK) {
+    if (core_init(&s, &p) != SPVS_OK) {
         fail("default parameters rejected", SPVS_E_CONFIG, 0.0, 0.0, 0);
     }
+#if FUZZ_CORE_FIXED
+    static diff_t d;
+    if (spvs_init(&d.ref, &p) != SPVS_OK) {
+        fail("default parameters rejected (float)", SPVS_E_CONFIG, 0.0, 0.0, 0);
+    }
+    d.in_step = 1;
+    d.has_last = 0;
+    d.last_t = SPVS_R(0.0);
+#endif
     world_make(&wd, &r);
 
     const int frames = 1 + (int)(rd_u8(&r) % MAX_FRAMES);
@@ -317,9 +513,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             break;
         }
         spvs_output_t out;
+        const spvs_real t = (spvs_real)t_s;
         const int estimate_only = (mode & 0x80u) && (mode % 8u) < 4u;
-        int rc = estimate_only ? spvs_estimate_h(&s, m, n, &out)
-                               : spvs_update(&s, m, n, (spvs_real)t_s, &out);
+        const int rc = estimate_only ? core_estimate_h(&s, m, n, &out)
+                                     : core_update(&s, m, n, t, &out);
+#if FUZZ_CORE_FIXED
+        spvs_output_t out_f;
+        const int rc_f = estimate_only ? spvs_estimate_h(&d.ref, m, n, &out_f)
+                                       : spvs_update(&d.ref, m, n, t, &out_f);
+        diff_check(&d, f, m, n, t, estimate_only, rc, rc_f);
+#endif
         check_output(rc, &out, &p, n, estimate_only);
 
         /* The robot moves on the command for one period (eq. 7), so that the

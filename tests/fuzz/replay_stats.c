@@ -1,7 +1,9 @@
 /*
  * replay_stats.c - runs fuzz_core's input files through the target without
  * libFuzzer and prints how often each status and each controller step was
- * seen, so a corpus can be judged by what it reaches (docs/ROBUSTNESS.md).
+ * seen, so a corpus can be judged by what it reaches (docs/ROBUSTNESS.md);
+ * built as replay_stats_fixed (FUZZ_CORE_FIXED=1), on the fixed-point core,
+ * also how many frames the differential check compared.
  *
  * usage: replay_stats FILE_OR_DIR...
  */
@@ -17,6 +19,10 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 extern unsigned long fuzz_core_status_seen[SPVS_STATUS_COUNT];
 extern unsigned long fuzz_core_step_seen[8];
+#if defined(FUZZ_CORE_FIXED) && FUZZ_CORE_FIXED
+extern unsigned long fuzz_core_diff_compared;
+extern unsigned long fuzz_core_diff_parted;
+#endif
 
 static unsigned long g_files;
 
@@ -82,5 +88,9 @@ int main(int argc, char **argv)
     for (int k = 1; k <= 5; k++) {
         printf("  step %d                   %lu\n", k, fuzz_core_step_seen[k]);
     }
+#if defined(FUZZ_CORE_FIXED) && FUZZ_CORE_FIXED
+    printf("  frames compared with the float core  %lu (inputs whose times parted: %lu)\n",
+           fuzz_core_diff_compared, fuzz_core_diff_parted);
+#endif
     return 0;
 }

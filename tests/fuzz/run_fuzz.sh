@@ -4,8 +4,9 @@
 #   run_fuzz.sh build BUILD_DIR
 #       configure and build the fuzz project with clang into BUILD_DIR
 #   run_fuzz.sh run BUILD_DIR TARGET SECONDS|runs=N [extra libFuzzer flags]
-#       fuzz TARGET (fuzz_core, fuzz_node) for SECONDS of wall time, or for
-#       exactly N executions, starting from the committed seeds; new inputs go
+#       fuzz TARGET (fuzz_core, fuzz_core_fixed, fuzz_node, fuzz_serial)
+#       for SECONDS of wall time, or for exactly N executions, starting from
+#       the committed seeds (fuzz_core_fixed: fuzz_core's); new inputs go
 #       to BUILD_DIR/corpus-TARGET (the source tree is never written), crash
 #       reproducers to BUILD_DIR/crash-TARGET/.  Prints one summary line:
 #       "fuzz TARGET: EXECS executions in SECS s, ... crashes: 0".
@@ -30,7 +31,8 @@ fi
 target=$3 budget=$4
 shift 4
 case "$target" in
-  fuzz_core) seeds="$here/corpus/core"; maxlen=4096 ;;
+  # Both cores read one input format: the same seeds.
+  fuzz_core|fuzz_core_fixed) seeds="$here/corpus/core"; maxlen=4096 ;;
   fuzz_node) seeds="$here/corpus/node"; maxlen=6000 ;;
   fuzz_serial) seeds="$here/corpus/serial"; maxlen=8192 ;;
   *) echo "run_fuzz.sh: unknown target '$target'" >&2; exit 2 ;;

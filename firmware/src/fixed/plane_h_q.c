@@ -27,6 +27,37 @@ int spvs_q_plane_h_check(const spvs_match_t *m, uint16_t n)
     return SPVS_OK;
 }
 
+/* The status of the first bad value in the float core's order (plane_h.c's
+ * frame_error: match by match, x_tgt, y_tgt, x_cur, y_cur, each NaN or
+ * infinite before out of range, then the feature index), so that a frame
+ * with several kinds of bad value gets the float core's status.  Only for
+ * a frame the loader refused (bound: n matches). */
+static int q_frame_error(const spvs_match_t *m, uint16_t n)
+{
+    for (uint16_t i = 0; i < n; i++) {
+        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        for (int j = 0; j < 4; j++) {
+            const spvs_q_ieee_t v = spvs_q_real_parts(c[j]);
+            if (v.nonfinite) {
+                return SPVS_E_NONFINITE;
+            }
+            /* |c| > SPVS_MAX_COORD_PX, an integer: its nearest integer is
+             * above it, or equal to it with the magnitude rounded down. */
+            uint32_t sat = 0;
+            int below = 0;
+            const int32_t r = spvs_q_from_ieee(v, 0, &sat, &below);
+            const int32_t a = r < 0 ? -r : r;
+            if (sat != 0u || a > SPVS_MAX_COORD_PX || (a == SPVS_MAX_COORD_PX && below)) {
+                return SPVS_E_RANGE;
+            }
+        }
+        if (m[i].feature >= SPVS_MAX_FEATURES) {
+            return SPVS_E_RANGE;
+        }
+    }
+    return SPVS_OK;
+}
+
 int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
                         const uint16_t *order, uint16_t n_plane)
 {
@@ -43,7 +74,8 @@ int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
     const uint16_t stride = spvs_pts_spread_stride(n_plane);
     const uint32_t bad = spvs_q_pts_load(&e->pts, e->feat, m, n, n_plane, order, stride);
     if (bad != 0u) {
-        return (bad & SPVS_Q_NONFINITE) != 0u ? SPVS_E_NONFINITE : SPVS_E_RANGE;
+        const int first = q_frame_error(m, n);
+        return first != SPVS_OK ? first : SPVS_E_RANGE;
     }
     e->n_plane = n_plane;
     e->n_pts = n;
