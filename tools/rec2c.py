@@ -94,8 +94,8 @@ def main():
             w(" * Recorded with: %s\n" % a.note)
         w(" * %d frames, %d matches, steps seen: %s.\n" % (len(frames), total,
                                                           ", ".join(map(str, steps))))
-        w(" * v, w, status and step are what the host float32 build of the core\n")
-        w(" * answered; floats are exact (hexadecimal literals).\n */\n")
+        w(" * v, w, status and step are what the recorded core answered (the\n")
+        w(" * note says which); floats are exact (hexadecimal literals).\n */\n")
         w("#ifndef SPVS_REPLAY_FRAMES_H\n#define SPVS_REPLAY_FRAMES_H\n\n#include <stdint.h>\n\n")
         w("#define SPVS_REPLAY_N_FRAMES %du\n#define SPVS_REPLAY_N_MATCHES %du\n" % (len(frames), total))
         w("#define SPVS_REPLAY_N_FEATURES %du\n\n" % n_feat)
