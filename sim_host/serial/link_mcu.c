@@ -186,6 +186,29 @@ static int mcu_exchange(void *ctx, uint32_t seq, double t_s,
     return rc;
 }
 
+/* The board an image was built for: the cross build writes it beside its
+ * images (target/qemu_machine: mps2-an386 for the Cortex-M4F, mps2-an385
+ * for the Cortex-M3); an image elsewhere is taken for the Cortex-M4F's. */
+static void image_machine(const char *image, char *machine, size_t len)
+{
+    snprintf(machine, len, "mps2-an386");
+    char path[4200];
+    const char *slash = strrchr(image, '/');
+    int dir_len = slash ? (int)(slash - image) : 1;
+    snprintf(path, sizeof(path), "%.*s/qemu_machine", dir_len, slash ? image : ".");
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return;
+    char line[32];
+    if (fgets(line, sizeof(line), f)) {
+        line[strcspn(line, " \r\n")] = 0;
+        /* Only the boards the images are made for. */
+        if (strcmp(line, "mps2-an385") == 0 || strcmp(line, "mps2-an386") == 0)
+            snprintf(machine, len, "%s", line);
+    }
+    fclose(f);
+}
+
 int sim_link_mcu_open(const sim_link_mcu_opts_t *o, sim_link_t *out,
                       char *err, unsigned err_len)
 {
@@ -235,7 +258,9 @@ int sim_link_mcu_open(const sim_link_mcu_opts_t *o, sim_link_t *out,
     snprintf(alpha, sizeof(alpha), "%.9g", o->alpha_px);
     /* -icount: the MCU's clock (and so its watchdog) counts executed
      * instructions, 8 ns each, not the host's wall clock. */
-    char *qargv[] = { (char *)(qemu ? qemu : "qemu-system-arm"), "-M", "mps2-an386",
+    char machine[32];
+    image_machine(image, machine, sizeof(machine));
+    char *qargv[] = { (char *)(qemu ? qemu : "qemu-system-arm"), "-M", machine,
                       "-nographic", "-monitor", "none",
                       "-semihosting-config", "enable=on,target=native",
                       "-icount", "shift=3,align=off,sleep=off",

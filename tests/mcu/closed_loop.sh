@@ -1,15 +1,21 @@
 #!/usr/bin/env bash
-# closed_loop.sh SPVS_SIM IMAGE [spvs-sim options...]
+# closed_loop.sh [--ref TRANSPORT] SPVS_SIM IMAGE [spvs-sim options...]
 # The same run twice: in process with the serial link's rounding applied
-# (--quantize-serial), then through the controller application on the
-# emulated Cortex-M4F (--transport mcu: QEMU, spvs-serial-agent, LCM inside a
-# loopback-only network namespace).  The two --json summaries must be equal
+# (--quantize-serial; with --ref fixed, on the host's fixed-point core, for
+# an image of the fixed-point build), then through the controller
+# application on the emulated MCU the image was built for (--transport mcu:
+# QEMU, spvs-serial-agent, LCM inside a loopback-only network namespace).  The two --json summaries must be equal
 # field for field (the transport name aside): bit for bit the same
 # commands, so the same trajectory to the last printed digit.
 # Exit 77 (skipped) when qemu-system-arm or the image is missing.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/../lcm/netns.sh"
+ref=inproc
+if [ "${1:-}" = --ref ]; then
+  ref=${2:?--ref needs a transport}
+  shift 2
+fi
 sim=$1 image=$2
 shift 2
 command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not installed"; exit 77; }
@@ -18,7 +24,7 @@ command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm not insta
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-timeout 120 "$sim" "$@" --quantize-serial --json --quiet >"$work/inproc.out"
+timeout 120 "$sim" "$@" --transport "$ref" --quantize-serial --json --quiet >"$work/inproc.out"
 tail -n 1 "$work/inproc.out" >"$work/inproc.json"
 
 export SIM="$sim" IMAGE="$image" URL="$(spvs_lcm_url)" WORK="$work" SIM_ARGS="$*"
@@ -33,7 +39,7 @@ tail -n 1 "$work/mcu.out" >"$work/mcu.json"
 import json, sys
 a = json.load(open(sys.argv[1]))
 b = json.load(open(sys.argv[2]))
-print("in process, serial rounding:", a["status"], a["final_error"], "t", a["time_s"], "frames", a["frames"])
+print("in process (%s), serial rounding:" % a["transport"], a["status"], a["final_error"], "t", a["time_s"], "frames", a["frames"])
 print("through the emulated MCU:   ", b["status"], b["final_error"], "t", b["time_s"], "frames", b["frames"])
 assert b["transport"] == "mcu", b["transport"]
 a.pop("transport"); b.pop("transport")

@@ -2,13 +2,17 @@
 # Cross-build the images of target/ and run them under QEMU: the Cortex-M4F
 # on mps2-an386 (default) or the Cortex-M3 without FPU on mps2-an385.
 #
-#   tests/target/target_test.sh [--cpu CPU] build SRC CROSS_DIR [SPVS_SIM]
+#   tests/target/target_test.sh [--cpu CPU] [--fixed] build SRC CROSS_DIR [SPVS_SIM]
 #       configure and build the cross tree in CROSS_DIR: the root project
 #       with the cortex-m4f (or --cpu's) preset settings (SPVS_HOST=OFF),
 #       which adds target/ (images) and serial/ (the serial link's codec);
 #       CPU names cmake/cpu/CPU.cmake: cortex-m4f (default) or cortex-m3;
+#       --fixed: the fixed-point build (SPVS_FIXED=ON, docs/FIXED.md), whose
+#       test image links no float helper and replays the host's fixed-point
+#       core bit for bit;
 #       with SPVS_SIM (a host float32 spvs-sim), first record the replay run
-#       with it (tools/make_replay.sh), so target and host run the same core.
+#       with it (tools/make_replay.sh [--fixed]), so target and host run the
+#       same core.
 #   tests/target/target_test.sh run    CROSS_DIR      spvs_test.elf must exit 0
 #   tests/target/target_test.sh tamper CROSS_DIR      spvs_test_tamper.elf (one golden
 #       value perturbed) must report failed checks: exit 1..100, not a fault
@@ -53,14 +57,22 @@ qemu_run() {
 }
 
 cpu=cortex-m4f
-case "${1:-}" in
-  -h|--help) usage; exit 0 ;;
-  --cpu)
-    [ $# -ge 2 ] || die_usage "--cpu needs a CPU name"
-    cpu=$2
-    shift 2
-    ;;
-esac
+fixed=OFF
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -h|--help) usage; exit 0 ;;
+    --cpu)
+      [ $# -ge 2 ] || die_usage "--cpu needs a CPU name"
+      cpu=$2
+      shift 2
+      ;;
+    --fixed)
+      fixed=ON
+      shift
+      ;;
+    *) break ;;
+  esac
+done
 
 mode=${1:-}
 case "$mode" in
@@ -72,13 +84,21 @@ case "$mode" in
     [ -f "$src/cmake/cpu/$cpu.cmake" ] ||
       die_usage "unknown CPU '$cpu' (cmake/cpu/ has: $(cd "$src/cmake/cpu" && ls | sed 's/\.cmake$//' | tr '\n' ' '))"
     extra=()
+    replay_opt=()
+    if [ $fixed = ON ]; then
+      replay_opt=(--fixed)
+    fi
     if [ -n "$sim" ]; then
-      "$src/tools/make_replay.sh" "$(dirname "$(dirname "$sim")")" "$cross/replay"
+      "$src/tools/make_replay.sh" "${replay_opt[@]}" "$(dirname "$(dirname "$sim")")" "$cross/replay"
       extra=(-DSPVS_REPLAY_DIR="$cross/replay")
+    else
+      # The committed recording of this core (an existing tree keeps a
+      # folder given before otherwise).
+      extra=(-DSPVS_REPLAY_DIR="$src/tests/golden$([ $fixed = ON ] && echo /fixed)")
     fi
     cmake -S "$src" -B "$cross" -G Ninja \
       -DCMAKE_TOOLCHAIN_FILE="$src/cmake/toolchain-arm-none-eabi.cmake" \
-      -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_CPU="$cpu" \
+      -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_FIXED=$fixed -DSPVS_CPU="$cpu" \
       -DCMAKE_BUILD_TYPE=MinSizeRel "${extra[@]}" >/dev/null
     cmake --build "$cross"
     # The post-build step already refuses double helpers; say it here too.
