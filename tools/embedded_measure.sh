@@ -3,11 +3,14 @@
 # spvs_update, and instructions per spvs_update under QEMU -icount.
 # Results feed docs/EMBEDDED.md.
 #
-#   tools/embedded_measure.sh [--cpu CPU] [BUILD_DIR]
+#   tools/embedded_measure.sh [--cpu CPU] [--fixed] [BUILD_DIR]
 #
 #   --cpu CPU   cmake/cpu/CPU.cmake: cortex-m4f (default; QEMU mps2-an386)
 #               or cortex-m3 (no FPU, the float core on soft-float; QEMU
 #               mps2-an385)
+#   --fixed     the fixed-point build (SPVS_FIXED=ON, docs/FIXED.md): the
+#               same figures for the fixed-point core (default BUILD_DIR
+#               build/<cpu>-fixed-measure)
 #   BUILD_DIR   the cross build made here (default build/m4f-measure for
 #               the Cortex-M4F, build/m3-measure for the Cortex-M3)
 #
@@ -18,12 +21,17 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cpu=cortex-m4f
+fixed=OFF
 build=
 while [ $# -gt 0 ]; do
   case "$1" in
     -h|--help)
       sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'
       exit 0
+      ;;
+    --fixed)
+      fixed=ON
+      shift
       ;;
     --cpu)
       [ $# -ge 2 ] || { echo "embedded_measure: --cpu needs a CPU name (--help)" >&2; exit 2; }
@@ -46,16 +54,21 @@ if [ ! -f "$root/cmake/cpu/$cpu.cmake" ]; then
   exit 2
 fi
 case "$cpu" in
+  *) [ $fixed = OFF ] || build=${build:-$root/build/$cpu-fixed-measure} ;;
+esac
+case "$cpu" in
   cortex-m4f) build=${build:-$root/build/m4f-measure} ;;
   cortex-m3) build=${build:-$root/build/m3-measure} ;;
   *) build=${build:-$root/build/$cpu-measure} ;;
 esac
 shift_n=8
 
-echo "== cross build for $cpu (MinSizeRel, -fstack-usage -fcallgraph-info=su) in $build"
+core=float
+[ $fixed = OFF ] || core=fixed-point
+echo "== cross build for $cpu, $core core (MinSizeRel, -fstack-usage -fcallgraph-info=su) in $build"
 cmake -S "$root" -B "$build" -G Ninja \
   -DCMAKE_TOOLCHAIN_FILE="$root/cmake/toolchain-arm-none-eabi.cmake" \
-  -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_CPU="$cpu" \
+  -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_FIXED=$fixed -DSPVS_CPU="$cpu" \
   -DCMAKE_BUILD_TYPE=MinSizeRel \
   -DSPVS_EXTRA_C_FLAGS="-fstack-usage -fcallgraph-info=su" >/dev/null
 cmake --build "$build" >/dev/null
