@@ -17,6 +17,7 @@
 
 /* From SPVS_REPLAY_DIR (target/CMakeLists.txt): tests/golden/ by default. */
 #include "replay_frames.h"
+#include "replay_load.h"
 
 #define REPLAY_REL_TOL 1e-4f
 #define REPLAY_ABS_TOL 1e-6f
@@ -50,18 +51,7 @@ int replay_run(void)
     uint32_t switches = 0u;
     for (uint32_t f = 0; f < SPVS_REPLAY_N_FRAMES; ++f) {
         const spvs_replay_frame_t *fr = &spvs_replay_frames[f];
-        uint16_t n = fr->n;
-        if (n > SPVS_MAX_MATCHES) {
-            n = SPVS_MAX_MATCHES; /* the host would have refused it too */
-        }
-        for (uint16_t i = 0; i < n; ++i) {
-            const spvs_replay_match_t *rm = &spvs_replay_matches[fr->first + i];
-            replay_m[i].feature = rm->feature;
-            replay_m[i].x_tgt = spvs_replay_tgt[rm->feature][0];
-            replay_m[i].y_tgt = spvs_replay_tgt[rm->feature][1];
-            replay_m[i].x_cur = rm->x_cur;
-            replay_m[i].y_cur = rm->y_cur;
-        }
+        replay_load(fr, replay_m);
         spvs_output_t out;
         int st = spvs_update(&replay_core, replay_m, fr->n, fr->t_s, &out);
         float dv = out.v - fr->v, dw = out.w - fr->w;

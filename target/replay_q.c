@@ -16,6 +16,7 @@
 #include "spvs/spvs.h"
 
 #include "replay_frames.h"
+#include "replay_load.h"
 
 static spvs_t replay_core;
 static spvs_match_t replay_m[SPVS_MAX_MATCHES];
@@ -52,18 +53,7 @@ int replay_run(void)
     uint32_t switches = 0u, moving = 0u;
     for (uint32_t f = 0; f < SPVS_REPLAY_N_FRAMES; ++f) {
         const spvs_replay_frame_t *fr = &spvs_replay_frames[f];
-        uint16_t n = fr->n;
-        if (n > SPVS_MAX_MATCHES) {
-            n = SPVS_MAX_MATCHES; /* the host would have refused it too */
-        }
-        for (uint16_t i = 0; i < n; ++i) {
-            const spvs_replay_match_t *rm = &spvs_replay_matches[fr->first + i];
-            replay_m[i].feature = rm->feature;
-            replay_m[i].x_tgt = spvs_replay_tgt[rm->feature][0];
-            replay_m[i].y_tgt = spvs_replay_tgt[rm->feature][1];
-            replay_m[i].x_cur = rm->x_cur;
-            replay_m[i].y_cur = rm->y_cur;
-        }
+        replay_load(fr, replay_m);
         spvs_output_t out;
         const int st = spvs_update(&replay_core, replay_m, fr->n, fr->t_s, &out);
         const int ok = st == fr->status && out.status == fr->status && out.step == fr->step &&

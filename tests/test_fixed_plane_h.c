@@ -174,6 +174,18 @@ static void test_plane_h_random(void **state)
 
 /* ---- the golden vectors ---------------------------------------------------- */
 
+/* The golden case's 40 noisy matches. */
+static void golden_matches(const spvs_golden_h_t *g, spvs_match_t *m)
+{
+    for (uint16_t i = 0; i < SPVS_GOLDEN_N_NOISY; i++) {
+        m[i].x_tgt = (spvs_real)g->noisy[i][0];
+        m[i].y_tgt = (spvs_real)g->noisy[i][1];
+        m[i].x_cur = (spvs_real)g->noisy[i][2];
+        m[i].y_cur = (spvs_real)g->noisy[i][3];
+        m[i].feature = i;
+    }
+}
+
 /* Every golden case (40 plane matches, 0.5 px noise in both images): both
  * estimators find every point an inlier, and the Q estimate is as near the
  * least-squares optimum as the float one. */
@@ -184,13 +196,7 @@ static void test_plane_h_golden(void **state)
     double worst_f = 0, worst_q = 0, worst_fq = 0;
     for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
         const spvs_golden_h_t *g = &spvs_golden_h[c];
-        for (uint16_t i = 0; i < SPVS_GOLDEN_N_NOISY; i++) {
-            m[i].x_tgt = (spvs_real)g->noisy[i][0];
-            m[i].y_tgt = (spvs_real)g->noisy[i][1];
-            m[i].x_cur = (spvs_real)g->noisy[i][2];
-            m[i].y_cur = (spvs_real)g->noisy[i][3];
-            m[i].feature = i;
-        }
+        golden_matches(g, m);
         both_t r;
         run_both(m, SPVS_GOLDEN_N_NOISY, 7u + (uint32_t)c, &r);
         assert_int_equal(r.rc_f, SPVS_OK);
@@ -253,13 +259,7 @@ static void test_estimate_h_pipeline(void **state)
     double worst = 0;
     for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
         const spvs_golden_h_t *g = &spvs_golden_h[c];
-        for (uint16_t i = 0; i < SPVS_GOLDEN_N_NOISY; i++) {
-            m[i].x_tgt = (spvs_real)g->noisy[i][0];
-            m[i].y_tgt = (spvs_real)g->noisy[i][1];
-            m[i].x_cur = (spvs_real)g->noisy[i][2];
-            m[i].y_cur = (spvs_real)g->noisy[i][3];
-            m[i].feature = i;
-        }
+        golden_matches(g, m);
         spvs_output_t of, oq;
         assert_int_equal(spvs_estimate_h(&g_sf, m, SPVS_GOLDEN_N_NOISY, &of), SPVS_OK);
         assert_int_equal(spvs_q_estimate_h(&g_sq, m, SPVS_GOLDEN_N_NOISY, &oq), SPVS_OK);
