@@ -83,7 +83,7 @@ echo
 echo "== core code kept in the linked image (link map: gc-sections applied)"
 # Sum the input sections the linker kept from libspvs_core.a, and the sizes
 # of the library routines the core calls.
-/usr/bin/python3 - "$build/target/spvs_measure.map" "$img" <<'PY'
+/usr/bin/python3 - "$build/target/spvs_measure.map" "$img" "$build/firmware/libspvs_core.a" <<'PY'
 import re, subprocess, sys
 text = open(sys.argv[1]).read()
 section = r"^ (\.(?:text|rodata|data|bss)\S*)\s+0x[0-9a-f]+\s+(0x[0-9a-f]+)\s+(\S+)"
@@ -127,6 +127,30 @@ for m in re.finditer(section, text[kept_at:], re.M):
         print("  %-18s %d" % (o.group(1), int(m.group(2), 16)))
         helpers += int(m.group(2), 16)
 print("  total              %d" % helpers)
+undef = subprocess.run(["arm-none-eabi-nm", "-u", sys.argv[3]], capture_output=True, text=True).stdout
+if helpers and not re.search(r"\b__aeabi_([fd]|u?i2f|u?l2f)", undef):
+    print("  (the core references none: these are the measuring harness's; not counted)")
+    helpers = 0
+# libgcc's integer routines that the core's objects pulled into the image
+# (the fixed-point core's 64-bit divisions and __ctzdi2; the map's archive
+# list says who pulled each member, and a member pulled by one of these is
+# the core's too).  The float core pulls none.
+members = re.findall(r"^(\S+\((\S+\.o)\))\n\s+(\S+)", text[:text.find("Discarded input sections")], re.M)
+core_pulled = set()
+for _ in range(3):
+    for full, obj, by in members:
+        if "libgcc.a" in full and ("libspvs_core.a" in by or any(o in by for o in core_pulled)):
+            core_pulled.add(obj)
+intl = 0
+print("libgcc integer routines the core pulls (link map):")
+for m in re.finditer(section, text[kept_at:], re.M):
+    o = re.search(r"libgcc\.a\((\w+\.o)\)", m.group(3))
+    if o and o.group(1) in core_pulled and not re.match(r"_arm_\w*[sd]f", o.group(1)) \
+            and m.group(1).startswith((".text", ".rodata")) and int(m.group(2), 16) > 0:
+        print("  %-18s %d" % (o.group(1), int(m.group(2), 16)))
+        intl += int(m.group(2), 16)
+print("  total              %d" % intl)
+tot += intl
 # The budget's figure: what the image holds of the core (kept sections:
 # the public calls spvs_update does not reach, such as spvs_h_refit, are
 # dropped from an image that does not call them), plus the routines it

@@ -63,6 +63,24 @@ int main(int argc, char **argv)
         for (int k = 0; k < 4; k++) { uint32_t b; memcpy(&b, &c[k], 4); printf("%uu,", b); }
     }
     printf("};\n");
+    /* A second frame with off-plane points for the off-plane stage and
+     * the epipole (keys o*): 200 plane points, 20 % of them mismatched,
+     * and 40 off the plane, from the same pose. */
+    static spvs_match_t mo[240];
+    uint64_t rng2 = 2;
+    uint16_t no = synth_frame(&p, &pl, 800, 200, 40, 0.5, &rng2, mo, NULL);
+    for (uint16_t i = 0; i < 200 && i < no; i++) {
+        if (synth_uniform(&rng2) < 0.2) {
+            mo[i].x_cur = (float)((synth_uniform(&rng2) - 0.5) * 640);
+            mo[i].y_cur = (float)((synth_uniform(&rng2) - 0.5) * 480);
+        }
+    }
+    printf("#define NO %u\nstatic const uint32_t obits[] = {", no);
+    for (unsigned i = 0; i < no; i++) {
+        const float c[4] = {mo[i].x_tgt, mo[i].y_tgt, mo[i].x_cur, mo[i].y_cur};
+        for (int k = 0; k < 4; k++) { uint32_t b; memcpy(&b, &c[k], 4); printf("%uu,", b); }
+    }
+    printf("};\n");
     printf("#define EXPECT_F %u\n#define EXPECT_Q %u\n", spvs_pts_score(&fs, n, Hs, t2, 0, mask), spvs_q_pts_score(&qs, n, Hq, &thr, 0, mask));
     return 0;
 }

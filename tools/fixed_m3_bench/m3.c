@@ -12,6 +12,10 @@
 #include "spvs/plane_h.h"
 #include "h_fit.h"
 #include "spvs/homography.h"
+#include "spvs/control.h"
+#include "spvs/offplane.h"
+#include "spvs/epipole.h"
+#include "fixed/control_q.h"
 #include "data.h"
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
 #define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
@@ -43,6 +47,100 @@ static uint32_t now(void)
         c = SYST_CVR;
     } while (w != g_wraps);
     return w * 0x01000000u + (0x00FFFFFFu - c);
+}
+static void putk(const char *pre, const char *k, uint32_t v)
+{
+    /* run.sh prints keys that begin with cnt unconverted: the prefix
+     * goes after it. */
+    char b[32]; int i = 0;
+    if (k[0] == 'c' && k[1] == 'n' && k[2] == 't' && k[3] == '_') {
+        while (i < 4) b[i++] = *k++;
+    }
+    while (*pre && i < 12) b[i++] = *pre++;
+    while (*k && i < 30) b[i++] = *k++;
+    b[i] = 0;
+    putu(b, v);
+}
+static void stages_f(spvs_t *s, const char *pre)
+{
+    spvs_offplane_t *const o = &s->off;
+    uint32_t t0 = now();
+    spvs_offplane_collect(o, &s->est, s->p.offplane_px);
+    uint32_t t1 = now();
+    putk(pre, "collect_f ", t1 - t0); putk(pre, "cnt_cand_f ", o->n_cand);
+    spvs_epipole_t ep;
+    const float sin_tol2 = s->p.epipole_sin_tol * s->p.epipole_sin_tol;
+    t0 = now();
+    const int rc = spvs_epipole_estimate(s->est.H_sc, (const float(*)[4])o->cand_pts, o->cand_ord,
+                                         o->n_cand, sin_tol2, s->p.min_support, &ep, o->support,
+                                         &s->ework);
+    t1 = now();
+    putk(pre, "epipole_f ", t1 - t0); putk(pre, "cnt_epipole_f_st ", (uint32_t)(rc + 100));
+}
+static void stages_q(spvs_q_t *s, const char *pre)
+{
+    spvs_q_offplane_t *const o = &s->off;
+    uint32_t t0 = now();
+    spvs_q_offplane_collect(o, &s->est, s->p.offplane_q16);
+    uint32_t t1 = now();
+    putk(pre, "collect_q ", t1 - t0); putk(pre, "cnt_cand_q ", o->n_cand);
+    t0 = now();
+    const int32_t par = spvs_q_offplane_known_parallax_q16(o, s->est.H, s->scratch);
+    t1 = now();
+    putk(pre, "known_q ", t1 - t0);
+    spvs_q_epipole_t ep;
+    t0 = now();
+    const int rc = spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts, o->cand_ord,
+                                           o->n_cand, s->p.sin_tol2_q30, s->p.min_support, &ep,
+                                           o->support, &s->ework);
+    t1 = now();
+    putk(pre, "epipole_q ", t1 - t0); putk(pre, "cnt_epipole_q_st ", (uint32_t)(rc + 100));
+    putk(pre, "cnt_support_q ", ep.n_support);
+    t0 = now();
+    spvs_q_offplane_remember(o, &s->est, rc == SPVS_OK, par < 0 && rc == SPVS_OK ? ep.parallax_q16 : par,
+                             s->p.offplane_q16);
+    t1 = now();
+    putk(pre, "remember_q ", t1 - t0);
+}
+/* The arrival check: a controller standing still after step 3 on H near
+ * the identity, frame after frame until it decides; the deciding frame's
+ * count (the check's averages, corner transfers and bound). */
+#define ARR_H11 1.0004f
+#define ARR_H13 0.3f
+#define ARR_H33 0.9997f
+static void arrive_f(const spvs_control_params_t *p)
+{
+    static spvs_control_t c;
+    spvs_control_reset(&c);
+    c.step = SPVS_STEP_ALIGN; c.checked_plane = 1; c.arriving = 1;
+    spvs_control_input_t in = {{ARR_H11, 0.0f, ARR_H13, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, ARR_H33},
+                               0.0f, 0.0f, 1.0f, 0.2f, 0.0f, 1, 100};
+    uint32_t last = 0; int k = 0, rc = 0;
+    while (c.arriving && k < 1000) {
+        in.t_s = 0.125f * (float)k++;
+        float v, w;
+        const uint32_t t0 = now(); rc = spvs_control_step(&c, p, &in, &v, &w); last = now() - t0;
+    }
+    putu("ctl_arrive_f ", last); putu("cnt_arrive_f_frames ", (uint32_t)k); putu("cnt_arrive_f_step ", (uint32_t)c.step); putu("cnt_arrive_f_st ", (uint32_t)(rc + 100));
+}
+static void arrive_q(const spvs_q_ctl_params_t *p)
+{
+    static spvs_q_ctl_t c;
+    spvs_q_ctl_reset(&c);
+    c.step = SPVS_STEP_ALIGN; c.checked_plane = 1; c.arriving = 1;
+    const float hf[9] = {ARR_H11, 0.0f, ARR_H13, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, ARR_H33};
+    spvs_control_input_t fin = {{0}, 0.0f, 0.0f, 1.0f, 0.2f, 0.0f, 1, 100};
+    memcpy(fin.H, hf, sizeof hf);
+    spvs_q_ctl_input_t in;
+    const int rin = spvs_q_ctl_input_from_real(&in, &fin);
+    putu("cnt_arrive_q_in ", (uint32_t)(rin + 100));
+    uint32_t last = 0; int k = 0, rc = 0;
+    while (c.arriving && k < 1000) {
+        in.t = 8192 * k++; /* 0.125 s in Q16 */
+        int32_t v, w;
+        const uint32_t t0 = now(); rc = spvs_q_ctl_step(&c, p, &in, &v, &w); last = now() - t0;
+    }
+    putu("ctl_arrive_q ", last); putu("cnt_arrive_q_frames ", (uint32_t)k); putu("cnt_arrive_q_step ", (uint32_t)c.step); putu("cnt_arrive_q_st ", (uint32_t)(rc + 100));
 }
 static spvs_point_store_t fs;
 static spvs_q_store_t qs;
@@ -154,6 +252,28 @@ int main(void)
     putu("update_f ", t1 - t0); putu("cnt_update_f_init ", (uint32_t)if_); putu("cnt_update_f_st ", (uint32_t)(uf + 100)); putu("cnt_update_f_inl ", out.n_inliers);
     t0 = now(); const int uq = spvs_q_update(&sq, mm, N, 0.1f, &out); t1 = now();
     putu("update_q ", t1 - t0); putu("cnt_update_q_init ", (uint32_t)iq_); putu("cnt_update_q_st ", (uint32_t)(uq + 100)); putu("cnt_update_q_inl ", out.n_inliers);
+    /* The stages after H, replayed on the update's own state (the same
+     * estimate, so the same candidates): the off-plane collect, the
+     * epipole, the memory's update; then the same on a frame with
+     * off-plane points (keys o*), and the arrival check's decision. */
+    stages_f(&sf, "");
+    stages_q(&sq, "");
+    static spvs_match_t mo[NO];
+    for (int i = 0; i < NO; i++) {
+        memcpy(&mo[i].x_tgt, &obits[4 * i], 4); memcpy(&mo[i].y_tgt, &obits[4 * i + 1], 4);
+        memcpy(&mo[i].x_cur, &obits[4 * i + 2], 4); memcpy(&mo[i].y_cur, &obits[4 * i + 3], 4);
+        mo[i].feature = (uint16_t)i;
+    }
+    const int oif = spvs_init(&sf, &pp), oiq = spvs_q_init(&sq, &pp);
+    putu("cnt_oinit ", (uint32_t)(oif | oiq));
+    t0 = now(); const int ouf = spvs_update(&sf, mo, NO, 0.1f, &out); t1 = now();
+    putu("oupdate_f ", t1 - t0); putu("cnt_oupdate_f_st ", (uint32_t)(ouf + 100));
+    t0 = now(); const int ouq = spvs_q_update(&sq, mo, NO, 0.1f, &out); t1 = now();
+    putu("oupdate_q ", t1 - t0); putu("cnt_oupdate_q_st ", (uint32_t)(ouq + 100));
+    stages_f(&sf, "o");
+    stages_q(&sq, "o");
+    arrive_f(&pp.ctl);
+    arrive_q(&sq.p.ctl_p);
     static const int exit_args[2] = {0x20026, 0};
     semi(0x18, exit_args);
     for (;;) {}

@@ -26,6 +26,9 @@ fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 src=$root/firmware/src
+# The Q stages without spvs_fixed.c, which defines spvs_update only in the
+# fixed-point build (SPVS_FIXED=ON); the image links the float core too.
+qsrc=$(ls "$src"/fixed/*.c | grep -v '/spvs_fixed\.c$')
 cc -O2 -std=c11 -I"$root/firmware/include" -I"$src" -I"$root/tests" "$here/gen.c" -o "$work/gen" \
    "$build/firmware/libspvs_fixed.a" "$build/firmware/libspvs_core.a" -lm
 for cpu in $cpus; do
@@ -39,9 +42,9 @@ for cpu in $cpus; do
       "$work/gen" $n $out > "$work/data.h"
       arm-none-eabi-gcc $flags -Os -std=c11 -ffunction-sections -fdata-sections \
         -I"$root/firmware/include" -I"$src" -I"$work" -DSPVS_USE_DOUBLE=0 -DNDEBUG -DENABLE_FPU=$fpu \
-        -nostartfiles -T "$here/m3.ld" -Wl,--gc-sections "$here/m3.c" "$src"/fixed/*.c \
+        -nostartfiles -T "$here/m3.ld" -Wl,--gc-sections "$here/m3.c" $qsrc \
         "$src/points.c" "$src/homography.c" "$src/plane_h.c" "$src/ransac.c" "$src/rng.c" "$src/common.c" \
-        "$src/spvs.c" "$src/offplane.c" "$src/epipole.c" "$src/control.c" --specs=nano.specs -lm -lc -lgcc -lnosys -o "$work/k.elf"
+        "$src/spvs.c" "$src/params.c" "$src/offplane.c" "$src/epipole.c" "$src/control.c" --specs=nano.specs -lm -lc -lgcc -lnosys -o "$work/k.elf"
       printf '%s N=%s out=%s ' $cpu $n $out
       timeout 120 qemu-system-arm -M $machine -nographic -monitor none -serial null \
         -semihosting-config enable=on,target=native -icount shift=6 -kernel "$work/k.elf" 2>&1 |

@@ -843,10 +843,22 @@ static void step_translate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
 
 /* ---- the arrival check ---------------------------------------------------------- */
 
-/* One corner's three transfers: returns 0 for w <= 0.  Written as a
- * sequence of assignments to few named values: every spvs_qf_t result is
- * returned through memory on the AAPCS, and nested calls would each keep
- * their own slot. */
+/* spvs_qf_t operations on pointers for the arrival check, out of line:
+ * a spvs_qf_t result is returned through memory on the AAPCS, and each
+ * call site of the value-returning forms keeps a slot of its own in the
+ * caller's frame.  d may be a or b. */
+static SPVS_Q_NOINLINE void qmul(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf_t *b)
+{
+    *d = spvs_qf_mul(*a, *b);
+}
+
+static SPVS_Q_NOINLINE void qadd(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf_t *b)
+{
+    *d = spvs_qf_add(*a, *b);
+}
+
+/* One corner's three transfers: returns 0 for w <= 0.  Each value named
+ * once and updated in place through the pointer forms above. */
 static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
                                       int k, spvs_qf_t fig[3], uint32_t *sat)
 {
@@ -854,31 +866,40 @@ static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_q
     const spvs_qf_t v = (k & 2) ? p->corner_y : spvs_qf_neg(p->corner_y);
     spvs_qf_t g, t, a, b;
     /* h31 and h32 per pixel: 2^-9 of the scaled entries. */
-    g = spvs_qf_mul(qf_scale2(r[3], -9), u);
-    t = spvs_qf_mul(qf_scale2(r[4], -9), v);
-    g = spvs_qf_add(g, t);
-    g = spvs_qf_add(g, r[5]);
-    a = spvs_qf_add(qf_of(1, 0), g); /* w */
+    t = qf_scale2(r[3], -9);
+    qmul(&g, &t, &u);
+    t = qf_scale2(r[4], -9);
+    qmul(&t, &t, &v);
+    qadd(&g, &g, &t);
+    qadd(&g, &g, &r[5]);
+    t = qf_of(1, 0);
+    qadd(&a, &t, &g); /* w */
     if (a.m <= 0) {
         return 0;
     }
     a = spvs_qf_recip(a, sat); /* 1 / w */
-    b = spvs_qf_mul(r[0], u);
-    t = spvs_qf_mul(r[1], v);
-    b = spvs_qf_add(b, t); /* x1 - u */
-    fig[1] = spvs_qf_add(fig[1], qf_scale2(qf_abs(b), -2));
-    b = spvs_qf_add(b, qf_scale2(r[2], 9)); /* h13 in pixels */
-    t = spvs_qf_mul(u, g);
-    b = spvs_qf_sub(b, t);
-    b = spvs_qf_mul(b, a); /* dx */
-    g = spvs_qf_mul(g, a); /* g / w */
-    t = spvs_qf_mul(qf_abs(g), p->corner_r);
-    fig[2] = spvs_qf_add(fig[2], qf_scale2(t, -2));
-    g = spvs_qf_mul(v, g); /* -dy */
-    b = spvs_qf_mul(b, b);
-    g = spvs_qf_mul(g, g);
-    t = qf_sqrt(spvs_qf_add(b, g));
-    fig[0] = spvs_qf_add(fig[0], qf_scale2(t, -2));
+    qmul(&b, &r[0], &u);
+    qmul(&t, &r[1], &v);
+    qadd(&b, &b, &t); /* x1 - u */
+    t = qf_scale2(qf_abs(b), -2); /* a corner's share of the mean */
+    qadd(&fig[1], &fig[1], &t);
+    t = qf_scale2(r[2], 9); /* h13 in pixels */
+    qadd(&b, &b, &t);
+    qmul(&t, &u, &g);
+    t = spvs_qf_neg(t);
+    qadd(&b, &b, &t);
+    qmul(&b, &b, &a); /* dx */
+    qmul(&g, &g, &a); /* g / w */
+    t = qf_abs(g);
+    qmul(&t, &t, &p->corner_r);
+    t = qf_scale2(t, -2);
+    qadd(&fig[2], &fig[2], &t);
+    qmul(&g, &v, &g); /* -dy */
+    qmul(&b, &b, &b);
+    qmul(&g, &g, &g);
+    qadd(&t, &b, &g);
+    t = qf_scale2(qf_sqrt(t), -2);
+    qadd(&fig[0], &fig[0], &t);
     return 1;
 }
 
@@ -963,10 +984,14 @@ static SPVS_Q_NOINLINE int arrival_decide(spvs_q_ctl_t *c, const spvs_q_ctl_para
 {
     uint32_t *sat = &c->sat;
     uint32_t tel = 0; /* telemetry clamps (a corner behind the camera) */
-    spvs_qf_t r[6], fig[3], t;
+    /* The averaged residual and the figures in the state's scratch, off
+     * the stack of the deepest path. */
+    spvs_qf_t *const r = c->arr_r, *const fig = c->arr_fig;
+    spvs_qf_t t, a;
     t = spvs_qf_recip(qf_of(c->arrive_n, 0), sat);
     for (int k = 0; k < 6; k++) {
-        r[k] = spvs_qf_mul(qf_of(c->arrive_sum[k], SPVS_QH), t);
+        a = qf_of(c->arrive_sum[k], SPVS_QH);
+        qmul(&r[k], &a, &t);
     }
     corner_figures(p, r, fig, sat);
     c->arrival_corner_px = spvs_qf_to_q32(fig[0], SPVS_QCTL_PX, &tel);

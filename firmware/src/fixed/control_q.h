@@ -154,6 +154,8 @@ typedef struct {
         arrival_depth_px, arrival_h13_px, arrival_parallax_px; /* Q16 px */
     int64_t arrive_par_sum;   /* Q16 px */
     uint16_t arrive_par_n;
+    spvs_qf_t arr_r[6];       /* the arrival check's scratch: the averaged */
+    spvs_qf_t arr_fig[3];     /*   residual and the corner figures          */
     spvs_qf_t slope_sig;      /* Q27 signal units per metre, as a value */
     spvs_qf_t slope_h33;
     int32_t reentry_d0;       /* Q27 */

@@ -53,8 +53,15 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
     int half;
     uint32_t f;
     const uint32_t y = spvs_q_rsqrt(n2, &half, &f);
-    *ux = (int32_t)spvs_q_rsh((int64_t)x * y, half);
-    *uz = (int32_t)spvs_q_rsh((int64_t)z * y, half);
+    /* half is 30 or 31 (n2 has 59 to 62 bits): two constant shifts, not
+     * a 64-bit shift by a variable amount. */
+    if (half == 30) {
+        *ux = (int32_t)spvs_q_rsh((int64_t)x * y, 30);
+        *uz = (int32_t)spvs_q_rsh((int64_t)z * y, 30);
+    } else {
+        *ux = (int32_t)spvs_q_rsh((int64_t)x * y, 31);
+        *uz = (int32_t)spvs_q_rsh((int64_t)z * y, 31);
+    }
     *sh_out = sh;
     *n2_out = n2;
     return 1;
@@ -90,26 +97,93 @@ static void line_directions(const int32_t H[9], const int32_t (*pts)[4], const u
     }
 }
 
-/* 1 when unit direction (xi, zi) lies within the cone of squared sine
- * tol (Q62) around (xj, zj): dot > 0 and cross^2 <= tol.  dot and cross
- * are Q60 (|.| < 2^61 for |u| <= 2^30 (1 + 2^-27)); |cross| truncated to
- * Q31 (below 2^32) and squared in Q62 (below 2^64): the test is exact up
- * to 2^-31 on the sine (2^-30 sin on sin^2, 1e-8 of the default 0.01). */
-static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj, uint64_t tol)
+/* The cone of squared sine tol (Q62, below 2^63) around a direction,
+ * as bounds on the cross product (below). */
+typedef struct {
+    uint64_t lim;   /* (floor(sqrt(tol)) + 1) 2^29 - 1, below 2^61 */
+    uint32_t lh;    /* lim's high word, below 2^29                 */
+} cone_t;
+
+static cone_t cone_of(uint64_t tol)
 {
+    cone_t k;
+    k.lim = (((uint64_t)spvs_q_isqrt64(tol) + 1u) << 29) - 1u;
+    k.lh = (uint32_t)(k.lim >> 32);
+    return k;
+}
+
+/* 1 when unit direction (xi, zi) lies within the cone k around (xj, zj):
+ * dot > 0 and cross^2 <= tol.  dot and cross are Q60 (|.| < 2^61 for
+ * |u| <= 2^30 (1 + 2^-27)); the test on cross is floor(|cross| 2^-29)^2
+ * <= tol (|cross| to Q31, below 2^32, squared in Q62): exact up to 2^-31
+ * on the sine (2^-30 sin on sin^2, 1e-8 of the default 0.01).  With
+ * c = floor(|cross| 2^-29) and cmax = floor(sqrt(tol)), c^2 <= tol is
+ * c <= cmax, that is |cross| <= k.lim.  cross's high word ch decides it
+ * in 32 bits but at two values: ch in [-lh, lh - 1] puts |cross| below
+ * lh 2^32 <= lim (inside), ch above lh or below -lh - 1 puts it above
+ * (lh + 1) 2^32 > lim (outside); ch = lh or -lh - 1 takes the 64-bit
+ * comparison.  The same decision as the squares', with neither a square
+ * nor an absolute value per pair. */
+static SPVS_Q_NOINLINE int cone_edge(int64_t crs, const cone_t *k)
+{
+    return (uint64_t)crs + k->lim <= 2u * k->lim;
+}
+
+/* in_cone with nxj = -xj (|xj| <= 2^30 (1 + 2^-27), so no overflow): the
+ * cross product as one multiply and one multiply-accumulate, and the
+ * cross test first, which most pairs fail. */
+static SPVS_Q_INLINE int in_cone_n(int32_t xi, int32_t zi, int32_t xj, int32_t nxj, int32_t zj,
+                                   uint32_t lh, const cone_t *k)
+{
+    const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
+    const uint32_t u = (uint32_t)(int32_t)(crs >> 32) + lh;
+    /* u + 1 in [0, 2 lh + 1]: ch in [-lh - 1, lh]. */
+    if (u + 1u > 2u * lh + 1u) {
+        return 0;
+    }
     const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
     if (dot <= 0) {
         return 0;
     }
-    const int64_t crs = (int64_t)xi * zj - (int64_t)zi * xj;
-    const uint32_t c = (uint32_t)(spvs_q_abs64(crs) >> 29);
-    return (uint64_t)c * c <= tol;
+    return u < 2u * lh ? 1 : cone_edge(crs, k);
+}
+
+static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj, const cone_t *k)
+{
+    return in_cone_n(xi, zi, xj, -xj, zj, k->lh, k);
+}
+
+/* The supporters of direction (xj, zj) among the n unit directions of
+ * work: the consensus's inner loop (in_cone_n's tests, with ch's range
+ * as u1 = ch + lh + 1 in [0, 2 lh + 1] and the inside as u1 - 1 below
+ * 2 lh), in a function of its own so that its few values stay in
+ * registers. */
+static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, uint16_t n,
+                                           int32_t xj, int32_t zj, const cone_t *k)
+{
+    const uint32_t lh1 = k->lh + 1u, lh2p1 = 2u * k->lh + 1u;
+    const int32_t nxj = -xj;
+    uint32_t support = 0;
+    for (uint16_t i = 0; i < n; i++) {
+        const int32_t xi = work->ux[i], zi = work->uz[i];
+        const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
+        const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
+        if (u1 > lh2p1) {
+            continue;
+        }
+        const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
+        if (dot <= 0) {
+            continue;
+        }
+        support += u1 - 1u < lh2p1 - 1u ? 1u : (uint32_t)cone_edge(crs, k);
+    }
+    return (uint16_t)support;
 }
 
 /* epipole.c's 1-point consensus on the unit directions: the same
  * hypotheses, the same test (in_cone), the same tie rule (the first best).
  * Bound: SPVS_EPIPOLE_MAX_HYP x n_cand pair tests. */
-static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, uint64_t tol,
+static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, const cone_t *k,
                           uint16_t *best)
 {
     const int32_t *ux = work->ux, *uz = work->uz;
@@ -122,10 +196,7 @@ static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, ui
         if (xj == 0 && zj == 0) {
             continue;
         }
-        uint16_t support = 0;
-        for (uint16_t i = 0; i < n_cand; i++) {
-            support = (uint16_t)(support + in_cone(ux[i], uz[i], xj, zj, tol));
-        }
+        const uint16_t support = cone_count(work, n_cand, xj, zj, k);
         if (support > best_support) {
             best_support = support;
             *best = j;
@@ -184,7 +255,7 @@ static int32_t e_x_q16(int32_t dx, int32_t dz)
  * after entry i was read; the median turn, the epipole's direction and
  * e_x, the median parallax (the upper median, as epipole.c). */
 static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
-                   uint16_t n_cand, uint64_t tol, uint16_t best, spvs_q_epipole_t *out,
+                   uint16_t n_cand, const cone_t *k, uint16_t best, spvs_q_epipole_t *out,
                    uint8_t *support_out, spvs_q_epipole_work_t *work)
 {
     int32_t *const sines = work->ux;
@@ -193,7 +264,7 @@ static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *
     uint16_t n_t = 0, n_par = 0;
     for (uint16_t i = 0; i < n_cand; i++) {
         const int32_t xi = work->ux[i], zi = work->uz[i];
-        if (!in_cone(xi, zi, bx, bz, tol)) {
+        if (!in_cone(xi, zi, bx, bz, k)) {
             continue;
         }
         if (support_out) {
@@ -242,13 +313,13 @@ int spvs_q_epipole_estimate(const int32_t H[9], const int32_t (*pts)[4], const u
     if (sin_tol2_q30 < 0) {
         return SPVS_E_NO_PARALLAX;
     }
-    const uint64_t tol = (uint64_t)sin_tol2_q30 << 32; /* Q62, below 2^63 */
+    const cone_t k = cone_of((uint64_t)sin_tol2_q30 << 32); /* tol Q62, below 2^63 */
     uint16_t best = 0;
-    const uint16_t best_support = consensus(work, n_cand, tol, &best);
+    const uint16_t best_support = consensus(work, n_cand, &k, &best);
     if (best_support < min_support) {
         return SPVS_E_NO_PARALLAX;
     }
-    refine(H, pts, cand, n_cand, tol, best, out, support_out, work);
+    refine(H, pts, cand, n_cand, &k, best, out, support_out, work);
     out->n_support = best_support;
     return SPVS_OK;
 }

@@ -84,11 +84,17 @@ SPVS_NODISCARD int spvs_q_epipole_estimate(const int32_t H[9], const int32_t (*p
 #define SPVS_Q_W_EPS_Q53 ((int64_t)9007199254)
 
 /* x 2^-s rounded to nearest (ties up) for s in 0..63, inline (the
- * per-point shifts; q.h's spvs_q_rshift_rnd64 is a call at -Os): the
- * rounding bit is added after the shift, so nothing overflows. */
+ * per-point shifts; q.h's spvs_q_rshift_rnd64 is a call at -Os).  With
+ * y = floor(x 2^(1 - s)), floor(x 2^-s + 1/2) = ceil(y / 2) = (y >> 1) +
+ * (y & 1): one shift by a variable amount (a 64-bit one is several
+ * instructions on the Cortex-M3) and one by 1, and nothing overflows. */
 static SPVS_Q_INLINE int64_t spvs_q_rsh(int64_t x, int s)
 {
-    return s == 0 ? x : (x >> s) + ((x >> (s - 1)) & 1);
+    if (s == 0) {
+        return x;
+    }
+    const int64_t y = x >> (s - 1);
+    return (y >> 1) + (y & 1);
 }
 
 /* Bits of the magnitude m (0 for 0), inline: one or two CLZ. */
@@ -185,6 +191,55 @@ static SPVS_Q_INLINE int32_t spvs_q_ratio_fast(int32_t n28, int32_t r, int k)
     return hi > lim ? SPVS_Q_I32_MAX : (hi < -lim ? -SPVS_Q_I32_MAX : hi * (1 << up));
 }
 
+/* spvs_q_transfer's first half, shared with the off-plane stage's
+ * threshold test: w and g exact in Q53, SPVS_Q_TF_BEHIND for w <=
+ * SPVS_W_EPS, SPVS_Q_TF_GEN where the fast path's bounds fail, else
+ * SPVS_Q_TF_FAST with its Q28 values (below). */
+#define SPVS_Q_TF_BEHIND 0
+#define SPVS_Q_TF_FAST 1
+#define SPVS_Q_TF_GEN 2
+typedef struct {
+    int32_t nx28, ny28; /* the numerators n 2^-26 rounded, |.| <= 2^30 */
+    int32_t w28;        /* w in Q28, in (2^8, 2^30)                     */
+} spvs_q_tf_t;
+
+static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t p[4],
+                                               spvs_q_tf_t *f)
+{
+    const int64_t w = (int64_t)H[6] * p[0] + (int64_t)H[7] * p[1] + (int64_t)H[8] * ((int64_t)1 << 26);
+    if (w <= SPVS_Q_W_EPS_Q53) {
+        return SPVS_Q_TF_BEHIND;
+    }
+    const int64_t g = (int64_t)H[0] * p[0] + (int64_t)H[1] * p[1] + (int64_t)H[2] * ((int64_t)1 << 26);
+    const int64_t b55 = (int64_t)1 << 55, b56 = (int64_t)1 << 56;
+    if (w < b55 && (uint64_t)(g + b55) < (uint64_t)b55 * 2u) {
+        const int32_t w28 = spvs_q_opaque32((int32_t)((w + ((int64_t)1 << 24)) >> 25));
+        const int32_t g28 = (int32_t)((g + ((int64_t)1 << 24)) >> 25);
+        /* Q54: |g28 2^26| < 2^56, |x_cur w28| < 2^60. */
+        const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)p[2] * w28;
+        const int64_t ny = (int64_t)p[1] * ((int64_t)1 << 28) - (int64_t)p[3] * w28;
+        if ((uint64_t)(nx + b56) < (uint64_t)b56 * 2u && (uint64_t)(ny + b56) < (uint64_t)b56 * 2u) {
+            f->w28 = w28;
+            f->nx28 = spvs_q_opaque32((int32_t)((nx + ((int64_t)1 << 25)) >> 26));
+            f->ny28 = spvs_q_opaque32((int32_t)((ny + ((int64_t)1 << 25)) >> 26));
+            return SPVS_Q_TF_FAST;
+        }
+    }
+    return SPVS_Q_TF_GEN;
+}
+
+/* The fast path's second half: 1 / w28 = r 2^(k - 61) with k in 0..22,
+ * r clamped below 2^31 (2^-31 relative); n28 / w28 in Q26 is
+ * n28 r 2^(k - 35): spvs_q_ratio_fast. */
+static SPVS_Q_INLINE void spvs_q_transfer_fast(const spvs_q_tf_t *f, int32_t *du, int32_t *dv)
+{
+    const int k = spvs_q_clz32((uint32_t)f->w28) - 1;
+    const uint32_t r0 = spvs_q_recip31((uint32_t)f->w28 << k);
+    const int32_t r = spvs_q_opaque32(r0 > 0x7FFFFFFFu ? 0x7FFFFFFF : (int32_t)r0);
+    *du = spvs_q_ratio_fast(f->nx28, r, k);
+    *dv = spvs_q_ratio_fast(f->ny28, r, k);
+}
+
 /* The transfer residual (du, dv) = H p_tgt / w - p_cur of row p in Q26
  * scaled units, saturated at +-(2^31 - 1) (32 scaled units); 0 when
  * w <= SPVS_W_EPS (float's spvs_h_transfer_err2 returns -1 there), else 1.
@@ -205,33 +260,16 @@ static SPVS_Q_INLINE int32_t spvs_q_ratio_fast(int32_t n28, int32_t r, int k)
 static SPVS_Q_INLINE int spvs_q_transfer(const int32_t H[9], const int32_t p[4], int32_t *du,
                                          int32_t *dv)
 {
-    const int64_t w = (int64_t)H[6] * p[0] + (int64_t)H[7] * p[1] + (int64_t)H[8] * ((int64_t)1 << 26);
-    if (w <= SPVS_Q_W_EPS_Q53) {
+    spvs_q_tf_t f;
+    const int path = spvs_q_transfer_front(H, p, &f);
+    if (path == SPVS_Q_TF_BEHIND) {
         return 0;
     }
-    const int64_t g = (int64_t)H[0] * p[0] + (int64_t)H[1] * p[1] + (int64_t)H[2] * ((int64_t)1 << 26);
-    const int64_t b55 = (int64_t)1 << 55, b56 = (int64_t)1 << 56;
-    if (w < b55 && (uint64_t)(g + b55) < (uint64_t)b55 * 2u) {
-        const int32_t w28 = spvs_q_opaque32((int32_t)((w + ((int64_t)1 << 24)) >> 25));
-        const int32_t g28 = (int32_t)((g + ((int64_t)1 << 24)) >> 25);
-        /* Q54: |g28 2^26| < 2^56, |x_cur w28| < 2^60. */
-        const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)p[2] * w28;
-        const int64_t ny = (int64_t)p[1] * ((int64_t)1 << 28) - (int64_t)p[3] * w28;
-        if ((uint64_t)(nx + b56) < (uint64_t)b56 * 2u && (uint64_t)(ny + b56) < (uint64_t)b56 * 2u) {
-            /* n28 = n 2^-26 rounded, |.| <= 2^30; 1 / w28 = r 2^(k - 61)
-             * with k in 0..22, r clamped below 2^31 (2^-31 relative);
-             * n28 / w28 in Q26 is n28 r 2^(k - 35): spvs_q_ratio_fast. */
-            const int k = spvs_q_clz32((uint32_t)w28) - 1;
-            const uint32_t r0 = spvs_q_recip31((uint32_t)w28 << k);
-            const int32_t r = spvs_q_opaque32(r0 > 0x7FFFFFFFu ? 0x7FFFFFFF : (int32_t)r0);
-            const int32_t nx28 = spvs_q_opaque32((int32_t)((nx + ((int64_t)1 << 25)) >> 26));
-            const int32_t ny28 = spvs_q_opaque32((int32_t)((ny + ((int64_t)1 << 25)) >> 26));
-            *du = spvs_q_ratio_fast(nx28, r, k);
-            *dv = spvs_q_ratio_fast(ny28, r, k);
-            return 1;
-        }
+    if (path == SPVS_Q_TF_FAST) {
+        spvs_q_transfer_fast(&f, du, dv);
+    } else {
+        spvs_q_transfer_gen(H, p, du, dv);
     }
-    spvs_q_transfer_gen(H, p, du, dv);
     return 1;
 }
 

@@ -38,19 +38,78 @@ uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m
     return n_plane;
 }
 
-/* offplane_q16^2 in Q52 scaled units^2: (2 offplane_q16)^2 (Q16 pixels
- * are Q25 scaled units), below 2^64 for any int32; negative is 0. */
-static uint64_t off2_q52(int32_t offplane_q16)
+/* The threshold: o = 2 offplane_q16, offplane_px in Q26 scaled units
+ * (Q16 pixels are Q25 scaled units), below 2^32; off2 = o^2 in Q52
+ * scaled units^2, below 2^64; negative is 0. */
+typedef struct {
+    uint64_t off2;
+    uint32_t o;
+} off_thr_t;
+
+static off_thr_t off_thr(int32_t offplane_q16)
 {
-    const uint64_t o = offplane_q16 > 0 ? 2u * (uint64_t)offplane_q16 : 0u;
-    return o * o;
+    off_thr_t t;
+    t.o = offplane_q16 > 0 ? 2u * (uint32_t)offplane_q16 : 0u;
+    t.off2 = (uint64_t)t.o * t.o;
+    return t;
 }
 
-/* 1 when e2 (spvs_q_transfer_err2: -1 for w <= SPVS_W_EPS) exceeds off2;
- * float's e2 > off2 with e2 = -1 is false too. */
-static SPVS_Q_INLINE int above(int64_t e2, uint64_t off2)
+/* The fast test below decides where o is in [2^13, 2^31) (0.06 px to
+ * 2^22 px). */
+#define OFF_FAST_MIN ((uint32_t)1 << 13)
+#define OFF_FAST_MAX ((uint32_t)1 << 31)
+
+/* Whether the squared transfer error of row p under H exceeds off2:
+ * -1 for w <= SPVS_W_EPS (float's e2 = -1, above no threshold), else 1
+ * when spvs_q_transfer's du^2 + dv^2 > off2, 0 when not; the same answer
+ * as computing that transfer, which takes a reciprocal and two scaled
+ * ratios, where most points are far from the threshold.
+ * On the fast path the ratio's exact value d = n28 / w28 (Q26: d 2^26)
+ * gives e = |d|^2 2^52 = A 2^52 / w28^2 with A = nx28^2 + ny28^2 (below
+ * 2^61), and e > off2 is A > t^2 with t = o w28 2^-26, where
+ * Q = floor(o w28 2^-26) <= t < Q + 1 (o w28 < 2^61).  spvs_q_transfer's
+ * du is within 2^-27 |d| + 1 unit of d 2^26 for w28 >= 2^25 (k <= 5 in
+ * spvs_q_ratio_fast: the reciprocal's 2^-28 and its clamp's 2^-31, 1/2
+ * unit of Q(31 - k), 1/2 of Q26), so its e2 is within 2^-26 e +
+ * 2.9 sqrt(e) + 2 of e.  With o >= 2^13, A above (Q + 1 + (Q + 1) / 2^8)^2
+ * makes e > off2 (1 + 2^-7) and e2 > off2; A below (Q - Q / 2^8 - 1)^2
+ * makes e < off2 (1 - 2^-8) and e2 < off2.  Between, and off the fast
+ * path, the transfer decides. */
+static SPVS_Q_NOINLINE int64_t err2_call(const int32_t H[9], const int32_t p[4])
 {
-    return e2 >= 0 && (uint64_t)e2 > off2;
+    return spvs_q_transfer_err2(H, p);
+}
+
+static SPVS_Q_INLINE int transfer_above(const int32_t H[9], const int32_t p[4], off_thr_t t)
+{
+    spvs_q_tf_t f;
+    const int path = spvs_q_transfer_front(H, p, &f);
+    if (path == SPVS_Q_TF_BEHIND) {
+        return -1;
+    }
+    if (path == SPVS_Q_TF_FAST) {
+        if (t.o >= OFF_FAST_MIN && t.o < OFF_FAST_MAX && f.w28 >= ((int32_t)1 << 25)) {
+            const uint64_t A = (uint64_t)((int64_t)f.nx28 * f.nx28) +
+                               (uint64_t)((int64_t)f.ny28 * f.ny28);
+            const uint64_t Q = ((uint64_t)t.o * (uint32_t)f.w28) >> 26;
+            /* Q < 2^35; from 2^31 on, (Q - Q / 2^8 - 1)^2 > 2^61 > A. */
+            if (Q >= ((uint64_t)1 << 31)) {
+                return 0;
+            }
+            const uint64_t hi = Q + 1u + ((Q + 1u) >> 8); /* below 2^31.01 */
+            if (A > hi * hi) {
+                return 1;
+            }
+            const uint64_t lo = Q - (Q >> 8);
+            if (lo >= 1u && A < (lo - 1u) * (lo - 1u)) {
+                return 0;
+            }
+        }
+    }
+    /* Near the threshold or off the fast path (rare): the transfer itself,
+     * out of line (it repeats the first half), so that flash holds one
+     * copy of it; w > SPVS_W_EPS, so its e2 is not negative. */
+    return (uint64_t)err2_call(H, p) > t.off2;
 }
 
 /* num 2^e / det (id = 1 / det) in Q27, rounded, saturated (flagged). */
@@ -94,21 +153,46 @@ static int inverse_q(const int32_t H[9], int32_t Hi[9], int *out_of_range)
 }
 
 /* offplane.c's off_plane on a Q26 row: the forward error above off2, and
- * the back one too where Hi is given. */
+ * the back one too where Hi is given (a back transfer behind the camera
+ * does not count against it).  One loop over the two tests, so that the
+ * transfer is inlined once. */
 static SPVS_Q_INLINE int off_plane(const int32_t H[9], const int32_t *Hi, const int32_t q[4],
-                                   uint64_t off2)
+                                   off_thr_t t)
 {
-    if (!above(spvs_q_transfer_err2(H, q), off2)) {
-        return 0;
-    }
-    if (Hi != 0) {
-        const int32_t back[4] = {q[2], q[3], q[0], q[1]};
-        const int64_t b2 = spvs_q_transfer_err2(Hi, back);
-        if (b2 >= 0 && !above(b2, off2)) {
+    const int32_t back[4] = {q[2], q[3], q[0], q[1]};
+    const int32_t *M = H, *p = q;
+    /* Bound: two tests, forward and back. */
+    for (int dir = 0; dir < 2; dir++) {
+        const int a = transfer_above(M, p, t);
+        if (dir == 0 ? a != 1 : a == 0) {
             return 0;
         }
+        if (Hi == 0) {
+            break;
+        }
+        M = Hi;
+        p = back;
     }
     return 1;
+}
+
+/* transfer_above as a call, for the few supporters spvs_q_offplane_remember
+ * tests (one copy of the transfer in flash rather than another inline). */
+static SPVS_Q_NOINLINE int transfer_above_call(const int32_t H[9], const int32_t p[4],
+                                               const off_thr_t *t)
+{
+    return transfer_above(H, p, *t);
+}
+
+/* The first i' >= i below n with mask[i'] == 0, or n: the scan over the
+ * inliers, most of the plane's points, in a loop of its own (bound: n -
+ * i steps). */
+static SPVS_Q_NOINLINE uint16_t next_rejected(const uint8_t *mask, uint32_t i, uint32_t n)
+{
+    while (i < n && mask[i] != 0u) {
+        i++;
+    }
+    return (uint16_t)i;
 }
 
 static SPVS_Q_INLINE void take(spvs_q_offplane_t *o, uint16_t i)
@@ -121,7 +205,7 @@ static SPVS_Q_INLINE void take(spvs_q_offplane_t *o, uint16_t i)
 void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
                              int32_t offplane_q16)
 {
-    const uint64_t off2 = off2_q52(offplane_q16);
+    const off_thr_t thr = off_thr(offplane_q16);
     o->n_cand = 0;
     for (uint16_t i = e->n_plane; i < e->n_pts && o->n_cand < SPVS_MAX_OFFPLANE; i++) {
         spvs_q_pts_row(&e->pts, i, o->cand_pts[o->n_cand]);
@@ -134,13 +218,15 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
     if (oor && o->hi_out_of_range < UINT16_MAX) {
         o->hi_out_of_range++;
     }
-    for (uint16_t i = 0; i < e->n_plane && o->n_cand < SPVS_MAX_OFFPLANE; i++) {
-        if (e->mask[i]) {
-            continue;
+    const uint16_t n_plane = e->n_plane;
+    for (uint16_t i = next_rejected(e->mask, 0, n_plane); i < n_plane;
+         i = next_rejected(e->mask, i + 1u, n_plane)) {
+        if (o->n_cand >= SPVS_MAX_OFFPLANE) {
+            break;
         }
         int32_t *const q = o->cand_pts[o->n_cand];
         spvs_q_pts_row(&e->pts, i, q);
-        if (off_plane(e->H, hi, q, off2)) {
+        if (off_plane(e->H, hi, q, thr)) {
             take(o, i);
         }
     }
@@ -151,7 +237,7 @@ int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int
 {
     uint16_t nv = 0;
     for (uint16_t k = 0; k < o->n_cand_known; k++) {
-        const int64_t e2 = spvs_q_transfer_err2(H, o->cand_pts[k]);
+        const int64_t e2 = err2_call(H, o->cand_pts[k]);
         if (e2 < 0) {
             continue;
         }
@@ -169,24 +255,39 @@ int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int
 void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
                               int32_t parallax_q16, int32_t offplane_q16)
 {
-    const uint64_t off2 = off2_q52(offplane_q16);
+    const off_thr_t thr = off_thr(offplane_q16);
+    /* The count and the bounds in locals: every store into the int8
+     * scores may alias them, so the compiler would reload them per
+     * point. */
+    uint16_t n_known = o->n_known;
+    int8_t *const scores = o->score;
+    const uint16_t *const feat = e->feat;
     if (e_ok) {
-        for (uint16_t k = 0; k < o->n_cand; k++) {
-            int8_t *score = &o->score[e->feat[o->cand[k]]];
-            if (o->support[k] && *score < SPVS_OFFPLANE_MAX &&
-                above(spvs_q_transfer_err2(e->H, o->cand_pts[k]), off2)) {
+        const uint16_t n_cand = o->n_cand;
+        for (uint16_t k = 0; k < n_cand; k++) {
+            if (!o->support[k]) {
+                continue;
+            }
+            int8_t *score = &scores[feat[o->cand[k]]];
+            if (*score < SPVS_OFFPLANE_MAX && transfer_above_call(e->H, o->cand_pts[k], &thr) == 1) {
                 (*score)++;
-                o->n_known = (uint16_t)(o->n_known + (*score == SPVS_OFFPLANE_ON));
+                n_known = (uint16_t)(n_known + (*score == SPVS_OFFPLANE_ON));
             }
         }
     }
     if ((int64_t)parallax_q16 > (int64_t)SPVS_PARALLAX_CLEAR * offplane_q16) {
-        for (uint16_t i = 0; i < e->n_plane; i++) {
-            int8_t *score = &o->score[e->feat[i]];
-            if (e->mask[i] && *score > SPVS_OFFPLANE_MIN) {
-                o->n_known = (uint16_t)(o->n_known - (*score == SPVS_OFFPLANE_ON));
+        const uint16_t n_plane = e->n_plane;
+        const uint8_t *const mask = e->mask;
+        for (uint16_t i = 0; i < n_plane; i++) {
+            if (!mask[i]) {
+                continue;
+            }
+            int8_t *score = &scores[feat[i]];
+            if (*score > SPVS_OFFPLANE_MIN) {
+                n_known = (uint16_t)(n_known - (*score == SPVS_OFFPLANE_ON));
                 (*score)--;
             }
         }
     }
+    o->n_known = n_known;
 }

@@ -46,7 +46,7 @@ static int q_frame_error(const spvs_match_t *m, uint16_t n)
             uint32_t sat = 0;
             int below = 0;
             const int32_t r = spvs_q_from_ieee(v, 0, &sat, &below);
-            const int32_t a = r < 0 ? -r : r;
+            const int64_t a = r < 0 ? -(int64_t)r : r;
             if (sat != 0u || a > SPVS_MAX_COORD_PX || (a == SPVS_MAX_COORD_PX && below)) {
                 return SPVS_E_RANGE;
             }

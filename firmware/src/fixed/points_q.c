@@ -87,7 +87,13 @@ static int32_t from_f32(spvs_real c, int f, uint32_t *sat, int *below)
 }
 #endif
 
-static int32_t load_coord(spvs_real c, int px_frac, int32_t lim, uint32_t *bad)
+/* |q|, with INT32_MIN (a clamped value) as INT32_MAX. */
+static SPVS_Q_INLINE int32_t q_abs_clamp(int32_t q)
+{
+    return q < 0 ? (q == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -q) : q;
+}
+
+static SPVS_Q_NOINLINE int32_t load_coord(spvs_real c, int px_frac, int32_t lim, uint32_t *bad)
 {
     uint32_t f = 0;
     int below = 0;
@@ -96,8 +102,40 @@ static int32_t load_coord(spvs_real c, int px_frac, int32_t lim, uint32_t *bad)
 #else
     const int32_t q = from_f32(c, px_frac, &f, &below);
 #endif
-    const int32_t a = q < 0 ? (q == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -q) : q;
+    const int32_t a = q_abs_clamp(q);
     *bad |= (f & SPVS_Q_NONFINITE) | ((a > lim || (a == lim && below)) ? SPVS_Q_SAT : 0u);
+    return q;
+}
+
+/* load_coord, with *mag = |result| (INT32_MIN as INT32_MAX).  A float32
+ * whose shift s (mantissa to Q(px_frac)) is in -24..7 is a normal number
+ * (0 and 255 as exponents put s far outside), and its Q value is the
+ * 24-bit mantissa rounded at a fixed position with no flag to set unless
+ * it reaches lim: there the 32-bit mantissa (bit 31 the implicit one)
+ * shifted right by 7 - s in 0..31 is the value times 2, and adding one
+ * before halving rounds half up (ties away from zero on the magnitude),
+ * the general conversion's rounding.  Everything else (larger or smaller
+ * magnitudes, subnormals, NaN and infinity, a value at the limit) takes
+ * the general path. */
+static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t lim, uint32_t *bad,
+                                            int32_t *mag)
+{
+#if !SPVS_USE_DOUBLE
+    uint32_t b;
+    memcpy(&b, &c, sizeof b);
+    const int s = (int)((b >> 23) & 0xffu) - 150 + px_frac;
+    if ((uint32_t)(s + 24) <= 31u) {
+        const uint32_t m8 = (b << 8) | 0x80000000u;
+        const uint32_t a = ((m8 >> (7 - s)) + 1u) >> 1;
+        if (a < (uint32_t)lim) {
+            const int32_t sg = (int32_t)b >> 31;
+            *mag = (int32_t)a;
+            return ((int32_t)a ^ sg) - sg;
+        }
+    }
+#endif
+    const int32_t q = load_coord(c, px_frac, lim, bad);
+    *mag = q_abs_clamp(q);
     return q;
 }
 
@@ -117,16 +155,13 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
         bad |= f >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
         feat[k] = f;
         int32_t *const r = &st->v[4u * k];
-        r[0] = load_coord(m[i].x_tgt, px_frac, lim, &bad);
-        r[1] = load_coord(m[i].y_tgt, px_frac, lim, &bad);
-        r[2] = load_coord(m[i].x_cur, px_frac, lim, &bad);
-        r[3] = load_coord(m[i].y_cur, px_frac, lim, &bad);
-        const int32_t ax = r[0] < 0 ? (r[0] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[0]) : r[0];
-        const int32_t ay = r[1] < 0 ? (r[1] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[1]) : r[1];
+        int32_t ax, ay, au, av;
+        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, &bad, &ax);
+        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, &bad, &ay);
+        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, &bad, &au);
+        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, &bad, &av);
         xm = ax > xm ? ax : xm;
         ym = ay > ym ? ay : ym;
-        const int32_t au = r[2] < 0 ? (r[2] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[2]) : r[2];
-        const int32_t av = r[3] < 0 ? (r[3] == SPVS_Q_I32_MIN ? SPVS_Q_I32_MAX : -r[3]) : r[3];
         um = au > um ? au : um;
         vm = av > vm ? av : vm;
     }
@@ -350,9 +385,10 @@ spvs_q_thr_t spvs_q_thr(spvs_qf_t t2)
 typedef struct {
     int fast;
     int32_t T;
-    uint32_t d2;      /* 2 D, the slack's factor */
-    int64_t h2c, h8c; /* h13 2^26 and h33 2^26: the constant terms, Q53 */
-    uint64_t c2s;     /* c2 + 4 D^2, or UINT64_MAX / 2: no band test */
+    int32_t nh0, nh1; /* -h11, -h12 (|h| < 2^31: no overflow) */
+    int64_t nh2c;     /* -h13 2^26, Q53: ex's constant term */
+    int64_t h8c;      /* h33 2^26, Q53: w's constant term */
+    uint64_t c2s;     /* c2 + 16 D^2 (q_fast's form), or above 2^62: no band test */
     /* The band's Sampson test (q_band_sampson): sfast = -1 until its
      * constants are made (sampson_prep, at the model's first band point),
      * then 1 (on) or 0 (off: the band goes to the exact test). */
@@ -482,7 +518,9 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     q_model_t md;
     md.fast = 0;
     const int64_t one26 = (int64_t)1 << 26;
-    md.h2c = (int64_t)h[2] * one26;
+    md.nh0 = -h[0];
+    md.nh1 = -h[1];
+    md.nh2c = -((int64_t)h[2] * one26);
     md.h8c = (int64_t)h[8] * one26;
     int64_t a[9];
     h_abs(h, a);
@@ -507,12 +545,13 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
         return md;
     }
     md.T = thr->T;
-    /* c2 + 4 D^2 in Q42 (the units of E); 2^62 (beyond any E) means "no
-     * band test": every point not inside goes to the exact test.  T
-     * rounded down makes TW fall short of t^2 w^2 only within the slack. */
+    /* c2 + 4 D^2 in Q42 (the units of E), plus the 12 D^2 of q_fast's
+     * completed squares; 2^62 (beyond any E) means "no band test": every
+     * point not inside goes to the exact test.  T rounded down makes TW
+     * fall short of t^2 w^2 only within the slack. */
     const int64_t c2 = band_c2(st, h, thr->t2);
-    md.c2s = (uint64_t)c2 + (c2 < ((int64_t)1 << 62) ? 4u * Q_FAST_D * Q_FAST_D : 0u);
-    md.d2 = 2u * Q_FAST_D;
+    md.c2s = (uint64_t)c2 + (c2 < ((int64_t)1 << 62) ? 4u * Q_FAST_D * Q_FAST_D : 0u) +
+             12u * Q_FAST_D * Q_FAST_D;
     md.fast = 1;
     md.sfast = -1;
     md.st = st;
@@ -523,10 +562,11 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
 /* The outcomes of the fast test of one point. */
 enum { Q_EXACT = -1, Q_OUT = 0, Q_IN = 1, Q_BAND = 2 };
 
-/* w = h3 . p, exact in Q53 (as q_eps). */
+/* w = h3 . p, exact in Q53 (as q_eps).  The constant first: the sum is
+ * one 64-bit load and two multiply-accumulates. */
 static SPVS_Q_INLINE int64_t q_w(const int32_t *h, const int32_t *p, const q_model_t *md)
 {
-    return (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1] + md->h8c;
+    return md->h8c + (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1];
 }
 
 /* The fast test's high words of one point with w > 0 (model_prep's
@@ -536,13 +576,14 @@ typedef struct {
     uint32_t tw;
 } q_hw_t;
 
-static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *h, const int32_t *p, const q_model_t *md,
-                                 int64_t w)
+static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *p, const q_model_t *md, int64_t w)
 {
     q_hw_t r;
-    const int64_t g = (int64_t)h[0] * p[0] + (int64_t)h[1] * p[1] + md->h2c;
     const int32_t w27 = (int32_t)(w >> 26);
-    r.exh = (int32_t)(((int64_t)p[2] * w27 - g) >> 32);
+    /* ex = u w27 - h1 . p as one chain of multiply-accumulates on the
+     * negated row (exact: every partial sum is below 2^63). */
+    r.exh = (int32_t)((md->nh2c + (int64_t)p[2] * w27 + (int64_t)md->nh0 * p[0] +
+                       (int64_t)md->nh1 * p[1]) >> 32);
     /* y 2^27 as a product, so that the sum is one multiply-accumulate. */
     r.eyh = (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
     r.tw = (uint32_t)(((int64_t)md->T * w27) >> 32);
@@ -562,7 +603,7 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_
     if (!md->sfast) {
         return Q_EXACT;
     }
-    const q_hw_t r = q_hw(h, p, md, q_w(h, p, md));
+    const q_hw_t r = q_hw(p, md, q_w(h, p, md));
     const int sh = md->sh;
     const int64_t u = p[2], v = p[3];
     /* Pi in Q21, then Q(21 - sh): high words of sums below 2^62. */
@@ -617,21 +658,27 @@ static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_mode
     if (w <= 0) {
         return Q_OUT;
     }
-    const q_hw_t r = q_hw(h, p, md, w);
+    const q_hw_t r = q_hw(p, md, w);
     /* Squares of magnitudes: unsigned 32 x 32 -> 64 products. */
     const uint32_t ax = (uint32_t)(r.exh < 0 ? -r.exh : r.exh);
     const uint32_t ay = (uint32_t)(r.eyh < 0 ? -r.eyh : r.eyh);
-    const uint64_t E = (uint64_t)ax * ax + (uint64_t)ay * ay;
-    const uint64_t TW = (uint64_t)r.tw * r.tw;
+    /* E + 13 D^2: both tests below compare it, so the constants are
+     * folded into squares (integers: the same decisions as the plain
+     * forms in the comments). */
+    const uint64_t E13 =
+        (uint64_t)(13 * Q_FAST_D * Q_FAST_D) + (uint64_t)ax * ax + (uint64_t)ay * ay;
     /* Inside: E + slack <= TW.  Where E <= TW, ax and ay are at most tw,
-     * so slack <= 2 D 3 tw + 4 D^2, a 32-bit figure (tw < 2^27); testing
-     * E against TW less that bound is sufficient. */
-    if (E + (6u * Q_FAST_D * r.tw + 4u * Q_FAST_D * Q_FAST_D) <= TW) {
+     * so slack <= 2 D 3 tw + 4 D^2 (tw < 2^27), and testing
+     * E + 6 D tw + 4 D^2 <= tw^2, which is E + 13 D^2 <= (tw - 3 D)^2, is
+     * sufficient (tw < 3 D fails both forms: (tw - 3 D)^2 <= 9 D^2). */
+    const int32_t ti = (int32_t)r.tw - 3 * Q_FAST_D;
+    if (E13 <= (uint64_t)((int64_t)ti * ti)) {
         return Q_IN;
     }
-    /* Beyond: E > TW + c2 + slack (md->c2s holds c2 + 4 D^2, md->d2 is
-     * 2 D: one multiply-accumulate). */
-    if (E > TW + md->c2s + (uint64_t)(ax + ay + r.tw) * md->d2) {
+    /* Beyond: E > TW + c2 + 4 D^2 + 2 D (ax + ay + tw), that is
+     * E + 13 D^2 > (tw + D)^2 + 2 D (ax + ay) + c2 + 16 D^2 (md->c2s). */
+    const uint32_t to = r.tw + Q_FAST_D;
+    if (E13 > md->c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
         return Q_OUT;
     }
     return Q_BAND;
@@ -978,7 +1025,10 @@ static SPVS_Q_INLINE int32_t q_recip_fast(uint32_t m)
 typedef struct {
     int ok;
     int32_t qr;
-    int64_t h0c, h1c, h2c, h8c; /* h11, h12, h13, h33 times 2^26, Q53 */
+    int32_t nh0, nh1; /* -h11, -h12 (|h| < 2^31: no overflow) */
+    /* -h13 and h33 times 2^26, Q53: the constant terms, so that each
+     * per-point sum starts from one and multiply-accumulates. */
+    int64_t nh2c, h8c;
 } q_lin_t;
 
 #define LIN_EB 5 /* |eps| < 2^-LIN_EB scaled units on the fast path */
@@ -992,10 +1042,10 @@ static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], co
     L.ok = 0;
     L.qr = 0;
     const int64_t one26 = (int64_t)1 << 26;
-    L.h0c = (int64_t)h[0] * one26;
-    L.h1c = (int64_t)h[1] * one26;
-    L.h2c = (int64_t)h[2] * one26;
+    L.nh2c = -((int64_t)h[2] * one26);
     L.h8c = (int64_t)h[8] * one26;
+    L.nh0 = -h[0];
+    L.nh1 = -h[1];
     int64_t a[9];
     h_abs(h, a);
     const int64_t X = tgt_max[0], Y = tgt_max[1];
@@ -1051,10 +1101,10 @@ typedef struct {
 static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_t *L, q_lw_t *o)
 {
     const int32_t x = p[0], y = p[1], u = p[2], v = p[3];
-    const int64_t w = (int64_t)h[6] * x + (int64_t)h[7] * y + L->h8c;
-    const int64_t g = (int64_t)h[0] * x + (int64_t)h[1] * y + L->h2c;
+    const int64_t w = L->h8c + (int64_t)h[6] * x + (int64_t)h[7] * y;
     const int32_t w27 = (int32_t)(w >> 26);
-    const int64_t ex53 = (int64_t)u * w27 - g;
+    /* u w27 - h1 . p (exact: every partial sum below 2^63). */
+    const int64_t ex53 = L->nh2c + (int64_t)u * w27 + (int64_t)L->nh0 * x + (int64_t)L->nh1 * y;
     const int64_t ey53 = (int64_t)v * w27 + (int64_t)y * (int32_t)-(1 << 27);
     const uint64_t elim = (uint64_t)1 << (53 - LIN_EB);
     if (spvs_q_abs64(ex53) >= elim || spvs_q_abs64(ey53) >= elim) {
@@ -1063,8 +1113,11 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     const int32_t ex = (int32_t)(ex53 >> 17), ey = (int32_t)(ey53 >> 17); /* Q36 */
     /* P (below 4) and w (below 4), Q28: their squares' sums below 3 2^60,
      * whose high words are J J^T in Q24. */
-    const int32_t P0 = (int32_t)(((int64_t)u * h[6] - L->h0c) >> 25);
-    const int32_t P1 = (int32_t)(((int64_t)u * h[7] - L->h1c) >> 25);
+    /* (u h31 - h11 2^26) 2^-25 rounded down is (u h31) 2^-25 rounded down
+     * less 2 h11, exact in int32: |u h31| and |h11| 2^26 are below 2^55
+     * on this path (lin_prep). */
+    const int32_t P0 = (int32_t)(((int64_t)u * h[6]) >> 25) + 2 * L->nh0;
+    const int32_t P1 = (int32_t)(((int64_t)u * h[7]) >> 25) + 2 * L->nh1;
     const int32_t P2 = (int32_t)(((int64_t)v * h[6]) >> 25);
     const int32_t P3 = (int32_t)(((int64_t)v * h[7]) >> 25) - (1 << 28);
     const int32_t w28 = w27 * 2;
@@ -1237,7 +1290,7 @@ static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
                                    const q_fit_t *F, int64_t G[9])
 {
     const int32_t x = p[0], y = p[1];
-    const int64_t w = (int64_t)h[6] * x + (int64_t)h[7] * y + F->h8c;
+    const int64_t w = F->h8c + (int64_t)h[6] * x + (int64_t)h[7] * y;
     const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^29) */
     /* 1 / w: w27 2^(n - 1) in [2^30, 2^31), so 1 / w = r 2^(n - 35), and in
      * Q28 r 2^(n - 7) with n in 3..6. */
