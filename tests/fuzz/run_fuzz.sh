@@ -24,7 +24,8 @@ if [ "$cmd" = build ]; then
   cc=${SPVS_FUZZ_CC:-clang}
   cmake -S "$here" -B "$dir" -G Ninja -DCMAKE_C_COMPILER="$cc" \
         -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-  cmake --build "$dir"
+  # Two jobs unless told otherwise: ctest may run other tests beside it.
+  cmake --build "$dir" -j "${CMAKE_BUILD_PARALLEL_LEVEL:-2}"
   exit 0
 fi
 [ "$cmd" = run ] && [ $# -ge 4 ] || usage
