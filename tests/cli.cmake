@@ -9,13 +9,6 @@ if(TARGET spvs_link_lockstep)
                 LABELS unit lcm TIMEOUT 60)
 endif()
 
-if(SPVS_FIXED)
-  set(cli_variant fixed)
-elseif(SPVS_DOUBLE)
-  set(cli_variant double)
-else()
-  set(cli_variant float)
-endif()
 set(cli_check /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_refused.py)
 
 # cli_refused(NAME PROGRAM TARGET SAYS ARGS...): TARGET run with ARGS is
@@ -23,7 +16,7 @@ set(cli_check /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_refused.py)
 function(cli_refused name program target says)
   add_test(NAME cli_bad_${name}
            COMMAND ${cli_check} ${program} ${says} -- $<TARGET_FILE:${target}> ${ARGN})
-  set_tests_properties(cli_bad_${name} PROPERTIES LABELS "${cli_variant};cli" TIMEOUT 60)
+  set_tests_properties(cli_bad_${name} PROPERTIES LABELS "${spvs_variant};cli" TIMEOUT 60)
 endfunction()
 
 # spvs-node: options and parameters, refused before LCM is opened.

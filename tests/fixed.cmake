@@ -1,48 +1,29 @@
 # The fixed-point arithmetic and the Q-format kernels (firmware/src/fixed,
 # docs/FIXED.md): against exact and double references and the float
-# kernels, on random scenes and the golden vectors.
-# (The float build only: the fixed-point build has no float twin.)
-if(NOT SPVS_FIXED)
-  spvs_add_test(NAME test_fixed_q SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_q.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_q PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-
-  # The 3-point solver in Q format (solve3_q.c).
-  spvs_add_test(NAME test_fixed_solve3 SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_solve3.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_solve3 PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-
-  # The linear fits' solves in Q format (fit_q.c): the two-stage linear fit
-  # and the joint fit's equilibrated Cholesky.
-  spvs_add_test(NAME test_fixed_fit SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_fit.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_fit PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-
-  # RANSAC on Q models (ransac_q.c) and its stopping rule in integers.
-  spvs_add_test(NAME test_fixed_ransac SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_ransac.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_ransac PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-
-  # The robust planar-motion H in fixed point (plane_h_q.c) against the
-  # float estimator on the same frames.
-  spvs_add_test(NAME test_fixed_plane_h SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_plane_h.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_plane_h PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-
-  # Q values to the public API's float and double bits (q.h).
-  spvs_add_test(NAME test_fixed_conv SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_conv.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 60)
-  target_include_directories(test_fixed_conv PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-
-  # The off-plane candidates, the epipole (offplane_q.c, epipole_q.c) and the
-  # control law (control_q.c) in fixed point against the float stages.
-  spvs_add_test(NAME test_fixed_epipole SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_epipole.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_epipole PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-  spvs_add_test(NAME test_fixed_control SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_control.c
-                LIBS spvs::fixed LABELS unit TIMEOUT 120)
-  target_include_directories(test_fixed_control PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
-endif()
+# kernels, on random scenes and the golden vectors.  Each is a Q stage
+# against its float twin (FLOAT_STAGES: not in the fixed-point build).
+#   q        the arithmetic (q.h) and the per-point kernels (points_q.c)
+#   solve3   the 3-point solver (solve3_q.c)
+#   fit      the linear fits' solves (fit_q.c): the two-stage linear fit and
+#            the joint fit's equilibrated Cholesky
+#   ransac   RANSAC on Q models (ransac_q.c) and its stopping rule in integers
+#   plane_h  the robust planar-motion H (plane_h_q.c) against the float
+#            estimator on the same frames, and spvs_q_estimate_h
+#   conv     Q values to the public API's float and double bits (q.h)
+#   epipole  the off-plane candidates and the epipole (offplane_q.c,
+#            epipole_q.c)
+#   control  the control law (control_q.c)
+foreach(case q:120 solve3:120 fit:120 ransac:120 plane_h:120 conv:60 epipole:120 control:120)
+  string(REPLACE ":" ";" case ${case})
+  list(GET case 0 stage)
+  list(GET case 1 seconds)
+  spvs_add_test(NAME test_fixed_${stage}
+                SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_${stage}.c
+                LIBS spvs::fixed LABELS unit TIMEOUT ${seconds} FLOAT_STAGES)
+  if(TARGET test_fixed_${stage})
+    target_include_directories(test_fixed_${stage} PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+  endif()
+endforeach()
 
 # The kernels compiled for a Cortex-M3 (no FPU, soft-float ABI) with the
 # core's warnings reference no floating-point helper, in both scalar

@@ -24,13 +24,6 @@ if(TARGET spvs_frontend)
                         spvs_clock ${CMOCKA_LIB} m)
   target_compile_options(test_frontend_loop PRIVATE -Wall -Wextra)
   set_target_properties(test_frontend_loop PROPERTIES LINKER_LANGUAGE CXX)
-  if(SPVS_FIXED)
-    set(frontend_variant fixed)
-  elseif(SPVS_DOUBLE)
-    set(frontend_variant double)
-  else()
-    set(frontend_variant float)
-  endif()
   set(frontend_loop_cases
     "m1_a|1|-3|-10|-30"
     "m2_a|2|-3|-10|-30"
@@ -67,7 +60,7 @@ if(TARGET spvs_frontend)
     add_test(NAME frontend_loop_${case_name}
              COMMAND test_frontend_loop ${case_args})
     set_tests_properties(frontend_loop_${case_name} PROPERTIES
-                         LABELS "${frontend_variant};images"
+                         LABELS "${spvs_variant};images"
                          TIMEOUT ${frontend_loop_timeout}
                          DISABLED ${image_loop_disabled}
                          ENVIRONMENT

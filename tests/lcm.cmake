@@ -7,27 +7,22 @@ if(TARGET spvs_node_lib)
                 LIBS spvs_node_lib LABELS "lcm;unit" TIMEOUT 60)
 
   if(SPVS_DOUBLE)
-    set(lcm_variant double)
     # Matches travel as float32, so a double build's two runs differ by the
     # rounding of the inputs, which the loop can amplify a little.
     set(lcm_tol_m 1e-3)
     set(lcm_tol_deg 1e-2)
   else()
-    set(lcm_variant float)
     # float build: the wire carries exactly what the core computes with, so
     # only the JSON printing can differ.
     set(lcm_tol_m 1e-9)
     set(lcm_tol_deg 1e-7)
-  endif()
-  if(SPVS_FIXED)
-    set(lcm_variant fixed)
   endif()
 
   add_test(NAME lcm_node_robust
            COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/node_robust.sh
                    $<TARGET_FILE:spvs-node> $<TARGET_FILE:test_node_msgs>)
   set_tests_properties(lcm_node_robust PROPERTIES
-                       LABELS "${lcm_variant};lcm;process" TIMEOUT 90)
+                       LABELS "${spvs_variant};lcm;process" TIMEOUT 90)
 
   if(TARGET spvs-sim)
     foreach(method 1 2 3)
@@ -36,17 +31,17 @@ if(TARGET spvs_node_lib)
                        $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
                        ${lcm_tol_m} ${lcm_tol_deg} --method ${method} --seed 0)
       set_tests_properties(lcm_closed_loop_m${method} PROPERTIES
-                           LABELS "${lcm_variant};lcm;process;scenario" TIMEOUT 240)
+                           LABELS "${spvs_variant};lcm;process;scenario" TIMEOUT 240)
     endforeach()
     add_test(NAME lcm_sim_timeout
              COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/sim_timeout.sh $<TARGET_FILE:spvs-sim>)
     set_tests_properties(lcm_sim_timeout PROPERTIES
-                         LABELS "${lcm_variant};lcm;process" TIMEOUT 60)
+                         LABELS "${spvs_variant};lcm;process" TIMEOUT 60)
     add_test(NAME plot_figures
              COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/plot.sh $<TARGET_FILE:spvs-sim>
                      ${CMAKE_CURRENT_SOURCE_DIR}/../tools/plot)
     set_tests_properties(plot_figures PROPERTIES
-                         LABELS "${lcm_variant};tools" TIMEOUT 120)
+                         LABELS "${spvs_variant};tools" TIMEOUT 120)
     # A noisy run with mismatches: RANSAC draws must match too.
     add_test(NAME lcm_closed_loop_noise
              COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/closed_loop.sh
@@ -54,6 +49,6 @@ if(TARGET spvs_node_lib)
                      ${lcm_tol_m} ${lcm_tol_deg} --method 3 --seed 7
                      --noise 0.5 --outliers 0.1)
     set_tests_properties(lcm_closed_loop_noise PROPERTIES
-                         LABELS "${lcm_variant};lcm;process;scenario" TIMEOUT 240)
+                         LABELS "${spvs_variant};lcm;process;scenario" TIMEOUT 240)
   endif()
 endif()

@@ -17,10 +17,8 @@ endif()
 # the fixed-point build the Cortex-M3's fixed-point one (tests/target.cmake).
 set(spvs_mcu_image ${CMAKE_BINARY_DIR}/cortex-m4f/target/spvs_app.elf)
 set(spvs_mcu_image_fixed ${CMAKE_BINARY_DIR}/cortex-m3-fixed/target/spvs_app.elf)
-set(spvs_mcu_variant float)
 if(SPVS_FIXED)
   set(spvs_mcu_image ${spvs_mcu_image_fixed})
-  set(spvs_mcu_variant fixed)
 endif()
 find_program(SPVS_ARM_GCC_MCU arm-none-eabi-gcc)
 find_program(SPVS_QEMU_ARM_MCU qemu-system-arm)
@@ -36,7 +34,7 @@ endif()
 
 function(spvs_mcu_test name)
   add_test(NAME ${name} COMMAND ${ARGN})
-  set_tests_properties(${name} PROPERTIES LABELS "${spvs_mcu_variant};mcu;process" TIMEOUT 900
+  set_tests_properties(${name} PROPERTIES LABELS "${spvs_variant};mcu;process" TIMEOUT 900
                        SKIP_RETURN_CODE 77 FIXTURES_REQUIRED "${spvs_mcu_fixture}")
 endfunction()
 
@@ -88,7 +86,7 @@ spvs_mcu_test(mcu_image_check ${CMAKE_CURRENT_SOURCE_DIR}/mcu/image_check.sh ${s
 # the agent however the run ends.
 add_test(NAME mcu_agent_cli COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mcu/agent_cli.sh
          $<TARGET_FILE:spvs-serial-agent>)
-set_tests_properties(mcu_agent_cli PROPERTIES LABELS "${spvs_mcu_variant};mcu" TIMEOUT 60)
+set_tests_properties(mcu_agent_cli PROPERTIES LABELS "${spvs_variant};mcu" TIMEOUT 60)
 spvs_mcu_test(mcu_agent_pty ${CMAKE_CURRENT_SOURCE_DIR}/mcu/agent_pty.sh
               $<TARGET_FILE:spvs-sim> $<TARGET_FILE:spvs-serial-agent> ${spvs_mcu_image})
 spvs_mcu_test(mcu_sim_stop ${CMAKE_CURRENT_SOURCE_DIR}/mcu/sim_stop.sh

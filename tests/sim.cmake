@@ -49,20 +49,13 @@ if(NOT TARGET spvs_zenoh_link)
 endif()
 get_property(sim_cli_tests DIRECTORY PROPERTY TESTS)
 list(FILTER sim_cli_tests INCLUDE REGEX "^sim_cli_")
-if(SPVS_FIXED)
-  set(sim_variant fixed)
-elseif(SPVS_DOUBLE)
-  set(sim_variant double)
-else()
-  set(sim_variant float)
-endif()
-set_tests_properties(${sim_cli_tests} PROPERTIES LABELS "${sim_variant};cli" TIMEOUT 60)
+set_tests_properties(${sim_cli_tests} PROPERTIES LABELS "${spvs_variant};cli" TIMEOUT 60)
 # A vertical plane gives Method II no signal (paper, Table 1): the run still
 # completes, exit 0, with status failed and the core's reason.
 add_test(NAME sim_cli_failed_run_exits_0
          COMMAND ${sim_cli_check} failed -- $<TARGET_FILE:spvs-sim> --method 2
                  --normal 0,0,-1 --json --quiet)
-set_tests_properties(sim_cli_failed_run_exits_0 PROPERTIES LABELS "${sim_variant};cli" TIMEOUT 60)
+set_tests_properties(sim_cli_failed_run_exits_0 PROPERTIES LABELS "${spvs_variant};cli" TIMEOUT 60)
 
 # The same run in process and across LCM (spvs-node) gives the same result.
 # Runs in a private network namespace with only loopback; skipped (77) where
@@ -73,7 +66,7 @@ if(TARGET spvs-node AND TARGET spvs_lcm_link)
              COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_sim_lcm.py
                      $<TARGET_FILE:spvs-sim> $<TARGET_FILE:spvs-node> ${method} 1 1)
     set_tests_properties(sim_lcm_matches_inproc_m${method} PROPERTIES
-                         LABELS "${sim_variant};lcm" TIMEOUT 240 SKIP_RETURN_CODE 77)
+                         LABELS "${spvs_variant};lcm" TIMEOUT 240 SKIP_RETURN_CODE 77)
   endforeach()
 endif()
 

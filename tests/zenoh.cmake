@@ -7,18 +7,13 @@ if(NOT TARGET spvs_zenoh_link OR NOT TARGET spvs-node)
 endif()
 
 if(SPVS_DOUBLE)
-  set(zenoh_variant double)
   # Matches travel as float32, so a double build's run over Zenoh differs
   # from the in-process one by that rounding (as over LCM, tests/lcm.cmake).
   set(zenoh_tol --tol-m 1e-3 --tol-deg 1e-2)
 else()
-  set(zenoh_variant float)
   # float build: the wire carries exactly what the core computes with, so
   # the runs must be identical.
   set(zenoh_tol --tol-m 0 --tol-deg 0)
-endif()
-if(SPVS_FIXED)
-  set(zenoh_variant fixed)
 endif()
 set(zenoh_root ${PROJECT_SOURCE_DIR})
 set(zenoh_run sh ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/netns.sh ${zenoh_root})
@@ -28,7 +23,7 @@ set(zenoh_dirs --build ${CMAKE_BINARY_DIR} --root ${zenoh_root} ${zenoh_tol})
 
 add_test(NAME zenoh_venv COMMAND ${zenoh_root}/scripts/setup_venv.sh)
 set_tests_properties(zenoh_venv PROPERTIES FIXTURES_SETUP zenoh_venv
-                     LABELS "${zenoh_variant};zenoh" TIMEOUT 600)
+                     LABELS "${spvs_variant};zenoh" TIMEOUT 600)
 
 # name | seconds | check and its options
 set(zenoh_cases
@@ -47,7 +42,7 @@ foreach(case IN LISTS zenoh_cases)
   add_test(NAME ${name}
            COMMAND ${zenoh_run} ${seconds} ${zenoh_check} ${args} ${zenoh_dirs})
   set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED zenoh_venv
-                       LABELS "${zenoh_variant};zenoh" TIMEOUT ${seconds}
+                       LABELS "${spvs_variant};zenoh" TIMEOUT ${seconds}
                        SKIP_RETURN_CODE 77)
 endforeach()
 
@@ -80,6 +75,6 @@ foreach(case IN LISTS fleet_cases)
   add_test(NAME ${name}
            COMMAND ${zenoh_run} ${seconds} ${fleet_check} ${args} ${zenoh_dirs})
   set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED zenoh_venv
-                       LABELS "${zenoh_variant};zenoh;fleet" TIMEOUT ${seconds}
+                       LABELS "${spvs_variant};zenoh;fleet" TIMEOUT ${seconds}
                        SKIP_RETURN_CODE 77)
 endforeach()
