@@ -49,3 +49,14 @@ void out_u32(uint32_t v)
     (void)fmt_u32(b, v);
     sh_write0(b);
 }
+
+void out_fail_case(const char *what, int idx, int ok)
+{
+    if (!ok) {
+        out_str("FAIL ");
+        out_str(what);
+        out_str(" case ");
+        out_int(idx);
+        out_str("\n");
+    }
+}

@@ -14,6 +14,8 @@ void out_str(const char *s);
 void out_int(int32_t v);
 /* Write an unsigned decimal integer. */
 void out_u32(uint32_t v);
+/* A check suite's failure line, "FAIL <what> case <idx>", when !ok. */
+void out_fail_case(const char *what, int idx, int ok);
 /* Write a float in fixed point with `decimals` digits (0..9) after the
  * point; |v| >= 1e9 or non-finite values print as "inf", "-inf" or "nan". */
 void out_float(float v, int decimals);

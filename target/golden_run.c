@@ -19,17 +19,6 @@
 #define SPVS_GOLDEN_TAMPER 0
 #endif
 
-static void report(const char *what, int idx, int ok)
-{
-    if (!ok) {
-        out_str("FAIL ");
-        out_str(what);
-        out_str(" case ");
-        out_int(idx);
-        out_str("\n");
-    }
-}
-
 int golden_run(void)
 {
     int fails = 0;
@@ -50,9 +39,9 @@ int golden_run(void)
         int okr = r.st_start == SPVS_OK && r.st_refit == SPVS_OK &&
                   r.refit_corner_px < GOLDEN_TOL_CORNER_PX &&
                   r.optimum_corner_px < GOLDEN_TOL_OPTIMUM_PX;
-        report("solve3", c, ok3);
-        report("refit", c, okr);
-        report("sentinel", c, r.sentinel_ok);
+        out_fail_case("solve3", c, ok3);
+        out_fail_case("refit", c, okr);
+        out_fail_case("sentinel", c, r.sentinel_ok);
         fails += !ok3 + !okr + !r.sentinel_ok;
         /* Written so that a NaN becomes the worst value. */
         if (!(r.solve3_rel <= worst_rel)) {
@@ -81,7 +70,7 @@ int golden_run(void)
         golden_run_e(&spvs_golden_e[c], &r);
         int ok = r.st == SPVS_OK && r.e_x_err_px <= r.e_x_tol_px && r.dir_sign_ok &&
                  r.sentinel_ok;
-        report("epipole", c, ok);
+        out_fail_case("epipole", c, ok);
         fails += !ok;
         if (!(r.e_x_err_px <= worst_ex)) {
             worst_ex = r.e_x_err_px;

@@ -20,17 +20,6 @@
 #define SPVS_GOLDEN_TAMPER 0
 #endif
 
-static void report(const char *what, int idx, int ok)
-{
-    if (!ok) {
-        out_str("FAIL ");
-        out_str(what);
-        out_str(" case ");
-        out_int(idx);
-        out_str("\n");
-    }
-}
-
 /* v (Q18 pixels) as "I.FFFF" in pixels, integers only (v >= 0). */
 static void out_q18_px(int64_t v)
 {
@@ -65,7 +54,7 @@ int golden_run(void)
         golden_q_h_result_t r;
         golden_q_run_h(&spvs_golden_h[c], tamper, &r);
         const int ok = golden_q_h_ok(&r);
-        report("fixed-point H", c, ok);
+        out_fail_case("fixed-point H", c, ok);
         fails += !ok;
         worst_corner = r.corner_q18 > worst_corner ? r.corner_q18 : worst_corner;
         worst_opt = r.optimum_q18 > worst_opt ? r.optimum_q18 : worst_opt;
@@ -74,7 +63,7 @@ int golden_run(void)
         golden_q_e_result_t r;
         golden_q_run_e(&spvs_golden_e[c], &r);
         const int ok = golden_q_e_ok(&r);
-        report("fixed-point epipole", c, ok);
+        out_fail_case("fixed-point epipole", c, ok);
         fails += !ok;
         worst_e = r.err_q16 > worst_e ? r.err_q16 : worst_e;
     }

@@ -67,17 +67,8 @@ int replay_run(void)
                  close_enough(out.v, fr->v) && close_enough(out.w, fr->w);
         if (!ok) {
             if (fails < 10) {
-                out_str("FAIL replay frame ");
-                out_u32(fr->seq);
-                out_str(": status ");
-                out_int(st);
-                out_str(" (host ");
-                out_int(fr->status);
-                out_str("), step ");
-                out_u32(out.step);
-                out_str(" (host ");
-                out_u32(fr->step);
-                out_str("), v ");
+                replay_fail_head(fr, st, out.step);
+                out_str(", v ");
                 out_sci(out.v);
                 out_str(" (host ");
                 out_sci(fr->v);

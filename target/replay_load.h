@@ -7,6 +7,7 @@
 #ifndef TARGET_REPLAY_LOAD_H
 #define TARGET_REPLAY_LOAD_H
 
+#include "fmt.h"
 #include "spvs/spvs.h"
 
 /* The frame's matches into m (at most SPVS_MAX_MATCHES: a longer frame the
@@ -25,6 +26,23 @@ static inline void replay_load(const spvs_replay_frame_t *fr, spvs_match_t *m)
         m[i].x_cur = rm->x_cur;
         m[i].y_cur = rm->y_cur;
     }
+}
+
+/* The start of a replay's failure line: the frame, and the status and step
+ * against the host's; the caller adds its command figures and "\n". */
+static inline void replay_fail_head(const spvs_replay_frame_t *fr, int st, uint8_t step)
+{
+    out_str("FAIL replay frame ");
+    out_u32(fr->seq);
+    out_str(": status ");
+    out_int(st);
+    out_str(" (host ");
+    out_int(fr->status);
+    out_str("), step ");
+    out_u32(step);
+    out_str(" (host ");
+    out_u32(fr->step);
+    out_str(")");
 }
 
 #endif /* TARGET_REPLAY_LOAD_H */

@@ -60,17 +60,8 @@ int replay_run(void)
                        bits(out.v) == bits(fr->v) && bits(out.w) == bits(fr->w);
         if (!ok) {
             if (fails < 10) {
-                out_str("FAIL replay frame ");
-                out_u32(fr->seq);
-                out_str(": status ");
-                out_int(st);
-                out_str(" (host ");
-                out_int(fr->status);
-                out_str("), step ");
-                out_u32(out.step);
-                out_str(" (host ");
-                out_u32(fr->step);
-                out_str("), v bits ");
+                replay_fail_head(fr, st, out.step);
+                out_str(", v bits ");
                 out_hex(bits(out.v));
                 out_str(" (host ");
                 out_hex(bits(fr->v));
