@@ -134,7 +134,7 @@ if helpers and not re.search(r"\b__aeabi_([fd]|u?i2f|u?l2f)", undef):
 # libgcc's integer routines that the core's objects pulled into the image
 # (the fixed-point core's 64-bit divisions and __ctzdi2; the map's archive
 # list says who pulled each member, and a member pulled by one of these is
-# the core's too).  The float core pulls none.
+# the core's too).  The float core pulls __ctzdi2 only.
 members = re.findall(r"^(\S+\((\S+\.o)\))\n\s+(\S+)", text[:text.find("Discarded input sections")], re.M)
 core_pulled = set()
 for _ in range(3):
