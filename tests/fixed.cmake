@@ -43,3 +43,14 @@ if(SPVS_ARM_GCC AND SPVS_ARM_NM)
     set_tests_properties(fixed_m3_no_float_${dbl} PROPERTIES LABELS "unit;fixed" TIMEOUT 60)
   endforeach()
 endif()
+
+# The fixed-point pipeline's spvs_update_with_h and spvs_inlier_px: the
+# estimate read back and given again, bad H, the threshold; in the float
+# build also against the float core's spvs_update_with_h on the same H.
+# In both builds: beside the float core, and as the core (SPVS_FIXED=ON),
+# where it runs through spvs.h's names.
+spvs_add_test(NAME test_fixed_spvs SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_spvs.c
+              LIBS spvs::fixed LABELS "unit;fixed" TIMEOUT 300)
+if(TARGET test_fixed_spvs)
+  target_include_directories(test_fixed_spvs PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+endif()

@@ -106,12 +106,13 @@ typedef struct {
 /* Parameters for a method: the defaults of docs/CONTROL.md. */
 void spvs_params_default(spvs_params_t *p, spvs_method_t method);
 
-#if !SPVS_USE_FIXED
 /* The inlier threshold, pixels, on the Sampson error: noise_px times
- * sqrt(SPVS_INLIER_CHI2_X100 / 100) (3.03 noise_px by default).  Not in
- * the fixed-point build, whose threshold is spvs_q_params_t's t2. */
+ * sqrt(SPVS_INLIER_CHI2_X100 / 100) (3.03 noise_px by default).
+ * p: parameters (only noise_px, pixels, is read; not checked).  The
+ * fixed-point build computes it in integers (relative error below 2^-28:
+ * in float32 the float build's value or a neighbour) and itself applies
+ * noise_px rounded to 2^-16 px. */
 spvs_real spvs_inlier_px(const spvs_params_t *p);
-#endif
 
 /* Set up an instance (copies p) and reset it.
  * Returns SPVS_OK, SPVS_E_ARG (NULL) or SPVS_E_CONFIG (p out of range). */
@@ -131,22 +132,25 @@ void spvs_reset(spvs_t *s);
 SPVS_NODISCARD int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                spvs_real t_s, spvs_output_t *out);
 
-#if !SPVS_USE_FIXED
-/* Not yet in the fixed-point build (docs/FIXED.md, "What remains"). */
-
 /* spvs_update with H given by the caller instead of estimated: H_px is
  * H_cur_tgt in centred pixels (planar form, h22 = 1; its middle row is
  * taken as (0, 1, 0)).  The frame is checked and loaded as in spvs_update,
  * the plane candidates within inlier_px of H are its inliers, and the rest
  * of the pipeline (off-plane memory, epipole, controller) runs unchanged.
  * For comparing estimators on the same pipeline (tools/bench/homing.cpp).
+ * m, n, t_s: as spvs_update; out: as spvs_update (out->H is H_px with its
+ * middle row (0, 1, 0); the fixed-point build rounds h13 to 2^-18 px,
+ * h31 and h32 to 2^-36 per pixel and the rest to 2^-27, its Q27 format).
  * Returns what spvs_update returns (SPVS_E_NO_CONSENSUS when fewer than
  * SPVS_MIN_INLIERS candidates are inliers of H_px), SPVS_E_ARG for H_px
- * NULL, and SPVS_E_DEGENERATE for a non-finite H_px. */
+ * NULL, and SPVS_E_DEGENERATE for a non-finite entry of rows 1 and 3; the
+ * fixed-point build also SPVS_E_RANGE for an entry beyond its Q27 range
+ * (|h11|, |h12|, |h33| >= 16, |h13| >= 8192 px, |h31|, |h32| >= 1/32 per
+ * pixel), which no estimate of a planar motion reaches.  On every error
+ * (v, w) = (0, 0). */
 SPVS_NODISCARD int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                       spvs_real t_s, const spvs_real H_px[9],
                                       spvs_output_t *out);
-#endif
 
 /* The estimation stage alone: validate the matches, run the planar RANSAC and
  * the refit, and fill out->H (pixels), n_matches, n_inliers, ransac_iters,

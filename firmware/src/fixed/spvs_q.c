@@ -37,6 +37,33 @@ static int32_t q_in(spvs_real x, int f, uint32_t *sat)
 
 /* ---- parameters ------------------------------------------------------------ */
 
+/* spvs_inlier_px in integers: noise_px's mantissa (rounded to 30 bits in
+ * the double build) times floor(sqrt(chi2) 2^25), normalised to 62 bits,
+ * divided by 10 (sqrt(chi2 / 100) = sqrt(chi2) / 10) and rounded once to
+ * the scalar.  chi2 < 2^14, so chi2 2^50 < 2^64; the square root's floor
+ * is within 2^-25 of sqrt(chi2) >= 10, the rest within 2^-30: relative
+ * error below 2^-28, so in float32 the float core's value or a
+ * neighbour.  NaN, infinities and zeros are their own product with a
+ * positive constant. */
+spvs_real spvs_q_inlier_px(const spvs_params_t *p)
+{
+    SPVS_ASSERT(p != 0);
+    spvs_q_ieee_t v = spvs_q_real_parts(p->noise_px);
+    if (v.nonfinite || v.mant == 0u) {
+        return p->noise_px;
+    }
+    const int drop = spvs_q_bitlen64(v.mant) - 30;
+    if (drop > 0) {
+        v.mant = (v.mant + ((uint64_t)1 << (drop - 1))) >> drop;
+        v.exp2 += drop;
+    }
+    const uint64_t r = spvs_q_isqrt64((uint64_t)SPVS_INLIER_CHI2_X100 << 50);
+    const uint64_t x = v.mant * r;
+    const int up = 62 - spvs_q_bitlen64(x);
+    const int64_t y = (int64_t)((x << up) / 10u);
+    return real_out(v.neg ? -y : y, 25 + up - (int)v.exp2);
+}
+
 /* spvs.c's rules on the parameters (noise_px in (0, 300), confidence in
  * (0, 1), max_iters, offplane_px at least the inlier threshold,
  * epipole_sin_tol in (0, 1), min_support, max_frame_gap_s > 0), made on
@@ -124,8 +151,58 @@ static void h_out(const int32_t H[9], spvs_real out[9])
     }
 }
 
-/* spvs.c's estimate(): split, load, estimate. */
-static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
+/* H_px (centred pixels, h22 = 1; row 2 taken as (0, 1, 0)) as Q27 in
+ * scaled units, read through its bits: the scale is a power of two, so h13
+ * in pixels is the Q27 integer read as Q(27 - log2 scale), h31 and h32 per
+ * pixel as Q(27 + log2 scale) (h_out's formats the other way).  Returns 0,
+ * or SPVS_Q_NONFINITE (a NaN or infinite entry of rows 1 and 3) and/or
+ * SPVS_Q_SAT (an entry outside (-16, 16) in scaled units). */
+static uint32_t h_in(const spvs_real H_px[9], int32_t Hq[9])
+{
+    const int ls = log2_scale();
+    uint32_t sat = 0;
+    for (int k = 0; k < 9; k++) {
+        if (k >= 3 && k <= 5) {
+            continue;
+        }
+        const int f = k == 2 ? SPVS_QH - ls : (k == 6 || k == 7 ? SPVS_QH + ls : SPVS_QH);
+        Hq[k] = q_in(H_px[k], f, &sat);
+        /* +-16 itself is outside (-16, 16): it would clamp to the limit. */
+        sat |= (Hq[k] == SPVS_Q_I32_MAX || Hq[k] == SPVS_Q_I32_MIN) ? SPVS_Q_SAT : 0u;
+    }
+    Hq[3] = 0;
+    Hq[4] = (int32_t)1 << SPVS_QH;
+    Hq[5] = 0;
+    return sat;
+}
+
+/* plane_h.c's spvs_plane_h_adopt on the Q estimator: H_px (pixels) as the
+ * loaded frame's estimate, its inliers among the plane candidates by the
+ * Q inlier count at the pipeline's threshold.  SPVS_OK,
+ * SPVS_E_DEGENERATE for a non-finite entry (float's status), SPVS_E_RANGE
+ * for an entry outside the Q27 range (the estimator's own models never
+ * leave it), SPVS_E_NO_CONSENSUS for fewer than SPVS_MIN_INLIERS inliers. */
+static int adopt_h(spvs_q_t *s, const spvs_real H_px[9])
+{
+    spvs_q_plane_h_t *const e = &s->est;
+    int32_t Hq[9];
+    const uint32_t sat = h_in(H_px, Hq);
+    if ((sat & SPVS_Q_NONFINITE) != 0u) {
+        return SPVS_E_DEGENERATE;
+    }
+    if (sat != 0u) {
+        return SPVS_E_RANGE;
+    }
+    memcpy(e->H, Hq, sizeof e->H);
+    e->thr = spvs_q_thr(s->p.t2);
+    e->n_inliers = spvs_q_pts_score(&e->pts, e->n_plane, e->H, &e->thr, 0, e->mask);
+    return e->n_inliers < SPVS_MIN_INLIERS ? SPVS_E_NO_CONSENSUS : SPVS_OK;
+}
+
+/* spvs.c's estimate(): split, load, and estimate H or take H_px (pixels)
+ * when it is given. */
+static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, const spvs_real *H_px,
+                    spvs_output_t *out)
 {
     int rc = spvs_q_plane_h_check(m, n);
     if (rc != SPVS_OK) {
@@ -141,10 +218,14 @@ static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_
     if (rc != SPVS_OK) {
         return rc;
     }
-    uint32_t iters = 0;
-    rc = spvs_q_plane_h_estimate(&s->est, s->p.t2, s->p.confidence_q32, s->p.max_iters, &s->rng,
-                                 &iters);
-    out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
+    if (H_px != 0) {
+        rc = adopt_h(s, H_px);
+    } else {
+        uint32_t iters = 0;
+        rc = spvs_q_plane_h_estimate(&s->est, s->p.t2, s->p.confidence_q32, s->p.max_iters,
+                                     &s->rng, &iters);
+        out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
+    }
     if (rc != SPVS_OK) {
         return rc;
     }
@@ -160,7 +241,7 @@ int spvs_q_estimate_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_outpu
         return SPVS_E_ARG;
     }
     clear_output(out, n);
-    const int rc = estimate(s, m, n, out);
+    const int rc = estimate(s, m, n, 0, out);
     out->status = (int16_t)rc;
     return rc;
 }
@@ -186,9 +267,9 @@ static void epipole_filter(spvs_q_t *s, const spvs_q_epipole_t *ep, spvs_q_ctl_i
     in->e_side = (int8_t)(votes > 0 ? 1 : (votes < 0 ? -1 : own));
 }
 
-/* spvs.c's begin_frame: the time (Q16 s) and H. */
+/* spvs.c's begin_frame: the time (Q16 s) and H (estimated, or H_px). */
 static int begin_frame(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
-                       int32_t *t, spvs_output_t *out)
+                       const spvs_real *H_px, int32_t *t, spvs_output_t *out)
 {
     uint32_t sat = 0;
     *t = q_in(t_s, 16, &sat);
@@ -203,7 +284,7 @@ static int begin_frame(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real
     if (rc == SPVS_OK) {
         s->last_t = *t;
         s->has_last = 1;
-        rc = estimate(s, m, n, out);
+        rc = estimate(s, m, n, H_px, out);
     }
     if (rc != SPVS_OK) {
         return rc;
@@ -276,15 +357,16 @@ static int after_h(spvs_q_t *s, int32_t t, spvs_output_t *out)
     return rc;
 }
 
-int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
-                  spvs_output_t *out)
+/* spvs_q_update and spvs_q_update_with_h. */
+static int update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                  const spvs_real *H_px, spvs_output_t *out)
 {
     if (s == 0 || out == 0) {
         return SPVS_E_ARG;
     }
     clear_output(out, n);
     int32_t t = 0;
-    const int rc = begin_frame(s, m, n, t_s, &t, out);
+    const int rc = begin_frame(s, m, n, t_s, H_px, &t, out);
     if (rc != SPVS_OK) {
         s->ctl.last_v = 0;
         out->status = (int16_t)rc;
@@ -292,4 +374,23 @@ int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
         return rc;
     }
     return after_h(s, t, out);
+}
+
+int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                  spvs_output_t *out)
+{
+    return update(s, m, n, t_s, 0, out);
+}
+
+int spvs_q_update_with_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+                         const spvs_real H_px[9], spvs_output_t *out)
+{
+    if (H_px == 0) {
+        if (out != 0) {
+            clear_output(out, n);
+            out->status = SPVS_E_ARG;
+        }
+        return SPVS_E_ARG;
+    }
+    return update(s, m, n, t_s, H_px, out);
 }

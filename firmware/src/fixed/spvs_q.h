@@ -25,9 +25,10 @@
  *   - the parameters are checked on their bits (spvs.c's rules and
  *     control_q.h's spvs_q_ctl_params_check, the float check's twin) and
  *     by their Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
+ *   - spvs_q_update_with_h refuses an H entry outside that range
+ *     (SPVS_E_RANGE), where the float core would score it.
  * Linked alone (firmware/src/fixed/, rng.c, common.c) it references no
  * floating-point helper, heap or stdio (docs/FIXED.md).
- * Not yet here: spvs_update_with_h's twin.
  */
 #ifndef SPVS_FIXED_SPVS_Q_H
 #define SPVS_FIXED_SPVS_Q_H
@@ -80,6 +81,31 @@ void spvs_q_reset(spvs_q_t *s);
  * time outside Q16's range, above). */
 SPVS_NODISCARD int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                                  spvs_output_t *out);
+
+/* spvs_update_with_h: H_px from the caller (H_cur_tgt in centred pixels,
+ * planar form, h22 = 1; its middle row is taken as (0, 1, 0)) instead of
+ * the estimate, read through its bits into Q27 scaled units (h13 in
+ * pixels rounded to 2^-18 px, h31 and h32 per pixel to 2^-36, the others
+ * to 2^-27).  The frame is checked and loaded as in spvs_q_update, the
+ * plane candidates within the pipeline's inlier threshold of H (the Q
+ * inlier count) are its inliers, and the rest of the pipeline (off-plane
+ * memory, epipole, controller) runs unchanged; the PRNG is not drawn.
+ * out->H is H_px as the pipeline holds it (rounded as above).
+ * Returns spvs_q_update's statuses (SPVS_E_NO_CONSENSUS when fewer than
+ * SPVS_MIN_INLIERS candidates are inliers of H_px), SPVS_E_ARG for H_px
+ * NULL, SPVS_E_DEGENERATE for a NaN or infinite entry of rows 1 and 3 (as
+ * the float core) and SPVS_E_RANGE for one outside (-16, 16) in scaled
+ * units (|h11|, |h12|, |h33| >= 16, |h13| >= 8192 px, |h31|, |h32| >=
+ * 1/32 per pixel); on every error (v, w) = (0, 0). */
+SPVS_NODISCARD int spvs_q_update_with_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n,
+                                        spvs_real t_s, const spvs_real H_px[9],
+                                        spvs_output_t *out);
+
+/* spvs_inlier_px: noise_px sqrt(SPVS_INLIER_CHI2_X100 / 100), pixels, in
+ * integers (relative error below 2^-28: in float32 the float core's value
+ * or a neighbour).  The Q pipeline's own threshold, spvs_q_params_t's t2,
+ * is made from noise_px rounded to Q16 pixels. */
+spvs_real spvs_q_inlier_px(const spvs_params_t *p);
 
 /* spvs_estimate_h: the frame checked and loaded, the remembered off-plane
  * features kept out, H estimated (out->H in centred pixels, n_matches,
