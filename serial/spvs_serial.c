@@ -264,6 +264,157 @@ int spvs_serial_unpack(uint8_t *enc, size_t n, spvs_serial_frame_t *f)
 
 /* ---- quantisation ---------------------------------------------------------- */
 
+/* The conversions between the wire's integers and the core's floats.  With
+ * the fixed-point core (SPVS_USE_FIXED) an MCU without FPU runs this codec,
+ * and a float operation there is a soft-float library call: the floats are
+ * then read and built through their IEEE-754 bits with integer operations
+ * only.  Otherwise in float arithmetic, which an FPU does in an
+ * instruction.  Both give the same values, bit for bit (test_serial_bits
+ * compiles this file with SPVS_SERIAL_INT_CONV=1 and checks them against
+ * the float arithmetic), so a host of either build and an MCU of either
+ * build agree on every frame. */
+#ifndef SPVS_SERIAL_INT_CONV
+#define SPVS_SERIAL_INT_CONV SPVS_USE_FIXED
+#endif
+
+#if SPVS_SERIAL_INT_CONV
+
+/* The core's scalar's IEEE-754 layout: stored mantissa bits, exponent
+ * field mask and bias. */
+#if SPVS_USE_DOUBLE
+typedef uint64_t real_bits_t;
+#define REAL_MANT 52
+#define REAL_EXP_MASK 0x7ffu
+#define REAL_BIAS 1023
+#else
+typedef uint32_t real_bits_t;
+#define REAL_MANT 23
+#define REAL_EXP_MASK 0xffu
+#define REAL_BIAS 127
+#endif
+#define REAL_SIGN ((real_bits_t)1 << (sizeof(real_bits_t) * 8u - 1u))
+_Static_assert(SPVS_SERIAL_PX_SCALE == 16, "the conversions take 2^4 wire units a pixel");
+
+/* Bits in x > 0 (1..32).  GCC and Clang, the compilers of both ends, have
+ * the builtin; on the Cortex-M3 it is one CLZ instruction. */
+static int bitlen32(uint32_t x)
+{
+    return 32 - __builtin_clz(x);
+}
+
+static int bitlen64(uint64_t x)
+{
+    const uint32_t hi = (uint32_t)(x >> 32);
+    return hi != 0u ? 32 + bitlen32(hi) : bitlen32((uint32_t)x);
+}
+
+int spvs_serial_q_from_px(spvs_real px, int16_t *q)
+{
+    real_bits_t b;
+    memcpy(&b, &px, sizeof(b));
+    const uint32_t ex = (uint32_t)(b >> REAL_MANT) & REAL_EXP_MASK;
+    if (ex == REAL_EXP_MASK) {
+        return SPVS_SERIAL_E_RANGE; /* NaN or infinity */
+    }
+    real_bits_t mant = b & (((real_bits_t)1 << REAL_MANT) - 1u);
+    if (ex != 0u) {
+        mant |= (real_bits_t)1 << REAL_MANT;
+    }
+    /* |px| * 16 = mant 2^e exactly; rounded to an integer t, halves away
+     * from zero.  |px| <= 2000 px is |px| * 16 <= 32000, tested on the
+     * exact value (integer part and remainder), as the float path tests
+     * px against the limit before rounding. */
+    const int e = (ex == 0u ? 1 : (int)ex) - REAL_BIAS - REAL_MANT + 4;
+    uint32_t t;
+    if (mant == 0u) {
+        t = 0u;
+    } else if (e >= 0) {
+        /* A normal number (a subnormal has e < 0): at least its mantissa,
+         * 2^REAL_MANT, far beyond the limit. */
+        return SPVS_SERIAL_E_RANGE;
+    } else if (-e > REAL_MANT + 1) {
+        /* mant < 2^(REAL_MANT + 1): the value is below 1/2. */
+        t = 0u;
+    } else {
+        const int r = -e;
+        const real_bits_t ip = mant >> r;
+        const real_bits_t rem = mant - (ip << r);
+        if (ip > (real_bits_t)SPVS_SERIAL_Q_MAX ||
+            (ip == (real_bits_t)SPVS_SERIAL_Q_MAX && rem != 0u)) {
+            return SPVS_SERIAL_E_RANGE;
+        }
+        t = (uint32_t)ip + (rem >= ((real_bits_t)1 << (r - 1)) ? 1u : 0u);
+    }
+    *q = (b & REAL_SIGN) != 0u ? (int16_t)(0 - (int32_t)t) : (int16_t)t;
+    return SPVS_SERIAL_OK;
+}
+
+spvs_real spvs_serial_px_from_q(int16_t q)
+{
+    /* q / 16 is exact: |q| <= 2^15 as a normal number 1.f 2^(len - 1 - 4). */
+    real_bits_t b = 0u;
+    if (q != 0) {
+        const uint32_t a = (uint32_t)(q < 0 ? -(int32_t)q : (int32_t)q);
+        const int len = bitlen32(a);
+        const real_bits_t field = (real_bits_t)(len - 1 - 4 + REAL_BIAS);
+        const real_bits_t frac =
+            ((real_bits_t)a << (REAL_MANT - (len - 1))) & (((real_bits_t)1 << REAL_MANT) - 1u);
+        b = (q < 0 ? REAL_SIGN : 0u) | (field << REAL_MANT) | frac;
+    }
+    spvs_real px;
+    memcpy(&px, &b, sizeof(px));
+    return px;
+}
+
+/* m / 2^d rounded to nearest, ties to even.  sticky nonzero: the value is
+ * a little above m (by less than a unit of m, bits dropped before), so a
+ * remainder of exactly half rounds up.  d in 1..63. */
+static uint64_t round_even(uint64_t m, int d, int sticky)
+{
+    const uint64_t keep = m >> d;
+    const uint64_t rem = m - (keep << d);
+    const uint64_t half = (uint64_t)1 << (d - 1);
+    const int up = rem > half || (rem == half && (sticky || (keep & 1u) != 0u));
+    return keep + (up ? 1u : 0u);
+}
+
+float spvs_serial_s_from_ms(uint32_t t_ms)
+{
+    uint32_t b = 0u;
+    if (t_ms != 0u) {
+        /* (float)t_ms: m 2^e, m rounded to 24 bits, ties to even (exact
+         * below 2^24). */
+        uint64_t m = t_ms;
+        int e = 0;
+        const int len = bitlen32(t_ms);
+        if (len > 24) {
+            e = len - 24;
+            m = round_even(m, e, 0);
+        }
+        /* m < 2^25, so m 2^39 < 2^64; the quotient by 1000 has at least
+         * 29 bits, of which the top 24 (and a sticky remainder) give the
+         * float quotient rounded as the FPU rounds it. */
+        const uint64_t num = m << 39;
+        const uint64_t quo = num / 1000u;
+        const int sticky = num - quo * 1000u != 0u;
+        int d = bitlen64(quo) - 24;
+        uint64_t f = round_even(quo, d, sticky);
+        if (f >> 24 != 0u) {
+            f >>= 1;
+            d++;
+        }
+        /* The value is f 2^(d + e - 39) with f in [2^23, 2^24): 0.001 s
+         * to 4.3e6 s, normal floats. */
+        const uint32_t field = (uint32_t)(23 + d + e - 39 + 127);
+        b = (field << 23) | ((uint32_t)f & 0x7fffffu);
+    }
+    float s;
+    memcpy(&s, &b, sizeof(s));
+    return s;
+}
+
+#else /* float arithmetic */
+
 int spvs_serial_q_from_px(spvs_real px, int16_t *q)
 {
     const spvs_real lim = (spvs_real)SPVS_SERIAL_Q_MAX / (spvs_real)SPVS_SERIAL_PX_SCALE;
@@ -297,6 +448,8 @@ float spvs_serial_s_from_ms(uint32_t t_ms)
 {
     return (float)t_ms / 1000.0f;
 }
+
+#endif
 
 int spvs_serial_ms_from_utime(int64_t utime, uint32_t *t_ms)
 {
@@ -554,6 +707,23 @@ int spvs_serial_encode_config(const spvs_serial_config_t *c, uint8_t *out,
     return enc_finish(&e);
 }
 
+/* The focal lengths' check: alpha_x in [1, 1e5] px and alpha_y equal to
+ * it.  With integer conversions on their bits: a positive float's bits
+ * sort as its value, and every NaN's and negative value's lie above
+ * 1e5f's; within the range, equal floats are equal bits. */
+static int alpha_ok(uint32_t ax_bits, uint32_t ay_bits)
+{
+#if SPVS_SERIAL_INT_CONV
+    return ax_bits >= 0x3F800000u /* 1.0f */ && ax_bits <= 0x47C35000u /* 1e5f */ &&
+           ay_bits == ax_bits;
+#else
+    float ax, ay;
+    memcpy(&ax, &ax_bits, sizeof(ax));
+    memcpy(&ay, &ay_bits, sizeof(ay));
+    return ax >= 1.0f && ax <= 1.0e5f && ay == ax;
+#endif
+}
+
 int spvs_serial_parse_config(const spvs_serial_frame_t *f,
                              spvs_serial_config_t *c)
 {
@@ -570,9 +740,7 @@ int spvs_serial_parse_config(const spvs_serial_frame_t *f,
     c->alpha_px = rd_f32(p + 8);
     /* x and y focal lengths travel apart for a later non-square camera;
      * this version takes square pixels only. */
-    float alpha_y = rd_f32(p + 12);
-    if (c->method < 1u || c->method > 3u || !(c->alpha_px >= 1.0f && c->alpha_px <= 1.0e5f) ||
-        !(alpha_y == c->alpha_px) ||
+    if (c->method < 1u || c->method > 3u || !alpha_ok(rd_u32(p + 8), rd_u32(p + 12)) ||
         (c->watchdog_ms != 0u && (c->watchdog_ms < SPVS_SERIAL_WATCHDOG_MIN_MS ||
                                   c->watchdog_ms > SPVS_SERIAL_WATCHDOG_MAX_MS))) {
         return SPVS_SERIAL_E_RANGE;

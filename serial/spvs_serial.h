@@ -7,7 +7,11 @@
  * and the host agent (sim_host/serial/) compile these same sources, and so
  * does the libFuzzer target of the decoder (tests/fuzz/fuzz_serial.c).
  * No heap, no stdio, no floating-point library call; every loop is bounded
- * by the length of its input or by SPVS_SERIAL_MAX_MATCHES.
+ * by the length of its input or by SPVS_SERIAL_MAX_MATCHES.  With the
+ * fixed-point core (SPVS_USE_FIXED) no floating-point arithmetic either: the
+ * conversions between the wire's integers and the core's floats read and
+ * build the floats through their bits, with the float arithmetic's values
+ * bit for bit (docs/SERIAL.md).
  *
  * A frame on the wire is COBS(payload) followed by one 0x00 delimiter, and
  * the payload is
@@ -226,7 +230,8 @@ int spvs_serial_q_from_px(spvs_real px, int16_t *q);
 spvs_real spvs_serial_px_from_q(int16_t q);
 
 /* Frame time milliseconds -> the core's seconds: (float)t_ms / 1000, in
- * float32 on both ends. */
+ * float32 on both ends (in integers with the fixed-point core: the same
+ * value). */
 float spvs_serial_s_from_ms(uint32_t t_ms);
 
 /* An LCM frame time (microseconds, spvs-sim's llround(t * 1e6)) -> the

@@ -9,6 +9,14 @@ if(NOT TARGET spvs_serial)
 endif()
 spvs_add_test(NAME test_serial SOURCES test_serial.c LIBS spvs_serial
               LABELS "mcu;unit" TIMEOUT 60)
+# The codec's integer conversions (the fixed-point build's, for an MCU
+# without FPU) against the float arithmetic, bit for bit, in every build:
+# the codec's source compiled into the test with SPVS_SERIAL_INT_CONV=1.
+spvs_add_test(NAME test_serial_bits
+              SOURCES test_serial_bits.c ${PROJECT_SOURCE_DIR}/serial/spvs_serial.c
+              LABELS "mcu;unit" TIMEOUT 120)
+target_compile_definitions(test_serial_bits PRIVATE SPVS_SERIAL_INT_CONV=1)
+target_include_directories(test_serial_bits PRIVATE ${PROJECT_SOURCE_DIR}/serial)
 
 if(NOT TARGET spvs-serial-agent OR NOT TARGET spvs-sim OR SPVS_DOUBLE OR SPVS_SANITIZE)
   return()
@@ -78,9 +86,24 @@ foreach(fault flip drop truncate garbage count range agent_restart mcu_reset)
 endforeach()
 
 # The application image links no heap, no stdio, no double helper
-# (target/check_image.cmake, which the cross build also runs after linking).
+# (target/check_image.cmake, which the cross build also runs after linking);
+# the fixed-point build's no floating-point helper at all (its serial codec
+# converts through the floats' bits).
+if(SPVS_FIXED)
+  set(spvs_mcu_check_mode no-float)
+else()
+  set(spvs_mcu_check_mode "")
+endif()
 spvs_mcu_test(mcu_image_check ${CMAKE_CURRENT_SOURCE_DIR}/mcu/image_check.sh ${spvs_mcu_image}
-              ${PROJECT_SOURCE_DIR}/target/check_image.cmake)
+              ${PROJECT_SOURCE_DIR}/target/check_image.cmake ${spvs_mcu_check_mode})
+if(NOT SPVS_FIXED)
+  add_test(NAME mcu_image_check_fixed
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/mcu/image_check.sh ${spvs_mcu_image_fixed}
+                   ${PROJECT_SOURCE_DIR}/target/check_image.cmake no-float)
+  set_tests_properties(mcu_image_check_fixed PROPERTIES
+                       LABELS "fixed;mcu" TIMEOUT 120 SKIP_RETURN_CODE 77
+                       FIXTURES_REQUIRED "${spvs_mcu_fixture_fixed}")
+endif()
 
 # The agent's command line, its pty path, and spvs-sim stopping QEMU and
 # the agent however the run ends.

@@ -49,6 +49,18 @@ static void send_stop(app_t *a, const spvs_serial_matches_hdr_t *h, int status)
     send_result(a, &r);
 }
 
+/* Whether a new focal length equals the one in force.  The new one is in
+ * [1, 1e5] px (spvs_serial_parse_config), where equal floats are equal
+ * bits: compared as bits, so that a CPU without FPU makes no soft-float
+ * call for it. */
+static int same_alpha(float alpha_new, float alpha_in_force)
+{
+    uint32_t a, b;
+    memcpy(&a, &alpha_new, sizeof(a));
+    memcpy(&b, &alpha_in_force, sizeof(b));
+    return a == b;
+}
+
 static void on_config(app_t *a, const spvs_serial_frame_t *f)
 {
     spvs_serial_config_t c;
@@ -59,7 +71,7 @@ static void on_config(app_t *a, const spvs_serial_frame_t *f)
     a->watchdog_ms = c.watchdog_ms ? c.watchdog_ms : APP_WATCHDOG_MS;
     a->cfg.watchdog_ms = c.watchdog_ms;
     if (!a->configured || c.method != a->cfg.method || c.seed != a->cfg.seed ||
-        !(c.alpha_px == a->cfg.alpha_px)) {
+        !same_alpha(c.alpha_px, a->cfg.alpha_px)) {
         spvs_params_t p;
         spvs_params_default(&p, (spvs_method_t)c.method);
         p.ctl.alpha_x = (spvs_real)c.alpha_px;
