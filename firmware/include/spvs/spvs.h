@@ -109,8 +109,8 @@ void spvs_params_default(spvs_params_t *p, spvs_method_t method);
 /* The inlier threshold, pixels, on the Sampson error: noise_px times
  * sqrt(SPVS_INLIER_CHI2_X100 / 100) (3.03 noise_px by default).
  * p: parameters (only noise_px, pixels, is read; not checked).  The
- * fixed-point build computes it in integers (relative error below 2^-28:
- * in float32 the float build's value or a neighbour) and itself applies
+ * fixed-point build computes it in integers (in float32 the float
+ * build's value bit for bit; in double within 2^-28) and itself applies
  * noise_px rounded to 2^-16 px. */
 spvs_real spvs_inlier_px(const spvs_params_t *p);
 

@@ -37,14 +37,42 @@ static int32_t q_in(spvs_real x, int f, uint32_t *sat)
 
 /* ---- parameters ------------------------------------------------------------ */
 
-/* spvs_inlier_px in integers: noise_px's mantissa (rounded to 30 bits in
- * the double build) times floor(sqrt(chi2) 2^25), normalised to 62 bits,
- * divided by 10 (sqrt(chi2 / 100) = sqrt(chi2) / 10) and rounded once to
- * the scalar.  chi2 < 2^14, so chi2 2^50 < 2^64; the square root's floor
- * is within 2^-25 of sqrt(chi2) >= 10, the rest within 2^-30: relative
- * error below 2^-28, so in float32 the float core's value or a
- * neighbour.  NaN, infinities and zeros are their own product with a
- * positive constant. */
+#if !SPVS_USE_DOUBLE
+/* The float core's constant sqrtf(chi2 / 100.0f) as float bits: the
+ * quotient rounded to 24 bits, then its square root rounded to 24 bits,
+ * each from the exact integer result and a sticky bit for its remainder,
+ * so each rounding is the FPU's (to nearest, ties to even). */
+static uint32_t chi2_root_f32(void)
+{
+    const uint64_t num = (uint64_t)SPVS_INLIER_CHI2_X100 << 40;
+    const uint64_t quo = num / 100u;
+    const uint64_t qx = 2u * quo + (num != quo * 100u ? 1u : 0u);
+    const spvs_q_ieee_t v = spvs_q_ieee_f32((uint32_t)spvs_q_ieee_bits((int64_t)qx, 41, 23, 8));
+    /* sqrt(mant 2^e) with e made even and the radicand below 2^62. */
+    uint64_t m = v.mant;
+    int32_t e = v.exp2;
+    if ((e & 1) != 0) {
+        m <<= 1;
+        e -= 1;
+    }
+    m <<= 36;
+    e -= 36;
+    const uint64_t r = spvs_q_isqrt64(m);
+    const uint64_t rx = 2u * r + (r * r != m ? 1u : 0u);
+    return (uint32_t)spvs_q_ieee_bits((int64_t)rx, 1 - (int)(e / 2), 23, 8);
+}
+#endif
+
+/* spvs_inlier_px in integers.  Float32: the float core's two steps, each
+ * rounded as the FPU rounds it: the constant sqrtf(chi2 / 100.0f)
+ * (chi2_root_f32) and the product, whose 24 x 24-bit mantissa product is
+ * exact in 48 bits and rounded once (real_out), so the result is the float
+ * core's bit for bit.  Double: noise_px's mantissa rounded to 30 bits
+ * times floor(sqrt(chi2) 2^25) (chi2 < 2^14, so chi2 2^50 < 2^64),
+ * normalised to 62 bits, divided by 10 and rounded once: the square
+ * root's floor is within 2^-25 of sqrt(chi2) >= 10, the rest within
+ * 2^-30, a relative error below 2^-28.  NaN, infinities and zeros are
+ * their own product with a positive constant. */
 spvs_real spvs_q_inlier_px(const spvs_params_t *p)
 {
     SPVS_ASSERT(p != 0);
@@ -52,6 +80,11 @@ spvs_real spvs_q_inlier_px(const spvs_params_t *p)
     if (v.nonfinite || v.mant == 0u) {
         return p->noise_px;
     }
+#if !SPVS_USE_DOUBLE
+    const spvs_q_ieee_t c = spvs_q_ieee_f32(chi2_root_f32());
+    const int64_t x = (int64_t)(v.mant * c.mant);
+    return real_out(v.neg ? -x : x, -(int)(v.exp2 + c.exp2));
+#else
     const int drop = spvs_q_bitlen64(v.mant) - 30;
     if (drop > 0) {
         v.mant = (v.mant + ((uint64_t)1 << (drop - 1))) >> drop;
@@ -62,6 +95,7 @@ spvs_real spvs_q_inlier_px(const spvs_params_t *p)
     const int up = 62 - spvs_q_bitlen64(x);
     const int64_t y = (int64_t)((x << up) / 10u);
     return real_out(v.neg ? -y : y, 25 + up - (int)v.exp2);
+#endif
 }
 
 /* spvs.c's rules on the parameters (noise_px in (0, 300), confidence in

@@ -102,9 +102,10 @@ SPVS_NODISCARD int spvs_q_update_with_h(spvs_q_t *s, const spvs_match_t *m, uint
                                         spvs_output_t *out);
 
 /* spvs_inlier_px: noise_px sqrt(SPVS_INLIER_CHI2_X100 / 100), pixels, in
- * integers (relative error below 2^-28: in float32 the float core's value
- * or a neighbour).  The Q pipeline's own threshold, spvs_q_params_t's t2,
- * is made from noise_px rounded to Q16 pixels. */
+ * integers: in float32 the float core's value bit for bit (each of its
+ * roundings made as the FPU makes it), in double within 2^-28.  The Q
+ * pipeline's own threshold, spvs_q_params_t's t2, is made from noise_px
+ * rounded to Q16 pixels. */
 spvs_real spvs_q_inlier_px(const spvs_params_t *p);
 
 /* spvs_estimate_h: the frame checked and loaded, the remembered off-plane
