@@ -8,8 +8,10 @@
  * core's spvs_update_with_h fed the same H:
  *
  *   - the H that the Q update estimated on a frame, read back from its
- *     output, given to spvs_update_with_h: the same command, step and
- *     status, on a fresh controller and over whole closed-loop runs;
+ *     output, given to spvs_update_with_h: the same step and status,
+ *     commands within TOL_READBACK (the output's H is float32; bit for bit
+ *     in the double build), on fresh controllers and over whole
+ *     closed-loop runs;
  *   - (float build) the float and the Q spvs_update_with_h on the frames of
  *     float closed-loop runs, both given the float core's estimate: the
  *     same steps and statuses on every frame, commands within TOL_TWIN_*;
