@@ -44,7 +44,7 @@ tests/compare_layouts.sh build/test-float/sim_host/spvs-sim "$dir/sim_host/spvs-
 # stage in the core: the closed loops and the scenarios with the float
 # build's limits, and spvs-sim's in-process run equal to the Q pipeline's.
 dir=build/test-fixed
-fixed_tests="test_sim test_closed_loop test_scenarios test_golden_fixed"
+fixed_tests="test_sim test_closed_loop test_scenarios test_golden_fixed test_fixed_spvs test_serial_bits"
 echo "=== configure and build (fixed-point core, pipeline tests) ==="
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_FIXED=ON >/dev/null
 cmake --build "$dir" -j "$jobs" --target $fixed_tests spvs-sim
