@@ -100,7 +100,8 @@ int spvs_pts_lin_move(const spvs_real H[9], const spvs_real pt[4], int add,
  * bail_var = SPVS_BAIL_SIGMAS^2 p (1 - p) (integers of points, no root). */
 static SPVS_ALWAYS_INLINE int bails(spvs_real p, spvs_real bail_var, size_t m, int32_t inl)
 {
-    const spvs_real m_pts = (spvs_real)m;
+    /* m < 2^16: the signed conversion is exact and needs no unsigned fix-up. */
+    const spvs_real m_pts = (spvs_real)(int32_t)m;
     const spvs_real d = p * m_pts - (spvs_real)inl;
     return d > SPVS_R(0.0) && d * d > bail_var * m_pts;
 }
@@ -259,10 +260,14 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     uint16_t pos = 0;
     int32_t bad = 0;
     uint16_t k = 0;
-    /* -1 in a lane while every coordinate it has seen is in range, and
-     * each coordinate's largest magnitude so far. */
-    spvs_v4i in_range = (spvs_v4i){0} - 1;
+    /* Each coordinate's largest magnitude so far, and the coordinates' sum:
+     * the sum is NaN once a coordinate is NaN, and without a NaN the
+     * largest magnitudes are exact (an infinity among them), so the range
+     * test at the end (every largest magnitude within lim, no sum NaN)
+     * fails exactly when a coordinate is not finite or out of range,
+     * although spvs_v4_max may drop a NaN. */
     spvs_v4 amax = {0};
+    spvs_v4 csum = {0};
     /* Four slots at a time: the four coordinates of a match are one vector,
      * transposed with the three others into columns.  Bound: n /
      * SPVS_VLANES groups. */
@@ -274,10 +279,8 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
             bad |= f >= SPVS_MAX_FEATURES;
             feat[k + j] = f;
             const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
-            const spvs_v4 ac = spvs_v4_abs(c);
-            in_range &= ac <= lim;
-            const spvs_v4i gt = ac > amax;
-            amax = (spvs_v4)(((spvs_v4i)ac & gt) | ((spvs_v4i)amax & ~gt));
+            amax = spvs_v4_max(amax, spvs_v4_abs(c));
+            csum += c;
             r[j] = c * inv;
         }
         /* (x y u v) rows to (x0 x1 x2 x3) ... columns. */
@@ -290,7 +293,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
         *(spvs_v4u *)&c2[k] = SPVS_V4_SHUFFLE2(t1, t3, 0, 1, 4, 5);
         *(spvs_v4u *)&c3[k] = SPVS_V4_SHUFFLE2(t1, t3, 2, 3, 6, 7);
     }
-    bad |= (in_range[0] & in_range[1] & in_range[2] & in_range[3]) == 0;
+    bad |= spvs_v4_any(~((amax <= lim) & (csum == csum)));
     spvs_real um = amax[2], vm = amax[3];
     /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
     for (; k < n; k++) {
@@ -311,20 +314,46 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     return bad;
 }
 
+/* The inlier flags of H for points r..r + SPVS_VLANES (-1 or 0 lanes). */
+static SPVS_ALWAYS_INLINE spvs_v4i score_row(const spvs_real *h, const spvs_point_store_t *st,
+                                             size_t r, spvs_real t2, spvs_real c2)
+{
+    spvs_v4 e;
+    return hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
+                       spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2, &e);
+}
+
+/* Rows of lanes whose flags are stored together (spvs_v4_store_flags4). */
+#define FLAG_ROWS 4
+_Static_assert(FLAG_ROWS == 4, "spvs_v4_store_flags4 takes four rows");
+
 /* The inliers of H among points i..i + SPVS_SCORE_BLOCK, marked in
- * mask[i..] when with_mask; returns their count. */
+ * mask[i..] when with_mask; returns their count.  The flags of FLAG_ROWS
+ * rows go out in one store, the rows a group leaves over one at a time. */
 static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_point_store_t *st,
                                               size_t i, spvs_real t2, spvs_real c2, uint8_t *mask,
                                               int with_mask)
 {
+    const size_t group = FLAG_ROWS * SPVS_VLANES;
+    const size_t end = i + SPVS_SCORE_BLOCK;
+    const size_t end_groups = i + SPVS_SCORE_BLOCK / group * group;
     spvs_v4i cnt = {0};
+    size_t r = i;
     SPVS_UNROLL
-    for (size_t r = i; r < i + SPVS_SCORE_BLOCK; r += SPVS_VLANES) {
-        spvs_v4 e;
-        const spvs_v4i in =
-            hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
-                        spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2,
-                        &e);
+    for (; r < end_groups; r += group) {
+        spvs_v4i in[FLAG_ROWS];
+        SPVS_UNROLL
+        for (int q = 0; q < FLAG_ROWS; q++) {
+            in[q] = score_row(h, st, r + (size_t)q * SPVS_VLANES, t2, c2);
+            cnt -= in[q];
+        }
+        if (with_mask) {
+            spvs_v4_store_flags4(in[0], in[1], in[2], in[3], mask + r);
+        }
+    }
+    SPVS_UNROLL
+    for (; r < end; r += SPVS_VLANES) {
+        const spvs_v4i in = score_row(h, st, r, t2, c2);
         cnt -= in;
         if (with_mask) {
             spvs_v4_store_flags(in, mask + r);
@@ -553,10 +582,12 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
-     * points. */
+     * points.  With need = 0 neither test can stop the count (every count
+     * reaches 0 and no count falls below a share of 0), so they are not
+     * made. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        if (!score_blockwise(st, h, i, t2, c2, max_out, mask, &inl) ||
-            bails(p, bail_var, i + SPVS_SCORE_BLOCK, inl)) {
+        const int reachable = score_blockwise(st, h, i, t2, c2, max_out, mask, &inl);
+        if (need != 0u && (!reachable || bails(p, bail_var, i + SPVS_SCORE_BLOCK, inl))) {
             return (uint16_t)inl;
         }
     }
