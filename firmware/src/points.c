@@ -247,6 +247,25 @@ static SPVS_ALWAYS_INLINE int32_t sum_store(int kind, int nt, int count, const s
     return used;
 }
 
+/* The match of slot k (spvs_slot_source's, whose position *pos it keeps
+ * when `order` is given).  Without `order` the plane matches are walked by
+ * a byte offset *off instead, the same sequence without the 16-bit
+ * position's arithmetic and the scaling of an index per match. */
+static SPVS_ALWAYS_INLINE const spvs_match_t *slot_match(const spvs_match_t *m, uint16_t k,
+                                                         uint16_t n_plane, const uint16_t *order,
+                                                         uint16_t stride, uint16_t *pos,
+                                                         size_t *off)
+{
+    if (order != 0) {
+        return &m[spvs_slot_source(k, n_plane, order, stride, pos)];
+    }
+    const spvs_match_t *const at_off = (const spvs_match_t *)(const void *)((const char *)m + *off);
+    const size_t next = *off + (size_t)stride * sizeof *m;
+    const size_t end = (size_t)n_plane * sizeof *m;
+    *off = next >= end ? next - end : next;
+    return at_off;
+}
+
 /* The loader's copy (spvs_pts_load); `order` is NULL or not where it is
  * called, so each case gets its own loop. */
 static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
@@ -258,6 +277,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     spvs_real *const c0 = COL(st, 0), *const c1 = COL(st, 1);
     spvs_real *const c2 = COL(st, 2), *const c3 = COL(st, 3);
     uint16_t pos = 0;
+    size_t off = 0;
     int32_t bad = 0;
     uint16_t k = 0;
     /* Each coordinate's largest magnitude so far, and the coordinates' sum:
@@ -274,11 +294,12 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     for (; k + SPVS_VLANES <= n; k = (uint16_t)(k + SPVS_VLANES)) {
         spvs_v4 r[SPVS_VLANES];
         for (uint16_t j = 0; j < SPVS_VLANES; j++) {
-            const uint16_t i = spvs_slot_source((uint16_t)(k + j), n_plane, order, stride, &pos);
-            const uint16_t f = m[i].feature;
+            const spvs_match_t *const mi =
+                slot_match(m, (uint16_t)(k + j), n_plane, order, stride, &pos, &off);
+            const uint16_t f = mi->feature;
             bad |= f >= SPVS_MAX_FEATURES;
             feat[k + j] = f;
-            const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
+            const spvs_v4 c = spvs_v4_load(&mi->x_tgt);
             amax = spvs_v4_max(amax, spvs_v4_abs(c));
             csum += c;
             r[j] = c * inv;
@@ -297,11 +318,11 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     spvs_real um = amax[2], vm = amax[3];
     /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
     for (; k < n; k++) {
-        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
-        const uint16_t f = m[i].feature;
+        const spvs_match_t *const mi = slot_match(m, k, n_plane, order, stride, &pos, &off);
+        const uint16_t f = mi->feature;
         bad |= f >= SPVS_MAX_FEATURES;
         feat[k] = f;
-        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        const spvs_real c[4] = {mi->x_tgt, mi->y_tgt, mi->x_cur, mi->y_cur};
         for (int j = 0; j < 4; j++) {
             bad |= !(SPVS_FABS(c[j]) <= lim);
             COL(st, j)[k] = c[j] * inv;
@@ -374,6 +395,29 @@ static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, cons
     *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
                  : score_block(h, st, i, t2, c2, mask, 0);
     return (int32_t)(i + SPVS_SCORE_BLOCK) - *inl <= max_out;
+}
+
+/* The points [i, n) after the last whole block: rows of lanes, each
+ * followed by the test of score_blockwise (a count stopped there is below
+ * `need` all the same), then the last few points one at a time. */
+static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const spvs_real *h,
+                                          size_t i, size_t n, spvs_real t2, spvs_real c2,
+                                          int32_t max_out, uint8_t *mask, int32_t *inl)
+{
+    /* Bound: fewer than SPVS_SCORE_BLOCK / SPVS_VLANES rows. */
+    for (; i + SPVS_VLANES <= n; i += SPVS_VLANES) {
+        const spvs_v4i in = score_row(h, st, i, t2, c2);
+        if (mask) {
+            spvs_v4_store_flags(in, mask + i);
+        }
+        spvs_v4i cnt = in + SPVS_V4_SHUFFLE(in, 2, 3, 0, 1);
+        cnt += SPVS_V4_SHUFFLE(cnt, 1, 0, 3, 2);
+        *inl -= (int32_t)cnt[0];
+        if ((int32_t)(i + SPVS_VLANES) - *inl > max_out) {
+            return;
+        }
+    }
+    (void)score_points(st, h, i, n, t2, c2, max_out, mask, inl);
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
@@ -471,6 +515,14 @@ static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, cons
                                               int32_t max_out, uint8_t *mask, int32_t *inl)
 {
     return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, max_out, mask, inl);
+}
+
+/* The points [i, n) after the last whole block, one at a time. */
+static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const spvs_real *h,
+                                          size_t i, size_t n, spvs_real t2, spvs_real c2,
+                                          int32_t max_out, uint8_t *mask, int32_t *inl)
+{
+    (void)score_points(st, h, i, n, t2, c2, max_out, mask, inl);
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
@@ -591,6 +643,6 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
             return (uint16_t)inl;
         }
     }
-    (void)score_points(st, h, i, n, t2, c2, max_out, mask, &inl);
+    score_tail(st, h, i, n, t2, c2, max_out, mask, &inl);
     return (uint16_t)inl;
 }
