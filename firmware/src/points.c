@@ -106,6 +106,22 @@ static SPVS_ALWAYS_INLINE int bails(spvs_real p, spvs_real bail_var, size_t m, i
     return d > SPVS_R(0.0) && d * d > bail_var * m_pts;
 }
 
+/* When spvs_pts_score stops: `need`, the most outliers that leave it
+ * reachable, and the bail-out test's share p and bail_var (bails). */
+typedef struct {
+    uint16_t need;
+    int32_t max_out;
+    spvs_real p;
+    spvs_real bail_var;
+} score_stop_t;
+
+/* Nonzero while the count of m points with inl inliers goes on: `need`
+ * still reachable and the bail-out test passed. */
+static SPVS_ALWAYS_INLINE int keeps_on(const score_stop_t *stop, size_t m, int32_t inl)
+{
+    return (int32_t)m - inl <= stop->max_out && !bails(stop->p, stop->bail_var, m, inl);
+}
+
 /* c2 of hp_inlier for H on the frame of st: t2 times a bound of
  * |P|_F^2 = (u h31 - h11)^2 + (u h32 - h12)^2 + (v h31)^2 + (v h32 - 1)^2
  * over the frame's points, from their largest |u| and |v|; raised by 1e-3
@@ -387,14 +403,18 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
 }
 
 /* One block of spvs_pts_score, the whole block counted on SIMD lanes;
- * returns 0 when `need` can no longer be reached (tested once per block). */
+ * returns 0 when the count stops: `need` can no longer be reached, or the
+ * bail-out test fails (both tested once per block).  With need = 0
+ * neither can happen (every count reaches 0, and none falls below a share
+ * of 0), so neither is tested. */
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
                                               size_t i, spvs_real t2, spvs_real c2,
-                                              int32_t max_out, uint8_t *mask, int32_t *inl)
+                                              const score_stop_t *stop, uint8_t *mask,
+                                              int32_t *inl)
 {
     *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
                  : score_block(h, st, i, t2, c2, mask, 0);
-    return (int32_t)(i + SPVS_SCORE_BLOCK) - *inl <= max_out;
+    return stop->need == 0u || keeps_on(stop, i + SPVS_SCORE_BLOCK, *inl);
 }
 
 /* The points [i, n) after the last whole block: rows of lanes, each
@@ -509,12 +529,14 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
 }
 
 /* One block of spvs_pts_score point by point, so `need` is tested at every
- * point. */
+ * point, then the bail-out test. */
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
                                               size_t i, spvs_real t2, spvs_real c2,
-                                              int32_t max_out, uint8_t *mask, int32_t *inl)
+                                              const score_stop_t *stop, uint8_t *mask,
+                                              int32_t *inl)
 {
-    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, max_out, mask, inl);
+    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, stop->max_out, mask, inl) &&
+           !bails(stop->p, stop->bail_var, i + SPVS_SCORE_BLOCK, *inl);
 }
 
 /* The points [i, n) after the last whole block, one at a time. */
@@ -625,6 +647,7 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     const spvs_real p = need <= n ? (spvs_real)need / (spvs_real)n : SPVS_R(1.0);
     const spvs_real bail_var =
         (spvs_real)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * p * (SPVS_R(1.0) - p);
+    const score_stop_t stop = {need, max_out, p, bail_var};
     const spvs_real c2 = band_c2(st, H, t2);
     /* A local copy: the mask stores cannot then alias the model. */
     spvs_real h[9];
@@ -634,12 +657,9 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
-     * points.  With need = 0 neither test can stop the count (every count
-     * reaches 0 and no count falls below a share of 0), so they are not
-     * made. */
+     * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        const int reachable = score_blockwise(st, h, i, t2, c2, max_out, mask, &inl);
-        if (need != 0u && (!reachable || bails(p, bail_var, i + SPVS_SCORE_BLOCK, inl))) {
+        if (!score_blockwise(st, h, i, t2, c2, &stop, mask, &inl)) {
             return (uint16_t)inl;
         }
     }
