@@ -195,16 +195,19 @@ static spvs_real sampson_cost(const spvs_plane_h_t *e, const spvs_real H[9])
  * only where it lowers the summed Sampson error (the current model's comes
  * with the fit's sums).  The re-selection's weights were the RANSAC
  * model's; this takes them at the re-selected model, so that the result is
- * the Sampson fit of the final set. */
-static void final_refit(spvs_plane_h_t *e, spvs_real model[9])
+ * the Sampson fit of the final set.  have_sums: e->lin_sums already hold
+ * the sums of the first step (model's, on e->mask). */
+static void final_refit(spvs_plane_h_t *e, spvs_real model[9], int have_sums)
 {
     const spvs_pts_in_t in = source(e);
     for (int step = 0; step < SPVS_FINAL_STEPS; step++) {
         spvs_real Hn[9];
-        if (spvs_hf_lin_sums(&in, e->mask, e->n_plane, model, e->lin_sums) != SPVS_OK ||
+        if ((!have_sums &&
+             spvs_hf_lin_sums(&in, e->mask, e->n_plane, model, e->lin_sums) != SPVS_OK) ||
             spvs_hf_lin_solve(e->lin_sums, model, Hn) != SPVS_OK) {
             break;
         }
+        have_sums = 0;
         if (!(sampson_cost(e, Hn) < e->lin_sums[SPVS_H_LIN_COST])) {
             break;
         }
@@ -220,8 +223,10 @@ static void final_refit(spvs_plane_h_t *e, spvs_real model[9])
  * the count does not fall.  The fit's weights stay those of the RANSAC
  * model, so its sums follow the set by the points that enter or leave it
  * (lin_follow) instead of another pass.  On return e->mask holds the set
- * and *n_inl its count. */
-static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
+ * and *n_inl its count.  Returns 1 when no round changed the model (the
+ * first fit failed or lost inliers): e->lin_sums are then still the sums of
+ * `model` on e->mask, which the final refit starts from. */
+static int reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
 {
     const spvs_pts_in_t in = source(e);
     /* The set in use and the next one, swapped each round. */
@@ -233,8 +238,9 @@ static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
         hw[k] = model[k];
     }
     if (spvs_hf_lin_sums(&in, cur, e->n_plane, hw, sums) != SPVS_OK) {
-        return;
+        return 0;
     }
+    int unchanged = 1;
     for (int round = 0; round < SPVS_REFIT_ROUNDS; round++) {
         spvs_real Hr[9];
         if (spvs_hf_lin_solve(sums, hw, Hr) != SPVS_OK) {
@@ -244,6 +250,7 @@ static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
         if (n_new < *n_inl) {
             break;
         }
+        unchanged = 0;
         for (int k = 0; k < 9; k++) {
             model[k] = Hr[k];
         }
@@ -263,6 +270,7 @@ static void reselect(spvs_plane_h_t *e, spvs_real model[9], uint16_t *n_inl)
     if (cur != e->mask) {
         memcpy(e->mask, cur, e->n_plane);
     }
+    return unchanged;
 }
 
 int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px, spvs_real confidence,
@@ -281,8 +289,8 @@ int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px, spvs_real conf
         return rc;
     }
     uint16_t n_inl = st.n_inliers;
-    reselect(e, model, &n_inl);
-    final_refit(e, model);
+    const int have_sums = reselect(e, model, &n_inl);
+    final_refit(e, model, have_sums);
     for (int k = 0; k < 9; k++) {
         e->H_sc[k] = model[k];
     }

@@ -100,9 +100,26 @@ int spvs_pts_lin_move(const spvs_real H[9], const spvs_real pt[4], int add,
  * bail_var = SPVS_BAIL_SIGMAS^2 p (1 - p) (integers of points, no root). */
 static SPVS_ALWAYS_INLINE int bails(spvs_real p, spvs_real bail_var, size_t m, int32_t inl)
 {
-    const spvs_real m_pts = (spvs_real)m;
+    /* m < 2^16: the signed conversion is exact and needs no unsigned fix-up. */
+    const spvs_real m_pts = (spvs_real)(int32_t)m;
     const spvs_real d = p * m_pts - (spvs_real)inl;
     return d > SPVS_R(0.0) && d * d > bail_var * m_pts;
+}
+
+/* When spvs_pts_score stops: `need`, the most outliers that leave it
+ * reachable, and the bail-out test's share p and bail_var (bails). */
+typedef struct {
+    uint16_t need;
+    int32_t max_out;
+    spvs_real p;
+    spvs_real bail_var;
+} score_stop_t;
+
+/* Nonzero while the count of m points with inl inliers goes on: `need`
+ * still reachable and the bail-out test passed. */
+static SPVS_ALWAYS_INLINE int keeps_on(const score_stop_t *stop, size_t m, int32_t inl)
+{
+    return (int32_t)m - inl <= stop->max_out && !bails(stop->p, stop->bail_var, m, inl);
 }
 
 /* c2 of hp_inlier for H on the frame of st: t2 times a bound of
@@ -246,6 +263,25 @@ static SPVS_ALWAYS_INLINE int32_t sum_store(int kind, int nt, int count, const s
     return used;
 }
 
+/* The match of slot k (spvs_slot_source's, whose position *pos it keeps
+ * when `order` is given).  Without `order` the plane matches are walked by
+ * a byte offset *off instead, the same sequence without the 16-bit
+ * position's arithmetic and the scaling of an index per match. */
+static SPVS_ALWAYS_INLINE const spvs_match_t *slot_match(const spvs_match_t *m, uint16_t k,
+                                                         uint16_t n_plane, const uint16_t *order,
+                                                         uint16_t stride, uint16_t *pos,
+                                                         size_t *off)
+{
+    if (order != 0) {
+        return &m[spvs_slot_source(k, n_plane, order, stride, pos)];
+    }
+    const spvs_match_t *const at_off = (const spvs_match_t *)(const void *)((const char *)m + *off);
+    const size_t next = *off + (size_t)stride * sizeof *m;
+    const size_t end = (size_t)n_plane * sizeof *m;
+    *off = next >= end ? next - end : next;
+    return at_off;
+}
+
 /* The loader's copy (spvs_pts_load); `order` is NULL or not where it is
  * called, so each case gets its own loop. */
 static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
@@ -257,27 +293,31 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     spvs_real *const c0 = COL(st, 0), *const c1 = COL(st, 1);
     spvs_real *const c2 = COL(st, 2), *const c3 = COL(st, 3);
     uint16_t pos = 0;
+    size_t off = 0;
     int32_t bad = 0;
     uint16_t k = 0;
-    /* -1 in a lane while every coordinate it has seen is in range, and
-     * each coordinate's largest magnitude so far. */
-    spvs_v4i in_range = (spvs_v4i){0} - 1;
+    /* Each coordinate's largest magnitude so far, and the coordinates' sum:
+     * the sum is NaN once a coordinate is NaN, and without a NaN the
+     * largest magnitudes are exact (an infinity among them), so the range
+     * test at the end (every largest magnitude within lim, no sum NaN)
+     * fails exactly when a coordinate is not finite or out of range,
+     * although spvs_v4_max may drop a NaN. */
     spvs_v4 amax = {0};
+    spvs_v4 csum = {0};
     /* Four slots at a time: the four coordinates of a match are one vector,
      * transposed with the three others into columns.  Bound: n /
      * SPVS_VLANES groups. */
     for (; k + SPVS_VLANES <= n; k = (uint16_t)(k + SPVS_VLANES)) {
         spvs_v4 r[SPVS_VLANES];
         for (uint16_t j = 0; j < SPVS_VLANES; j++) {
-            const uint16_t i = spvs_slot_source((uint16_t)(k + j), n_plane, order, stride, &pos);
-            const uint16_t f = m[i].feature;
+            const spvs_match_t *const mi =
+                slot_match(m, (uint16_t)(k + j), n_plane, order, stride, &pos, &off);
+            const uint16_t f = mi->feature;
             bad |= f >= SPVS_MAX_FEATURES;
             feat[k + j] = f;
-            const spvs_v4 c = spvs_v4_load(&m[i].x_tgt);
-            const spvs_v4 ac = spvs_v4_abs(c);
-            in_range &= ac <= lim;
-            const spvs_v4i gt = ac > amax;
-            amax = (spvs_v4)(((spvs_v4i)ac & gt) | ((spvs_v4i)amax & ~gt));
+            const spvs_v4 c = spvs_v4_load(&mi->x_tgt);
+            amax = spvs_v4_max(amax, spvs_v4_abs(c));
+            csum += c;
             r[j] = c * inv;
         }
         /* (x y u v) rows to (x0 x1 x2 x3) ... columns. */
@@ -290,15 +330,15 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
         *(spvs_v4u *)&c2[k] = SPVS_V4_SHUFFLE2(t1, t3, 0, 1, 4, 5);
         *(spvs_v4u *)&c3[k] = SPVS_V4_SHUFFLE2(t1, t3, 2, 3, 6, 7);
     }
-    bad |= (in_range[0] & in_range[1] & in_range[2] & in_range[3]) == 0;
+    bad |= spvs_v4_any(~((amax <= lim) & (csum == csum)));
     spvs_real um = amax[2], vm = amax[3];
     /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
     for (; k < n; k++) {
-        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
-        const uint16_t f = m[i].feature;
+        const spvs_match_t *const mi = slot_match(m, k, n_plane, order, stride, &pos, &off);
+        const uint16_t f = mi->feature;
         bad |= f >= SPVS_MAX_FEATURES;
         feat[k] = f;
-        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
+        const spvs_real c[4] = {mi->x_tgt, mi->y_tgt, mi->x_cur, mi->y_cur};
         for (int j = 0; j < 4; j++) {
             bad |= !(SPVS_FABS(c[j]) <= lim);
             COL(st, j)[k] = c[j] * inv;
@@ -311,20 +351,46 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     return bad;
 }
 
+/* The inlier flags of H for points r..r + SPVS_VLANES (-1 or 0 lanes). */
+static SPVS_ALWAYS_INLINE spvs_v4i score_row(const spvs_real *h, const spvs_point_store_t *st,
+                                             size_t r, spvs_real t2, spvs_real c2)
+{
+    spvs_v4 e;
+    return hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
+                       spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2, &e);
+}
+
+/* Rows of lanes whose flags are stored together (spvs_v4_store_flags4). */
+#define FLAG_ROWS 4
+_Static_assert(FLAG_ROWS == 4, "spvs_v4_store_flags4 takes four rows");
+
 /* The inliers of H among points i..i + SPVS_SCORE_BLOCK, marked in
- * mask[i..] when with_mask; returns their count. */
+ * mask[i..] when with_mask; returns their count.  The flags of FLAG_ROWS
+ * rows go out in one store, the rows a group leaves over one at a time. */
 static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_point_store_t *st,
                                               size_t i, spvs_real t2, spvs_real c2, uint8_t *mask,
                                               int with_mask)
 {
+    const size_t group = FLAG_ROWS * SPVS_VLANES;
+    const size_t end = i + SPVS_SCORE_BLOCK;
+    const size_t end_groups = i + SPVS_SCORE_BLOCK / group * group;
     spvs_v4i cnt = {0};
+    size_t r = i;
     SPVS_UNROLL
-    for (size_t r = i; r < i + SPVS_SCORE_BLOCK; r += SPVS_VLANES) {
-        spvs_v4 e;
-        const spvs_v4i in =
-            hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
-                        spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2,
-                        &e);
+    for (; r < end_groups; r += group) {
+        spvs_v4i in[FLAG_ROWS];
+        SPVS_UNROLL
+        for (int q = 0; q < FLAG_ROWS; q++) {
+            in[q] = score_row(h, st, r + (size_t)q * SPVS_VLANES, t2, c2);
+            cnt -= in[q];
+        }
+        if (with_mask) {
+            spvs_v4_store_flags4(in[0], in[1], in[2], in[3], mask + r);
+        }
+    }
+    SPVS_UNROLL
+    for (; r < end; r += SPVS_VLANES) {
+        const spvs_v4i in = score_row(h, st, r, t2, c2);
         cnt -= in;
         if (with_mask) {
             spvs_v4_store_flags(in, mask + r);
@@ -337,14 +403,41 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
 }
 
 /* One block of spvs_pts_score, the whole block counted on SIMD lanes;
- * returns 0 when `need` can no longer be reached (tested once per block). */
+ * returns 0 when the count stops: `need` can no longer be reached, or the
+ * bail-out test fails (both tested once per block).  With need = 0
+ * neither can happen (every count reaches 0, and none falls below a share
+ * of 0), so neither is tested. */
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
                                               size_t i, spvs_real t2, spvs_real c2,
-                                              int32_t max_out, uint8_t *mask, int32_t *inl)
+                                              const score_stop_t *stop, uint8_t *mask,
+                                              int32_t *inl)
 {
     *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
                  : score_block(h, st, i, t2, c2, mask, 0);
-    return (int32_t)(i + SPVS_SCORE_BLOCK) - *inl <= max_out;
+    return stop->need == 0u || keeps_on(stop, i + SPVS_SCORE_BLOCK, *inl);
+}
+
+/* The points [i, n) after the last whole block: rows of lanes, each
+ * followed by the test of score_blockwise (a count stopped there is below
+ * `need` all the same), then the last few points one at a time. */
+static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const spvs_real *h,
+                                          size_t i, size_t n, spvs_real t2, spvs_real c2,
+                                          int32_t max_out, uint8_t *mask, int32_t *inl)
+{
+    /* Bound: fewer than SPVS_SCORE_BLOCK / SPVS_VLANES rows. */
+    for (; i + SPVS_VLANES <= n; i += SPVS_VLANES) {
+        const spvs_v4i in = score_row(h, st, i, t2, c2);
+        if (mask) {
+            spvs_v4_store_flags(in, mask + i);
+        }
+        spvs_v4i cnt = in + SPVS_V4_SHUFFLE(in, 2, 3, 0, 1);
+        cnt += SPVS_V4_SHUFFLE(cnt, 1, 0, 3, 2);
+        *inl -= (int32_t)cnt[0];
+        if ((int32_t)(i + SPVS_VLANES) - *inl > max_out) {
+            return;
+        }
+    }
+    (void)score_points(st, h, i, n, t2, c2, max_out, mask, inl);
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
@@ -436,12 +529,22 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
 }
 
 /* One block of spvs_pts_score point by point, so `need` is tested at every
- * point. */
+ * point, then the bail-out test. */
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
                                               size_t i, spvs_real t2, spvs_real c2,
-                                              int32_t max_out, uint8_t *mask, int32_t *inl)
+                                              const score_stop_t *stop, uint8_t *mask,
+                                              int32_t *inl)
 {
-    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, max_out, mask, inl);
+    return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, stop->max_out, mask, inl) &&
+           !bails(stop->p, stop->bail_var, i + SPVS_SCORE_BLOCK, *inl);
+}
+
+/* The points [i, n) after the last whole block, one at a time. */
+static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const spvs_real *h,
+                                          size_t i, size_t n, spvs_real t2, spvs_real c2,
+                                          int32_t max_out, uint8_t *mask, int32_t *inl)
+{
+    (void)score_points(st, h, i, n, t2, c2, max_out, mask, inl);
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
@@ -544,6 +647,7 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     const spvs_real p = need <= n ? (spvs_real)need / (spvs_real)n : SPVS_R(1.0);
     const spvs_real bail_var =
         (spvs_real)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * p * (SPVS_R(1.0) - p);
+    const score_stop_t stop = {need, max_out, p, bail_var};
     const spvs_real c2 = band_c2(st, H, t2);
     /* A local copy: the mask stores cannot then alias the model. */
     spvs_real h[9];
@@ -555,11 +659,10 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
      * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        if (!score_blockwise(st, h, i, t2, c2, max_out, mask, &inl) ||
-            bails(p, bail_var, i + SPVS_SCORE_BLOCK, inl)) {
+        if (!score_blockwise(st, h, i, t2, c2, &stop, mask, &inl)) {
             return (uint16_t)inl;
         }
     }
-    (void)score_points(st, h, i, n, t2, c2, max_out, mask, &inl);
+    score_tail(st, h, i, n, t2, c2, max_out, mask, &inl);
     return (uint16_t)inl;
 }

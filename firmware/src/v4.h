@@ -42,6 +42,18 @@ static inline spvs_v4 spvs_v4_abs(spvs_v4 v)
     return (spvs_v4)((spvs_v4i)v & ~(spvs_v4i)neg0);
 }
 
+/* The larger of a and b lane by lane, for lanes where neither is NaN (where
+ * one is, either may come out): one maxps with SSE. */
+static inline spvs_v4 spvs_v4_max(spvs_v4 a, spvs_v4 b)
+{
+#if defined(__SSE__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+    return __builtin_ia32_maxps(a, b);
+#else
+    const spvs_v4i gt = a > b;
+    return (spvs_v4)(((spvs_v4i)a & gt) | ((spvs_v4i)b & ~gt));
+#endif
+}
+
 /* The flags use[0..SPVS_VLANES) as lanes: -1 where a flag is nonzero (one
  * load of the four bytes, each lane keeping its own byte). */
 #if SPVS_USE_DOUBLE
@@ -85,10 +97,43 @@ static inline void spvs_v4_store_flags(spvs_v4i f, uint8_t *mask)
     __builtin_memcpy(mask, &word, sizeof word);
 }
 
-/* Nonzero when any lane of the comparison m is true. */
+/* The flags of four rows of lanes, f[r] for points 4 r .. 4 r + 3, as
+ * bytes 1 or 0 in mask[0..4 SPVS_VLANES).  With SSE2 the sixteen flags are
+ * narrowed by two saturating packs (-1 stays -1, 0 stays 0) and stored at
+ * once; elsewhere row by row. */
+#if defined(__SSE2__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+typedef short spvs_v8s __attribute__((vector_size(16)));
+typedef char spvs_v16c __attribute__((vector_size(16)));
+static inline void spvs_v4_store_flags4(spvs_v4i f0, spvs_v4i f1, spvs_v4i f2, spvs_v4i f3,
+                                        uint8_t *mask)
+{
+    const spvs_v8s lo = __builtin_ia32_packssdw128(f0, f1);
+    const spvs_v8s hi = __builtin_ia32_packssdw128(f2, f3);
+    const spvs_v16c bytes = __builtin_ia32_packsswb128(lo, hi) & ((spvs_v16c){0} + 1);
+    __builtin_memcpy(mask, &bytes, sizeof bytes);
+}
+#else
+static inline void spvs_v4_store_flags4(spvs_v4i f0, spvs_v4i f1, spvs_v4i f2, spvs_v4i f3,
+                                        uint8_t *mask)
+{
+    spvs_v4_store_flags(f0, mask);
+    spvs_v4_store_flags(f1, mask + SPVS_VLANES);
+    spvs_v4_store_flags(f2, mask + 2 * SPVS_VLANES);
+    spvs_v4_store_flags(f3, mask + 3 * SPVS_VLANES);
+}
+#endif
+
+/* Nonzero when any lane of the comparison m is true.  With SSE the lanes'
+ * sign bits are gathered by one instruction (movmskps) instead of four lane
+ * extractions; a comparison's lanes are all ones or all zeros, so the sign
+ * bit says the same. */
 static inline int spvs_v4_any(spvs_v4i m)
 {
+#if defined(__SSE__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+    return __builtin_ia32_movmskps((spvs_v4)m) != 0;
+#else
     return ((m[0] | m[1]) | (m[2] | m[3])) != 0;
+#endif
 }
 
 #endif /* SPVS_V4_H */
