@@ -754,6 +754,19 @@ static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h,
     return ok_all;
 }
 
+/* The points of the band and the rest of a point's decision, out of the
+ * loop below: q_band_sampson, then the exact test. */
+static SPVS_Q_NOINLINE int q_band_or_exact(const int32_t *h, const int32_t *p, q_model_t *md,
+                                           const spvs_qf_t *t2)
+{
+    const int b = q_band_sampson(h, p, md);
+    if (b >= 0) {
+        return b;
+    }
+    spvs_qf_t e;
+    return q_inlier_exact(h, p, *t2, &e);
+}
+
 /* score_range with the model's fast test, or without it (every point to
  * the exact test), chosen once per call. */
 static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
@@ -762,6 +775,72 @@ static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, si
 {
     return md->fast ? score_range(st, h, i, end, md, t2, max_out, mask, inl, 1)
                     : score_range(st, h, i, end, md, t2, max_out, mask, inl, 0);
+}
+
+/* spvs_q_pts_score for a model with the fast test and a mask, the
+ * estimator's case, in one loop: q_fast's arithmetic on the model's
+ * constants in locals (the byte stores to the mask may alias any object,
+ * so values read through md or h would be read again after each), the
+ * early stop kept as the number of outliers still allowed (an inlier
+ * costs nothing more), the bail-out test after each full block, as
+ * spvs_q_pts_score's blocks make them.  The same decisions, mask and
+ * count.  Bound: n points. */
+static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const int32_t *h,
+                                                size_t n, q_model_t *md, const spvs_qf_t *t2,
+                                                int64_t need_b, int32_t max_out, uint8_t *mask)
+{
+    const int32_t h6 = h[6], h7 = h[7], nh0 = md->nh0, nh1 = md->nh1, T = md->T;
+    const int64_t h8c = md->h8c, nh2c = md->nh2c;
+    const uint64_t c2s = md->c2s;
+    /* Outliers still allowed: the stop comes at the first point r with
+     * (r + 1) - count > max_out. */
+    int32_t left = max_out;
+    const int32_t *p = st->v;
+    uint8_t *m = mask;
+    size_t done = 0;
+    /* Bound: n / SPVS_SCORE_BLOCK + 1 blocks. */
+    while (done < n) {
+        const size_t end = n - done > SPVS_SCORE_BLOCK ? done + SPVS_SCORE_BLOCK : n;
+        const int32_t *const pe = &st->v[4u * end];
+        /* Bound: SPVS_SCORE_BLOCK points. */
+        for (; p != pe; p += 4) {
+            int ok = 0;
+            const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
+            if (w > 0) {
+                /* q_hw and q_fast, on the locals. */
+                const int32_t w27 = (int32_t)(w >> 26);
+                const int32_t exh = (int32_t)((nh2c + (int64_t)p[2] * w27 +
+                                               (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
+                                              32);
+                const int32_t eyh = (int32_t)(((int64_t)p[3] * w27 +
+                                               (int64_t)p[1] * (int32_t)-(1 << 27)) >>
+                                              32);
+                const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
+                const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
+                const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+                const uint64_t E13 = (uint64_t)(13 * Q_FAST_D * Q_FAST_D) + (uint64_t)ax * ax +
+                                     (uint64_t)ay * ay;
+                const int32_t ti = (int32_t)tw - 3 * Q_FAST_D;
+                const uint32_t to = tw + Q_FAST_D;
+                if (E13 <= (uint64_t)((int64_t)ti * ti)) {
+                    ok = 1;
+                } else if (E13 <=
+                           c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
+                    ok = q_band_or_exact(h, p, md, t2);
+                }
+            }
+            *m++ = (uint8_t)ok;
+            if (!ok && --left < 0) {
+                return (uint16_t)((size_t)(m - mask) - (size_t)(max_out + 1));
+            }
+        }
+        done = end;
+        const int32_t inl = (int32_t)done - (max_out - left);
+        if (done % SPVS_SCORE_BLOCK == 0u && bails(need_b, (int64_t)n, (int64_t)done, inl)) {
+            return (uint16_t)inl;
+        }
+    }
+    return (uint16_t)((int32_t)n - (max_out - left));
 }
 
 uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9],
@@ -775,6 +854,9 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
         h[k] = Hq[k];
     }
     q_model_t md = model_prep(st, h, thr);
+    if (md.fast && mask) {
+        return score_fast_mask(st, h, n, &md, &thr->t2, need_b, max_out, mask);
+    }
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
