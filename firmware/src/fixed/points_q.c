@@ -258,11 +258,13 @@ static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_
     *den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, pp)), qf_sq(dp));
 }
 
-/* |h[k]| for the bounds over a frame. */
-static void h_abs(const int32_t *h, int64_t a[9])
+/* |h[k]| for the bounds over a frame (the magnitude in 32 bits: 2^31 for
+ * INT32_MIN, then widened). */
+static SPVS_Q_INLINE void h_abs(const int32_t *h, int64_t a[9])
 {
     for (int k = 0; k < 9; k++) {
-        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
+        const uint32_t u = (uint32_t)h[k];
+        a[k] = (int64_t)(h[k] < 0 ? 0u - u : u);
     }
 }
 
@@ -398,6 +400,9 @@ typedef struct {
     int sh;                   /* the values' shift: Q(21 - sh) */
     int32_t a6, a7;     /* t' h31, t' h32 in Q27 (t' = T 2^-26), rounded */
     int64_t c0, c1, c3; /* t' h11, t' h12 and t' in Q53, exact */
+    /* One residual's magnitude beyond which a point is out whatever the
+     * other (q_far_bound), Q21; UINT32_MAX: no such bound. */
+    uint32_t far;
 } q_model_t;
 
 #define Q_FAST_D 2
@@ -513,6 +518,31 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
     md->sfast = 1;
 }
 
+/* The bound far of q_model_t: where |exh| > far (or |eyh| > far), q_fast
+ * finds the point beyond, whatever the other residual.  With a the one
+ * magnitude and b the other, q_fast's outlier test is
+ *   a^2 + b^2 + 13 D^2 > c2s + (tw + D)^2 + 2 D (a + b),
+ * and a^2 + b^2 - 2 D (a + b) >= (a - D)^2 - 2 D^2 (as (b - D)^2 >= 0), so
+ * (a - D)^2 + 11 D^2 > c2s + (tw + D)^2 is sufficient; with tw <= twb over the frame (T times w's bound), a > far =
+ * D + X^(1/2), X = c2s + (twb + D)^2, satisfies it.  X^(1/2) is bounded
+ * above without a root: s = 2^k >= X^(1/2) from X's bit length, then one
+ * Newton step (s + X / s) / 2 >= X^(1/2) (AM-GM), X / s a shift rounded
+ * up.  UINT32_MAX where c2s leaves no outlier test (2^62 or more) or the
+ * bound does not fit. */
+static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
+{
+    const uint64_t lim = (uint64_t)1 << 62;
+    if (c2s >= lim) {
+        return UINT32_MAX;
+    }
+    /* T < 2^28 and wb < 2^57: twb < 2^27. */
+    const uint64_t twb = (((uint64_t)T * (uint64_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
+    const uint64_t X = c2s + twb * twb;
+    const int k = (spvs_q_bitlen64(X) + 1) / 2;
+    const uint64_t r = (((uint64_t)1 << k) + (X >> k) + 2u) >> 1;
+    return r >= ((uint64_t)1 << 31) ? UINT32_MAX : (uint32_t)r + Q_FAST_D;
+}
+
 static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const spvs_q_thr_t *thr)
 {
     q_model_t md;
@@ -556,6 +586,7 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     md.sfast = -1;
     md.st = st;
     md.wb = wb;
+    md.far = q_far_bound(md.c2s, md.T, wb);
     return md;
 }
 
@@ -792,6 +823,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     const int32_t h6 = h[6], h7 = h[7], nh0 = md->nh0, nh1 = md->nh1, T = md->T;
     const int64_t h8c = md->h8c, nh2c = md->nh2c;
     const uint64_t c2s = md->c2s;
+    const uint32_t far = md->far;
     /* Outliers still allowed: the stop comes at the first point r with
      * (r + 1) - count > max_out. */
     int32_t left = max_out;
@@ -806,27 +838,29 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
         for (; p != pe; p += 4) {
             int ok = 0;
             const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
-            if (w > 0) {
-                /* q_hw and q_fast, on the locals. */
-                const int32_t w27 = (int32_t)(w >> 26);
+            /* q_hw and q_fast on the locals; a residual beyond far
+             * decides alone (q_far_bound), ey first, the cheaper. */
+            const int32_t w27 = (int32_t)(w >> 26);
+            const int32_t eyh =
+                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
+            const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+            if (w > 0 && ay <= far) {
                 const int32_t exh = (int32_t)((nh2c + (int64_t)p[2] * w27 +
                                                (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
                                               32);
-                const int32_t eyh = (int32_t)(((int64_t)p[3] * w27 +
-                                               (int64_t)p[1] * (int32_t)-(1 << 27)) >>
-                                              32);
-                const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
                 const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
-                const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
-                const uint64_t E13 = (uint64_t)(13 * Q_FAST_D * Q_FAST_D) + (uint64_t)ax * ax +
-                                     (uint64_t)ay * ay;
-                const int32_t ti = (int32_t)tw - 3 * Q_FAST_D;
-                const uint32_t to = tw + Q_FAST_D;
-                if (E13 <= (uint64_t)((int64_t)ti * ti)) {
-                    ok = 1;
-                } else if (E13 <=
-                           c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
-                    ok = q_band_or_exact(h, p, md, t2);
+                if (ax <= far) {
+                    const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
+                    const uint64_t E13 = (uint64_t)(13 * Q_FAST_D * Q_FAST_D) +
+                                         (uint64_t)ax * ax + (uint64_t)ay * ay;
+                    const int32_t ti = (int32_t)tw - 3 * Q_FAST_D;
+                    const uint32_t to = tw + Q_FAST_D;
+                    if (E13 <= (uint64_t)((int64_t)ti * ti)) {
+                        ok = 1;
+                    } else if (E13 <= c2s + (uint64_t)to * to +
+                                          (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
+                        ok = q_band_or_exact(h, p, md, t2);
+                    }
                 }
             }
             *m++ = (uint8_t)ok;
@@ -1455,8 +1489,11 @@ static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1
          * same as rounding each sum once by one bit. */
         int big = 0;
         for (int j = lo; j < hi; j++) {
-            const int64_t f = spvs_q_rshift_rnd64(F[j], df);
-            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + (sub ? -f : f);
+            /* No call where the shift or the value is 0 (the common
+             * cases: a fresh s, F at the larger exponent). */
+            const int64_t f = df == 0 ? F[j] : spvs_q_rshift_rnd64(F[j], df);
+            const int64_t m = s->m[j];
+            const int64_t r = (ds == 0 || m == 0 ? m : spvs_q_rshift_rnd64(m, ds)) + (sub ? -f : f);
             s->m[j] = r;
             big |= spvs_q_abs64(r) >= ((uint64_t)1 << 62);
         }
