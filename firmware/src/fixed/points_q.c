@@ -114,25 +114,26 @@ static SPVS_Q_NOINLINE int32_t load_coord(spvs_real c, int px_frac, int32_t lim,
  * it reaches lim: there the 32-bit mantissa (bit 31 the implicit one)
  * shifted right by 7 - s in 0..31 is the value times 2, and adding one
  * before halving rounds half up (ties away from zero on the magnitude),
- * the general conversion's rounding.  Everything else (larger or smaller
- * magnitudes, subnormals, NaN and infinity, a value at the limit) takes
- * the general path. */
-static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t lim, uint32_t *bad,
-                                            int32_t *mag)
+ * the general conversion's rounding.  The magnitude is at most 2^(24 + s),
+ * so for s up to s_max (2^(24 + s_max) below lim) it cannot reach lim and
+ * is not compared with it.  Everything else (larger or smaller
+ * magnitudes, subnormals, NaN and infinity) takes the general path. */
+static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t lim, int s_max,
+                                            uint32_t *bad, int32_t *mag)
 {
 #if !SPVS_USE_DOUBLE
     uint32_t b;
     memcpy(&b, &c, sizeof b);
     const int s = (int)((b >> 23) & 0xffu) - 150 + px_frac;
-    if ((uint32_t)(s + 24) <= 31u) {
+    if ((uint32_t)(s + 24) <= (uint32_t)(s_max + 24)) {
         const uint32_t m8 = (b << 8) | 0x80000000u;
         const uint32_t a = ((m8 >> (7 - s)) + 1u) >> 1;
-        if (a < (uint32_t)lim) {
-            const int32_t sg = (int32_t)b >> 31;
-            *mag = (int32_t)a;
-            return ((int32_t)a ^ sg) - sg;
-        }
+        const int32_t sg = (int32_t)b >> 31;
+        *mag = (int32_t)a;
+        return ((int32_t)a ^ sg) - sg;
     }
+#else
+    (void)s_max;
 #endif
     const int32_t q = load_coord(c, px_frac, lim, bad);
     *mag = q_abs_clamp(q);
@@ -145,6 +146,11 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     const int px_frac = SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE));
     /* SPVS_MAX_COORD_PX in pixels Q(px_frac) = in scaled Q26, <= 2^30. */
     const int32_t lim = (int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE);
+    /* The largest s of load_coord_mag's fixed-position rounding whose
+     * magnitudes (at most 2^(24 + s)) stay below lim: 2^(24 + s) <=
+     * 2^(floor(log2 lim) - 1); at most 7 (the shift 7 - s). */
+    const int s_lg = 31 - spvs_q_clz32((uint32_t)lim) - 25;
+    const int s_max = s_lg > 7 ? 7 : s_lg;
     uint16_t pos = 0;
     uint32_t bad = 0;
     int32_t um = 0, vm = 0, xm = 0, ym = 0;
@@ -156,10 +162,10 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
         feat[k] = f;
         int32_t *const r = &st->v[4u * k];
         int32_t ax, ay, au, av;
-        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, &bad, &ax);
-        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, &bad, &ay);
-        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, &bad, &au);
-        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, &bad, &av);
+        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, s_max, &bad, &ax);
+        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, s_max, &bad, &ay);
+        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, s_max, &bad, &au);
+        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, s_max, &bad, &av);
         xm = ax > xm ? ax : xm;
         ym = ay > ym ? ay : ym;
         um = au > um ? au : um;
@@ -834,17 +840,22 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     while (done < n) {
         const size_t end = n - done > SPVS_SCORE_BLOCK ? done + SPVS_SCORE_BLOCK : n;
         const int32_t *const pe = &st->v[4u * end];
-        /* Bound: SPVS_SCORE_BLOCK points. */
-        for (; p != pe; p += 4) {
+        /* Bound: SPVS_SCORE_BLOCK points (at least one: end > done). */
+        do {
             int ok = 0;
             const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
             /* q_hw and q_fast on the locals; a residual beyond far
-             * decides alone (q_far_bound), ey first, the cheaper. */
+             * decides alone (q_far_bound), ey first, the cheaper.  A
+             * point with w27 <= 0 (w below 2^-27, or behind the camera)
+             * goes to the exact test, which decides w <= 0 as well. */
             const int32_t w27 = (int32_t)(w >> 26);
             const int32_t eyh =
                 (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
             const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
-            if (w > 0 && ay <= far) {
+            if (w27 <= 0) {
+                spvs_qf_t e;
+                ok = q_inlier_exact(h, p, *t2, &e);
+            } else if (ay <= far) {
                 const int32_t exh = (int32_t)((nh2c + (int64_t)p[2] * w27 +
                                                (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
                                               32);
@@ -867,7 +878,8 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
             if (!ok && --left < 0) {
                 return (uint16_t)((size_t)(m - mask) - (size_t)(max_out + 1));
             }
-        }
+            p += 4;
+        } while (p != pe);
         done = end;
         const int32_t inl = (int32_t)done - (max_out - left);
         if (done % SPVS_SCORE_BLOCK == 0u && bails(need_b, (int64_t)n, (int64_t)done, inl)) {
