@@ -104,10 +104,43 @@ typedef struct {
     uint32_t lh;    /* lim's high word, below 2^29                 */
 } cone_t;
 
+/* floor(sqrt(x)), exact, as spvs_q_isqrt64 (whose 32 steps of 64-bit
+ * operations cost about 1,500 instructions on the Cortex-M3): an estimate
+ * from spvs_q_rsqrt (sqrt(F) = F y, relative error below 2^-27, so within
+ * 2^4 of the root below 2^31) corrected by exact squares until r^2 <= x <
+ * (r + 1)^2, which makes it the floor whatever the estimate's error.  x
+ * below 2^62 (the root below 2^31, no square overflows); larger x, or a
+ * correction that has not converged in ISQRT_STEPS steps, take
+ * spvs_q_isqrt64. */
+#define ISQRT_STEPS 64
+static SPVS_Q_NOINLINE uint32_t isqrt_fast(uint64_t x)
+{
+    if (x == 0u || x >= ((uint64_t)1 << 62)) {
+        return spvs_q_isqrt64(x);
+    }
+    int half;
+    uint32_t f;
+    const uint32_t y = spvs_q_rsqrt(x, &half, &f);
+    /* sqrt(x) = sqrt(F) 2^half, sqrt(F) = f y 2^-62, half in 1..31. */
+    const uint64_t sf = ((uint64_t)f * y) >> 32; /* Q30, below 2^31 */
+    uint64_t r = half >= 30 ? sf << (half - 30) : sf >> (30 - half);
+    /* Bound: ISQRT_STEPS corrections. */
+    for (int k = 0; k < ISQRT_STEPS; k++) {
+        if (r * r > x) {
+            r--;
+        } else if ((r + 1u) * (r + 1u) <= x) {
+            r++;
+        } else {
+            return (uint32_t)r;
+        }
+    }
+    return spvs_q_isqrt64(x);
+}
+
 static cone_t cone_of(uint64_t tol)
 {
     cone_t k;
-    k.lim = (((uint64_t)spvs_q_isqrt64(tol) + 1u) << 29) - 1u;
+    k.lim = (((uint64_t)isqrt_fast(tol) + 1u) << 29) - 1u;
     k.lh = (uint32_t)(k.lim >> 32);
     return k;
 }
@@ -211,7 +244,7 @@ static int64_t cos_of(int32_t s)
 {
     const int64_t s2 = (int64_t)s * s;
     const int64_t one = (int64_t)1 << 60;
-    return s2 >= one ? 0 : (int64_t)spvs_q_isqrt64((uint64_t)(one - s2));
+    return s2 >= one ? 0 : (int64_t)isqrt_fast((uint64_t)(one - s2));
 }
 
 /* The median turn of b = (bx, bz) by the supporters' sines v[0..n)

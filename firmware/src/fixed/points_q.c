@@ -1234,8 +1234,15 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     /* u w27 - h1 . p (exact: every partial sum below 2^63). */
     const int64_t ex53 = L->nh2c + (int64_t)u * w27 + (int64_t)L->nh0 * x + (int64_t)L->nh1 * y;
     const int64_t ey53 = (int64_t)v * w27 + (int64_t)y * (int32_t)-(1 << 27);
-    const uint64_t elim = (uint64_t)1 << (53 - LIN_EB);
-    if (spvs_q_abs64(ex53) >= elim || spvs_q_abs64(ey53) >= elim) {
+    /* |ex53|, |ey53| < 2^(53 - LIN_EB): their high words in [-2^16,
+     * 2^16) (one comparison for both), less the one value that lets
+     * through, -2^48 (high word -2^16, low word 0). */
+    SPVS_STATIC_ASSERT(LIN_EB == 5, "the high-word test is for 2^48");
+    const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
+    if (((uint32_t)(xh + 0x10000) | (uint32_t)(yh + 0x10000)) >= 0x20000u) {
+        return 0;
+    }
+    if ((xh == -0x10000 && (uint32_t)ex53 == 0u) || (yh == -0x10000 && (uint32_t)ey53 == 0u)) {
         return 0;
     }
     const int32_t ex = (int32_t)(ex53 >> 17), ey = (int32_t)(ey53 >> 17); /* Q36 */
@@ -1249,15 +1256,23 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     const int32_t P2 = (int32_t)(((int64_t)v * h[6]) >> 25);
     const int32_t P3 = (int32_t)(((int64_t)v * h[7]) >> 25) - (1 << 28);
     const int32_t w28 = w27 * 2;
-    const int64_t ww = (int64_t)w28 * w28;
-    const int32_t ja = spvs_q_opaque32((int32_t)(((int64_t)P0 * P0 + (int64_t)P1 * P1 + ww) >> 32));
-    const int32_t jb = spvs_q_opaque32((int32_t)(((int64_t)P2 * P2 + (int64_t)P3 * P3 + ww) >> 32));
+    /* w28^2 in each sum as a multiply-accumulate of its own (w28 made
+     * opaque once, so the two products are not shared through a 64-bit
+     * addition, which costs more on the Cortex-M3). */
+    const int32_t w28b = spvs_q_opaque32(w28);
+    const int32_t ja = spvs_q_opaque32(
+        (int32_t)(((int64_t)P0 * P0 + (int64_t)P1 * P1 + (int64_t)w28 * w28) >> 32));
+    const int32_t jb = spvs_q_opaque32(
+        (int32_t)(((int64_t)P2 * P2 + (int64_t)P3 * P3 + (int64_t)w28b * w28b) >> 32));
     const int32_t jc = spvs_q_opaque32((int32_t)(((int64_t)P0 * P2 + (int64_t)P1 * P3) >> 32));
     /* det >= w^4 >= 2^-8: at least 2^40 in Q48, below 2^60. */
     const uint64_t det = (uint64_t)((int64_t)ja * jb - (int64_t)jc * jc);
     /* det's bits - 31, in 10..29 (its high word is at least 2^8). */
-    const int sh = 33 - spvs_q_clz32((uint32_t)(det >> 32));
-    const uint32_t m = (uint32_t)(det >> sh);
+    const uint32_t dh = (uint32_t)(det >> 32);
+    const int sh = 33 - spvs_q_clz32(dh);
+    /* det >> sh in 32-bit words (sh in 10..29: no shift count leaves
+     * 0..31). */
+    const uint32_t m = ((uint32_t)det >> sh) | (dh << (32 - sh));
     const int32_t r = q_recip_fast(m); /* 1 / det = r 2^(-13 - sh) */
     /* W in Q(qr): (adj entry Q24 times r) 2^-32, then 2^(qr - 5 - sh). */
     const int k = L->qr - 5 - sh;
