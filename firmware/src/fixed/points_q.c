@@ -182,9 +182,11 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
 
 void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4])
 {
-    for (int k = 0; k < 4; k++) {
-        row[k] = st->v[4u * i + (unsigned)k];
-    }
+    const int32_t *const v = &st->v[4u * i];
+    row[0] = v[0];
+    row[1] = v[1];
+    row[2] = v[2];
+    row[3] = v[3];
 }
 
 /* ---- one point ----------------------------------------------------------- */
@@ -1482,6 +1484,22 @@ static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_st
     return cnt;
 }
 
+/* fit_all for each kind, out of line: the loop's values then have the
+ * registers to themselves rather than spvs_q_pts_sum's. */
+static SPVS_Q_NOINLINE int32_t fit_all_y(const int32_t *h, const spvs_q_store_t *st,
+                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
+                                         int64_t G[9])
+{
+    return fit_all(SPVS_T_FIT_Y, h, st, use, n, F, G);
+}
+
+static SPVS_Q_NOINLINE int32_t fit_all_x(const int32_t *h, const spvs_q_store_t *st,
+                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
+                                         int64_t G[9])
+{
+    return fit_all(SPVS_T_FIT_X, h, st, use, n, F, G);
+}
+
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
                     uint16_t n)
 {
@@ -1635,8 +1653,8 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     if (FT.ok) {
         /* Every point on the fast path (w >= 1/4: none behind the camera). */
         int64_t G[SPVS_NT_FIT] = {0};
-        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all(SPVS_T_FIT_Y, Hq, st, use, n, &FT, G)
-                                                 : fit_all(SPVS_T_FIT_X, Hq, st, use, n, &FT, G);
+        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all_y(Hq, st, use, n, &FT, G)
+                                                 : fit_all_x(Hq, st, use, n, &FT, G);
         lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr), 0, 0);
         return kind == SPVS_T_FIT_X ? 0 : cnt;
     }
