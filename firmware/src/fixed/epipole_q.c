@@ -4,6 +4,8 @@
  * they say where the fixed-point version differs and why it stays in
  * range.
  */
+#include <string.h>
+
 #include "epipole_q.h"
 
 /* epipole.c's DIR_MIN2 (1e-12 on the squared direction, scaled units) on
@@ -75,9 +77,16 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
  * integers are the float lines' values times 2^(79 - s)).  A zero vector
  * has a zero dot product with every other, so it neither supports nor
  * gets support (epipole.c's test on n2 at each use). */
-static void line_directions(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
-                            uint16_t n_cand, uint8_t *support_out, spvs_q_epipole_work_t *work)
+static SPVS_Q_NOINLINE void line_directions(const int32_t H[9], const int32_t (*pts)[4],
+                                            const uint16_t *cand, uint16_t n_cand,
+                                            uint8_t *support_out, spvs_q_epipole_work_t *work)
 {
+    /* The flags cleared first, out of the loop: a byte store may alias
+     * anything, so in the loop it would make H and the points be read
+     * again after it. */
+    if (support_out) {
+        memset(support_out, 0, n_cand);
+    }
     for (uint16_t i = 0; i < n_cand; i++) {
         const int32_t *p = pts[cand[i]];
         const spvs_q_hp_t h = spvs_q_hp(H, p);
@@ -90,9 +99,6 @@ static void line_directions(const int32_t H[9], const int32_t (*pts)[4], const u
             !dir_usable(n2, 2 * (sh + h.s) - 158)) {
             work->ux[i] = 0;
             work->uz[i] = 0;
-        }
-        if (support_out) {
-            support_out[i] = 0;
         }
     }
 }
