@@ -837,12 +837,11 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     int32_t left = max_out;
     const int32_t *p = st->v;
     uint8_t *m = mask;
-    size_t done = 0;
+    uint8_t *const mend = mask + n;
     /* Bound: n / SPVS_SCORE_BLOCK + 1 blocks. */
-    while (done < n) {
-        const size_t end = n - done > SPVS_SCORE_BLOCK ? done + SPVS_SCORE_BLOCK : n;
-        const int32_t *const pe = &st->v[4u * end];
-        /* Bound: SPVS_SCORE_BLOCK points (at least one: end > done). */
+    while (m != mend) {
+        uint8_t *const me = (size_t)(mend - m) > SPVS_SCORE_BLOCK ? m + SPVS_SCORE_BLOCK : mend;
+        /* Bound: SPVS_SCORE_BLOCK points (at least one: me > m). */
         do {
             int ok = 0;
             const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
@@ -881,8 +880,8 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
                 return (uint16_t)((size_t)(m - mask) - (size_t)(max_out + 1));
             }
             p += 4;
-        } while (p != pe);
-        done = end;
+        } while (m != me);
+        const size_t done = (size_t)(m - mask);
         const int32_t inl = (int32_t)done - (max_out - left);
         if (done % SPVS_SCORE_BLOCK == 0u && bails(need_b, (int64_t)n, (int64_t)done, inl)) {
             return (uint16_t)inl;
