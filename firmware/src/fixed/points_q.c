@@ -268,12 +268,24 @@ static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_
 
 /* |h[k]| for the bounds over a frame (the magnitude in 32 bits: 2^31 for
  * INT32_MIN, then widened). */
+static SPVS_Q_INLINE int64_t h_abs1(int32_t x)
+{
+    const uint32_t u = (uint32_t)x;
+    return (int64_t)(x < 0 ? 0u - u : u);
+}
+
+/* Written out (no loop), so that the callers' arrays become registers. */
 static SPVS_Q_INLINE void h_abs(const int32_t *h, int64_t a[9])
 {
-    for (int k = 0; k < 9; k++) {
-        const uint32_t u = (uint32_t)h[k];
-        a[k] = (int64_t)(h[k] < 0 ? 0u - u : u);
-    }
+    a[0] = h_abs1(h[0]);
+    a[1] = h_abs1(h[1]);
+    a[2] = h_abs1(h[2]);
+    a[3] = h_abs1(h[3]);
+    a[4] = h_abs1(h[4]);
+    a[5] = h_abs1(h[5]);
+    a[6] = h_abs1(h[6]);
+    a[7] = h_abs1(h[7]);
+    a[8] = h_abs1(h[8]);
 }
 
 /* The exact test of one point (the slow path): residuals exact
@@ -311,9 +323,9 @@ static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs
  * units of the fast test's E: t2 times a bound of |P|_F^2 over the frame's
  * points from their largest |u|, |v|.  Each entry's bound is exact in Q53
  * (< 2^62); its high word, rounded up, is a Q21 bound (<= 2^30), so the
- * squares sum to a Q42 bound below 2^62 without rounding down.  The one
- * product with t2 is a spvs_qf_t multiply (relative error 2^-31), raised
- * by 2^-20 and one unit so that it stays a bound.  Saturates at 2^62 (no
+ * squares sum to a Q42 bound below 2^62 without rounding down.  The
+ * product with t2 is bounded above in integers, then raised by 2^-20 and
+ * one unit (the margin over the exact test's error).  Saturates at 2^62 (no
  * band test: E never exceeds it). */
 static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
 {
@@ -321,18 +333,34 @@ static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
     const int64_t um = st->cur_max[0], vm = st->cur_max[1];
     int64_t a[9];
     h_abs(h, a);
-    const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
-                          vm * a[7] + ((int64_t)1 << 53)};
-    uint64_t b = 0;
-    for (int k = 0; k < 4; k++) {
-        const uint64_t hi = ((uint64_t)e[k] >> 32) + 1u;
-        b += hi * hi;
-    }
-    uint32_t sat = 0;
-    const spvs_qf_t c = spvs_qf_mul(t2, spvs_qf_from_i64((int64_t)b, -42));
+    /* Each entry's high word rounded up, squared (written out: no
+     * array). */
+    const uint64_t e0 = ((uint64_t)(um * a[6] + a[0] * one26) >> 32) + 1u;
+    const uint64_t e1 = ((uint64_t)(um * a[7] + a[1] * one26) >> 32) + 1u;
+    const uint64_t e2 = ((uint64_t)(vm * a[6]) >> 32) + 1u;
+    const uint64_t e3 = ((uint64_t)(vm * a[7] + ((int64_t)1 << 53)) >> 32) + 1u;
+    const uint64_t b = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
+    /* t2 b in Q42 is t2.m b 2^t2.e, bounded above in integers: b's top
+     * 32 bits rounded up (bu 2^sb >= b), their product with the 31-bit
+     * mantissa below 2^63, shifted by t2.e + sb (rounded up). */
     const int64_t lim = (int64_t)1 << 62;
-    const int64_t c2 = spvs_qf_to_q64(c, 42, &sat);
-    if (sat != 0 || c2 >= lim - (lim >> 20)) {
+    if (t2.m <= 0) {
+        return lim;
+    }
+    const int bl = spvs_q_bitlen64(b);
+    const int sb = bl > 32 ? bl - 32 : 0;
+    const uint64_t pr = (uint64_t)t2.m * ((b >> sb) + 1u);
+    const int32_t k = t2.e + sb;
+    int64_t c2;
+    if (k >= 0) {
+        if (k >= 62 || pr >= ((uint64_t)lim >> k)) {
+            return lim;
+        }
+        c2 = (int64_t)(pr << k);
+    } else {
+        c2 = k <= -63 ? 1 : (int64_t)(pr >> -k) + 1;
+    }
+    if (c2 >= lim - (lim >> 20)) {
         return lim;
     }
     return c2 + (c2 >> 20) + 1;
