@@ -154,11 +154,13 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     uint16_t pos = 0;
     uint32_t bad = 0;
     int32_t um = 0, vm = 0, xm = 0, ym = 0;
+    /* The largest feature index, tested once after the loop. */
+    uint32_t fm = 0;
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
         const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
         const uint16_t f = m[i].feature;
-        bad |= f >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
+        fm = f > fm ? f : fm;
         feat[k] = f;
         int32_t *const r = &st->v[4u * k];
         int32_t ax, ay, au, av;
@@ -171,6 +173,7 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
         um = au > um ? au : um;
         vm = av > vm ? av : vm;
     }
+    bad |= fm >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
     /* On a bad frame the clamped values are not in range: keep the bound
      * meaningful anyway. */
     st->cur_max[0] = um > COORD_LIM ? COORD_LIM : um;
@@ -1653,6 +1656,26 @@ static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_
     return used;
 }
 
+/* One point's terms on the exact path (terms_lin or terms_fit) into s;
+ * 0 when w <= SPVS_W_EPS (s unchanged).  Out of line, so that
+ * spvs_q_pts_sum's loop over the points keeps its own values in
+ * registers. */
+static SPVS_Q_NOINLINE int sum_exact_point(int kind, const int32_t *h, const int32_t *p,
+                                           spvs_q_sums_t *s)
+{
+    q_eps_t r;
+    q_eps_call(h, p, &r);
+    if (r.w <= W_EPS_Q53) {
+        return 0;
+    }
+    if (kind == SPVS_T_LIN) {
+        terms_lin(h, &r, p, s, 0);
+    } else {
+        terms_fit(kind, &r, p, s);
+    }
+    return 1;
+}
+
 int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
                        const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
 {
@@ -1699,15 +1722,8 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
             fast_used = 1;
             continue;
         }
-        q_eps_t r;
-        q_eps(Hq, p, &r);
-        if (r.w <= W_EPS_Q53) {
+        if (!sum_exact_point((int)kind, Hq, p, out)) {
             return -1;
-        }
-        if (lin) {
-            terms_lin(Hq, &r, p, out, 0);
-        } else {
-            terms_fit((int)kind, &r, p, out);
         }
     }
     if (fast_used) {
