@@ -45,8 +45,8 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
     const int sh = spvs_q_bits(m) - 30;
     int32_t x, z;
     if (sh > 0) {
-        x = (int32_t)spvs_q_rsh(dx, sh);
-        z = (int32_t)spvs_q_rsh(dz, sh);
+        x = spvs_q_rsh32(dx, sh);
+        z = spvs_q_rsh32(dz, sh);
     } else {
         x = (int32_t)(dx * ((int64_t)1 << -sh));
         z = (int32_t)(dz * ((int64_t)1 << -sh));
