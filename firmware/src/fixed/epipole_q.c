@@ -193,28 +193,30 @@ static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj,
 }
 
 /* The supporters of direction (xj, zj) among the n unit directions of
- * work: the consensus's inner loop (in_cone_n's tests, with ch's range
- * as u1 = ch + lh + 1 in [0, 2 lh + 1] and the inside as u1 - 1 below
- * 2 lh), in a function of its own so that its few values stay in
- * registers. */
+ * work: the consensus's inner loop (in_cone_n's tests), in a function of
+ * its own so that its few values stay in registers.  With u1 = ch + lh +
+ * 1 (unsigned), ch's range [-lh - 1, lh] is u1 in [0, 2 lh + 1], that is
+ * u1 < 2 lh1 (lh1 = lh + 1), tested as u1 >> 1 < lh1 (one shifted
+ * comparison against the one constant); the inside, u1 in [1, 2 lh], is
+ * u1 != 0 and (u1 + 1) >> 1 < lh1; 0 and 2 lh + 1 are the edges. */
 static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, uint16_t n,
                                            int32_t xj, int32_t zj, const cone_t *k)
 {
-    const uint32_t lh1 = k->lh + 1u, lh2p1 = 2u * k->lh + 1u;
+    const uint32_t lh1 = k->lh + 1u;
     const int32_t nxj = -xj;
     uint32_t support = 0;
     for (uint16_t i = 0; i < n; i++) {
         const int32_t xi = work->ux[i], zi = work->uz[i];
         const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
         const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
-        if (u1 > lh2p1) {
+        if ((u1 >> 1) >= lh1) {
             continue;
         }
         const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
         if (dot <= 0) {
             continue;
         }
-        support += u1 - 1u < lh2p1 - 1u ? 1u : (uint32_t)cone_edge(crs, k);
+        support += (u1 != 0u && ((u1 + 1u) >> 1) < lh1) ? 1u : (uint32_t)cone_edge(crs, k);
     }
     return (uint16_t)support;
 }
