@@ -4,6 +4,8 @@
  * they say where the fixed-point version differs and why it stays in
  * range.
  */
+#include <string.h>
+
 #include "epipole_q.h"
 
 /* epipole.c's DIR_MIN2 (1e-12 on the squared direction, scaled units) on
@@ -43,8 +45,8 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
     const int sh = spvs_q_bits(m) - 30;
     int32_t x, z;
     if (sh > 0) {
-        x = (int32_t)spvs_q_rsh(dx, sh);
-        z = (int32_t)spvs_q_rsh(dz, sh);
+        x = spvs_q_rsh32(dx, sh);
+        z = spvs_q_rsh32(dz, sh);
     } else {
         x = (int32_t)(dx * ((int64_t)1 << -sh));
         z = (int32_t)(dz * ((int64_t)1 << -sh));
@@ -75,9 +77,16 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
  * integers are the float lines' values times 2^(79 - s)).  A zero vector
  * has a zero dot product with every other, so it neither supports nor
  * gets support (epipole.c's test on n2 at each use). */
-static void line_directions(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
-                            uint16_t n_cand, uint8_t *support_out, spvs_q_epipole_work_t *work)
+static SPVS_Q_NOINLINE void line_directions(const int32_t H[9], const int32_t (*pts)[4],
+                                            const uint16_t *cand, uint16_t n_cand,
+                                            uint8_t *support_out, spvs_q_epipole_work_t *work)
 {
+    /* The flags cleared first, out of the loop: a byte store may alias
+     * anything, so in the loop it would make H and the points be read
+     * again after it. */
+    if (support_out) {
+        memset(support_out, 0, n_cand);
+    }
     for (uint16_t i = 0; i < n_cand; i++) {
         const int32_t *p = pts[cand[i]];
         const spvs_q_hp_t h = spvs_q_hp(H, p);
@@ -91,9 +100,6 @@ static void line_directions(const int32_t H[9], const int32_t (*pts)[4], const u
             work->ux[i] = 0;
             work->uz[i] = 0;
         }
-        if (support_out) {
-            support_out[i] = 0;
-        }
     }
 }
 
@@ -104,10 +110,43 @@ typedef struct {
     uint32_t lh;    /* lim's high word, below 2^29                 */
 } cone_t;
 
+/* floor(sqrt(x)), exact, as spvs_q_isqrt64 (whose 32 steps of 64-bit
+ * operations cost about 1,500 instructions on the Cortex-M3): an estimate
+ * from spvs_q_rsqrt (sqrt(F) = F y, relative error below 2^-27, so within
+ * 2^4 of the root below 2^31) corrected by exact squares until r^2 <= x <
+ * (r + 1)^2, which makes it the floor whatever the estimate's error.  x
+ * below 2^62 (the root below 2^31, no square overflows); larger x, or a
+ * correction that has not converged in ISQRT_STEPS steps, take
+ * spvs_q_isqrt64. */
+#define ISQRT_STEPS 64
+static SPVS_Q_NOINLINE uint32_t isqrt_fast(uint64_t x)
+{
+    if (x == 0u || x >= ((uint64_t)1 << 62)) {
+        return spvs_q_isqrt64(x);
+    }
+    int half;
+    uint32_t f;
+    const uint32_t y = spvs_q_rsqrt(x, &half, &f);
+    /* sqrt(x) = sqrt(F) 2^half, sqrt(F) = f y 2^-62, half in 1..31. */
+    const uint64_t sf = ((uint64_t)f * y) >> 32; /* Q30, below 2^31 */
+    uint64_t r = half >= 30 ? sf << (half - 30) : sf >> (30 - half);
+    /* Bound: ISQRT_STEPS corrections. */
+    for (int k = 0; k < ISQRT_STEPS; k++) {
+        if (r * r > x) {
+            r--;
+        } else if ((r + 1u) * (r + 1u) <= x) {
+            r++;
+        } else {
+            return (uint32_t)r;
+        }
+    }
+    return spvs_q_isqrt64(x);
+}
+
 static cone_t cone_of(uint64_t tol)
 {
     cone_t k;
-    k.lim = (((uint64_t)spvs_q_isqrt64(tol) + 1u) << 29) - 1u;
+    k.lim = (((uint64_t)isqrt_fast(tol) + 1u) << 29) - 1u;
     k.lh = (uint32_t)(k.lim >> 32);
     return k;
 }
@@ -154,28 +193,30 @@ static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj,
 }
 
 /* The supporters of direction (xj, zj) among the n unit directions of
- * work: the consensus's inner loop (in_cone_n's tests, with ch's range
- * as u1 = ch + lh + 1 in [0, 2 lh + 1] and the inside as u1 - 1 below
- * 2 lh), in a function of its own so that its few values stay in
- * registers. */
+ * work: the consensus's inner loop (in_cone_n's tests), in a function of
+ * its own so that its few values stay in registers.  With u1 = ch + lh +
+ * 1 (unsigned), ch's range [-lh - 1, lh] is u1 in [0, 2 lh + 1], that is
+ * u1 < 2 lh1 (lh1 = lh + 1), tested as u1 >> 1 < lh1 (one shifted
+ * comparison against the one constant); the inside, u1 in [1, 2 lh], is
+ * u1 != 0 and (u1 + 1) >> 1 < lh1; 0 and 2 lh + 1 are the edges. */
 static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, uint16_t n,
                                            int32_t xj, int32_t zj, const cone_t *k)
 {
-    const uint32_t lh1 = k->lh + 1u, lh2p1 = 2u * k->lh + 1u;
+    const uint32_t lh1 = k->lh + 1u;
     const int32_t nxj = -xj;
     uint32_t support = 0;
     for (uint16_t i = 0; i < n; i++) {
         const int32_t xi = work->ux[i], zi = work->uz[i];
         const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
         const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
-        if (u1 > lh2p1) {
+        if ((u1 >> 1) >= lh1) {
             continue;
         }
         const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
         if (dot <= 0) {
             continue;
         }
-        support += u1 - 1u < lh2p1 - 1u ? 1u : (uint32_t)cone_edge(crs, k);
+        support += (u1 != 0u && ((u1 + 1u) >> 1) < lh1) ? 1u : (uint32_t)cone_edge(crs, k);
     }
     return (uint16_t)support;
 }
@@ -211,7 +252,7 @@ static int64_t cos_of(int32_t s)
 {
     const int64_t s2 = (int64_t)s * s;
     const int64_t one = (int64_t)1 << 60;
-    return s2 >= one ? 0 : (int64_t)spvs_q_isqrt64((uint64_t)(one - s2));
+    return s2 >= one ? 0 : (int64_t)isqrt_fast((uint64_t)(one - s2));
 }
 
 /* The median turn of b = (bx, bz) by the supporters' sines v[0..n)

@@ -114,25 +114,26 @@ static SPVS_Q_NOINLINE int32_t load_coord(spvs_real c, int px_frac, int32_t lim,
  * it reaches lim: there the 32-bit mantissa (bit 31 the implicit one)
  * shifted right by 7 - s in 0..31 is the value times 2, and adding one
  * before halving rounds half up (ties away from zero on the magnitude),
- * the general conversion's rounding.  Everything else (larger or smaller
- * magnitudes, subnormals, NaN and infinity, a value at the limit) takes
- * the general path. */
-static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t lim, uint32_t *bad,
-                                            int32_t *mag)
+ * the general conversion's rounding.  The magnitude is at most 2^(24 + s),
+ * so for s up to s_max (2^(24 + s_max) below lim) it cannot reach lim and
+ * is not compared with it.  Everything else (larger or smaller
+ * magnitudes, subnormals, NaN and infinity) takes the general path. */
+static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t lim, int s_max,
+                                            uint32_t *bad, int32_t *mag)
 {
 #if !SPVS_USE_DOUBLE
     uint32_t b;
     memcpy(&b, &c, sizeof b);
     const int s = (int)((b >> 23) & 0xffu) - 150 + px_frac;
-    if ((uint32_t)(s + 24) <= 31u) {
+    if ((uint32_t)(s + 24) <= (uint32_t)(s_max + 24)) {
         const uint32_t m8 = (b << 8) | 0x80000000u;
         const uint32_t a = ((m8 >> (7 - s)) + 1u) >> 1;
-        if (a < (uint32_t)lim) {
-            const int32_t sg = (int32_t)b >> 31;
-            *mag = (int32_t)a;
-            return ((int32_t)a ^ sg) - sg;
-        }
+        const int32_t sg = (int32_t)b >> 31;
+        *mag = (int32_t)a;
+        return ((int32_t)a ^ sg) - sg;
     }
+#else
+    (void)s_max;
 #endif
     const int32_t q = load_coord(c, px_frac, lim, bad);
     *mag = q_abs_clamp(q);
@@ -145,26 +146,34 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     const int px_frac = SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE));
     /* SPVS_MAX_COORD_PX in pixels Q(px_frac) = in scaled Q26, <= 2^30. */
     const int32_t lim = (int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE);
+    /* The largest s of load_coord_mag's fixed-position rounding whose
+     * magnitudes (at most 2^(24 + s)) stay below lim: 2^(24 + s) <=
+     * 2^(floor(log2 lim) - 1); at most 7 (the shift 7 - s). */
+    const int s_lg = 31 - spvs_q_clz32((uint32_t)lim) - 25;
+    const int s_max = s_lg > 7 ? 7 : s_lg;
     uint16_t pos = 0;
     uint32_t bad = 0;
     int32_t um = 0, vm = 0, xm = 0, ym = 0;
+    /* The largest feature index, tested once after the loop. */
+    uint32_t fm = 0;
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
         const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
         const uint16_t f = m[i].feature;
-        bad |= f >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
+        fm = f > fm ? f : fm;
         feat[k] = f;
         int32_t *const r = &st->v[4u * k];
         int32_t ax, ay, au, av;
-        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, &bad, &ax);
-        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, &bad, &ay);
-        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, &bad, &au);
-        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, &bad, &av);
+        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, s_max, &bad, &ax);
+        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, s_max, &bad, &ay);
+        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, s_max, &bad, &au);
+        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, s_max, &bad, &av);
         xm = ax > xm ? ax : xm;
         ym = ay > ym ? ay : ym;
         um = au > um ? au : um;
         vm = av > vm ? av : vm;
     }
+    bad |= fm >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
     /* On a bad frame the clamped values are not in range: keep the bound
      * meaningful anyway. */
     st->cur_max[0] = um > COORD_LIM ? COORD_LIM : um;
@@ -176,9 +185,11 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
 
 void spvs_q_pts_row(const spvs_q_store_t *st, uint16_t i, int32_t row[4])
 {
-    for (int k = 0; k < 4; k++) {
-        row[k] = st->v[4u * i + (unsigned)k];
-    }
+    const int32_t *const v = &st->v[4u * i];
+    row[0] = v[0];
+    row[1] = v[1];
+    row[2] = v[2];
+    row[3] = v[3];
 }
 
 /* ---- one point ----------------------------------------------------------- */
@@ -258,12 +269,26 @@ static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_
     *den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, pp)), qf_sq(dp));
 }
 
-/* |h[k]| for the bounds over a frame. */
-static void h_abs(const int32_t *h, int64_t a[9])
+/* |h[k]| for the bounds over a frame (the magnitude in 32 bits: 2^31 for
+ * INT32_MIN, then widened). */
+static SPVS_Q_INLINE int64_t h_abs1(int32_t x)
 {
-    for (int k = 0; k < 9; k++) {
-        a[k] = h[k] < 0 ? -(int64_t)h[k] : (int64_t)h[k];
-    }
+    const uint32_t u = (uint32_t)x;
+    return (int64_t)(x < 0 ? 0u - u : u);
+}
+
+/* Written out (no loop), so that the callers' arrays become registers. */
+static SPVS_Q_INLINE void h_abs(const int32_t *h, int64_t a[9])
+{
+    a[0] = h_abs1(h[0]);
+    a[1] = h_abs1(h[1]);
+    a[2] = h_abs1(h[2]);
+    a[3] = h_abs1(h[3]);
+    a[4] = h_abs1(h[4]);
+    a[5] = h_abs1(h[5]);
+    a[6] = h_abs1(h[6]);
+    a[7] = h_abs1(h[7]);
+    a[8] = h_abs1(h[8]);
 }
 
 /* The exact test of one point (the slow path): residuals exact
@@ -301,9 +326,9 @@ static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs
  * units of the fast test's E: t2 times a bound of |P|_F^2 over the frame's
  * points from their largest |u|, |v|.  Each entry's bound is exact in Q53
  * (< 2^62); its high word, rounded up, is a Q21 bound (<= 2^30), so the
- * squares sum to a Q42 bound below 2^62 without rounding down.  The one
- * product with t2 is a spvs_qf_t multiply (relative error 2^-31), raised
- * by 2^-20 and one unit so that it stays a bound.  Saturates at 2^62 (no
+ * squares sum to a Q42 bound below 2^62 without rounding down.  The
+ * product with t2 is bounded above in integers, then raised by 2^-20 and
+ * one unit (the margin over the exact test's error).  Saturates at 2^62 (no
  * band test: E never exceeds it). */
 static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
 {
@@ -311,18 +336,34 @@ static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
     const int64_t um = st->cur_max[0], vm = st->cur_max[1];
     int64_t a[9];
     h_abs(h, a);
-    const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
-                          vm * a[7] + ((int64_t)1 << 53)};
-    uint64_t b = 0;
-    for (int k = 0; k < 4; k++) {
-        const uint64_t hi = ((uint64_t)e[k] >> 32) + 1u;
-        b += hi * hi;
-    }
-    uint32_t sat = 0;
-    const spvs_qf_t c = spvs_qf_mul(t2, spvs_qf_from_i64((int64_t)b, -42));
+    /* Each entry's high word rounded up, squared (written out: no
+     * array). */
+    const uint64_t e0 = ((uint64_t)(um * a[6] + a[0] * one26) >> 32) + 1u;
+    const uint64_t e1 = ((uint64_t)(um * a[7] + a[1] * one26) >> 32) + 1u;
+    const uint64_t e2 = ((uint64_t)(vm * a[6]) >> 32) + 1u;
+    const uint64_t e3 = ((uint64_t)(vm * a[7] + ((int64_t)1 << 53)) >> 32) + 1u;
+    const uint64_t b = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
+    /* t2 b in Q42 is t2.m b 2^t2.e, bounded above in integers: b's top
+     * 32 bits rounded up (bu 2^sb >= b), their product with the 31-bit
+     * mantissa below 2^63, shifted by t2.e + sb (rounded up). */
     const int64_t lim = (int64_t)1 << 62;
-    const int64_t c2 = spvs_qf_to_q64(c, 42, &sat);
-    if (sat != 0 || c2 >= lim - (lim >> 20)) {
+    if (t2.m <= 0) {
+        return lim;
+    }
+    const int bl = spvs_q_bitlen64(b);
+    const int sb = bl > 32 ? bl - 32 : 0;
+    const uint64_t pr = (uint64_t)t2.m * ((b >> sb) + 1u);
+    const int32_t k = t2.e + sb;
+    int64_t c2;
+    if (k >= 0) {
+        if (k >= 62 || pr >= ((uint64_t)lim >> k)) {
+            return lim;
+        }
+        c2 = (int64_t)(pr << k);
+    } else {
+        c2 = k <= -63 ? 1 : (int64_t)(pr >> -k) + 1;
+    }
+    if (c2 >= lim - (lim >> 20)) {
         return lim;
     }
     return c2 + (c2 >> 20) + 1;
@@ -398,6 +439,9 @@ typedef struct {
     int sh;                   /* the values' shift: Q(21 - sh) */
     int32_t a6, a7;     /* t' h31, t' h32 in Q27 (t' = T 2^-26), rounded */
     int64_t c0, c1, c3; /* t' h11, t' h12 and t' in Q53, exact */
+    /* One residual's magnitude beyond which a point is out whatever the
+     * other (q_far_bound), Q21; UINT32_MAX: no such bound. */
+    uint32_t far;
 } q_model_t;
 
 #define Q_FAST_D 2
@@ -513,6 +557,31 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
     md->sfast = 1;
 }
 
+/* The bound far of q_model_t: where |exh| > far (or |eyh| > far), q_fast
+ * finds the point beyond, whatever the other residual.  With a the one
+ * magnitude and b the other, q_fast's outlier test is
+ *   a^2 + b^2 + 13 D^2 > c2s + (tw + D)^2 + 2 D (a + b),
+ * and a^2 + b^2 - 2 D (a + b) >= (a - D)^2 - 2 D^2 (as (b - D)^2 >= 0), so
+ * (a - D)^2 + 11 D^2 > c2s + (tw + D)^2 is sufficient; with tw <= twb over the frame (T times w's bound), a > far =
+ * D + X^(1/2), X = c2s + (twb + D)^2, satisfies it.  X^(1/2) is bounded
+ * above without a root: s = 2^k >= X^(1/2) from X's bit length, then one
+ * Newton step (s + X / s) / 2 >= X^(1/2) (AM-GM), X / s a shift rounded
+ * up.  UINT32_MAX where c2s leaves no outlier test (2^62 or more) or the
+ * bound does not fit. */
+static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
+{
+    const uint64_t lim = (uint64_t)1 << 62;
+    if (c2s >= lim) {
+        return UINT32_MAX;
+    }
+    /* T < 2^28 and wb < 2^57: twb < 2^27. */
+    const uint64_t twb = (((uint64_t)T * (uint64_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
+    const uint64_t X = c2s + twb * twb;
+    const int k = (spvs_q_bitlen64(X) + 1) / 2;
+    const uint64_t r = (((uint64_t)1 << k) + (X >> k) + 2u) >> 1;
+    return r >= ((uint64_t)1 << 31) ? UINT32_MAX : (uint32_t)r + Q_FAST_D;
+}
+
 static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const spvs_q_thr_t *thr)
 {
     q_model_t md;
@@ -556,6 +625,7 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     md.sfast = -1;
     md.st = st;
     md.wb = wb;
+    md.far = q_far_bound(md.c2s, md.T, wb);
     return md;
 }
 
@@ -754,6 +824,19 @@ static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h,
     return ok_all;
 }
 
+/* The points of the band and the rest of a point's decision, out of the
+ * loop below: q_band_sampson, then the exact test. */
+static SPVS_Q_NOINLINE int q_band_or_exact(const int32_t *h, const int32_t *p, q_model_t *md,
+                                           const spvs_qf_t *t2)
+{
+    const int b = q_band_sampson(h, p, md);
+    if (b >= 0) {
+        return b;
+    }
+    spvs_qf_t e;
+    return q_inlier_exact(h, p, *t2, &e);
+}
+
 /* score_range with the model's fast test, or without it (every point to
  * the exact test), chosen once per call. */
 static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
@@ -762,6 +845,80 @@ static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, si
 {
     return md->fast ? score_range(st, h, i, end, md, t2, max_out, mask, inl, 1)
                     : score_range(st, h, i, end, md, t2, max_out, mask, inl, 0);
+}
+
+/* spvs_q_pts_score for a model with the fast test and a mask, the
+ * estimator's case, in one loop: q_fast's arithmetic on the model's
+ * constants in locals (the byte stores to the mask may alias any object,
+ * so values read through md or h would be read again after each), the
+ * early stop kept as the number of outliers still allowed (an inlier
+ * costs nothing more), the bail-out test after each full block, as
+ * spvs_q_pts_score's blocks make them.  The same decisions, mask and
+ * count.  Bound: n points. */
+static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const int32_t *h,
+                                                size_t n, q_model_t *md, const spvs_qf_t *t2,
+                                                int64_t need_b, int32_t max_out, uint8_t *mask)
+{
+    const int32_t h6 = h[6], h7 = h[7], nh0 = md->nh0, nh1 = md->nh1, T = md->T;
+    const int64_t h8c = md->h8c, nh2c = md->nh2c;
+    const uint64_t c2s = md->c2s;
+    const uint32_t far = md->far;
+    /* Outliers still allowed: the stop comes at the first point r with
+     * (r + 1) - count > max_out. */
+    int32_t left = max_out;
+    const int32_t *p = st->v;
+    uint8_t *m = mask;
+    uint8_t *const mend = mask + n;
+    /* Bound: n / SPVS_SCORE_BLOCK + 1 blocks. */
+    while (m != mend) {
+        uint8_t *const me = (size_t)(mend - m) > SPVS_SCORE_BLOCK ? m + SPVS_SCORE_BLOCK : mend;
+        /* Bound: SPVS_SCORE_BLOCK points (at least one: me > m). */
+        do {
+            int ok = 0;
+            const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
+            /* q_hw and q_fast on the locals; a residual beyond far
+             * decides alone (q_far_bound), ey first, the cheaper.  A
+             * point with w27 <= 0 (w below 2^-27, or behind the camera)
+             * goes to the exact test, which decides w <= 0 as well. */
+            const int32_t w27 = (int32_t)(w >> 26);
+            const int32_t eyh =
+                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
+            const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+            if (w27 <= 0) {
+                spvs_qf_t e;
+                ok = q_inlier_exact(h, p, *t2, &e);
+            } else if (ay <= far) {
+                const int32_t exh = (int32_t)((nh2c + (int64_t)p[2] * w27 +
+                                               (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
+                                              32);
+                const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
+                if (ax <= far) {
+                    const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
+                    const uint64_t E13 = (uint64_t)(13 * Q_FAST_D * Q_FAST_D) +
+                                         (uint64_t)ax * ax + (uint64_t)ay * ay;
+                    const int32_t ti = (int32_t)tw - 3 * Q_FAST_D;
+                    const uint32_t to = tw + Q_FAST_D;
+                    if (E13 <= (uint64_t)((int64_t)ti * ti)) {
+                        ok = 1;
+                    } else if (E13 <= c2s + (uint64_t)to * to +
+                                          (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
+                        ok = q_band_or_exact(h, p, md, t2);
+                    }
+                }
+            }
+            *m++ = (uint8_t)ok;
+            if (!ok && --left < 0) {
+                return (uint16_t)((size_t)(m - mask) - (size_t)(max_out + 1));
+            }
+            p += 4;
+        } while (m != me);
+        const size_t done = (size_t)(m - mask);
+        const int32_t inl = (int32_t)done - (max_out - left);
+        if (done % SPVS_SCORE_BLOCK == 0u && bails(need_b, (int64_t)n, (int64_t)done, inl)) {
+            return (uint16_t)inl;
+        }
+    }
+    return (uint16_t)((int32_t)n - (max_out - left));
 }
 
 uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9],
@@ -775,6 +932,9 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
         h[k] = Hq[k];
     }
     q_model_t md = model_prep(st, h, thr);
+    if (md.fast && mask) {
+        return score_fast_mask(st, h, n, &md, &thr->t2, need_b, max_out, mask);
+    }
     int32_t inl = 0;
     size_t i = 0;
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
@@ -1106,8 +1266,15 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     /* u w27 - h1 . p (exact: every partial sum below 2^63). */
     const int64_t ex53 = L->nh2c + (int64_t)u * w27 + (int64_t)L->nh0 * x + (int64_t)L->nh1 * y;
     const int64_t ey53 = (int64_t)v * w27 + (int64_t)y * (int32_t)-(1 << 27);
-    const uint64_t elim = (uint64_t)1 << (53 - LIN_EB);
-    if (spvs_q_abs64(ex53) >= elim || spvs_q_abs64(ey53) >= elim) {
+    /* |ex53|, |ey53| < 2^(53 - LIN_EB): their high words in [-2^16,
+     * 2^16) (one comparison for both), less the one value that lets
+     * through, -2^48 (high word -2^16, low word 0). */
+    SPVS_STATIC_ASSERT(LIN_EB == 5, "the high-word test is for 2^48");
+    const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
+    if (((uint32_t)(xh + 0x10000) | (uint32_t)(yh + 0x10000)) >= 0x20000u) {
+        return 0;
+    }
+    if ((xh == -0x10000 && (uint32_t)ex53 == 0u) || (yh == -0x10000 && (uint32_t)ey53 == 0u)) {
         return 0;
     }
     const int32_t ex = (int32_t)(ex53 >> 17), ey = (int32_t)(ey53 >> 17); /* Q36 */
@@ -1121,15 +1288,23 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     const int32_t P2 = (int32_t)(((int64_t)v * h[6]) >> 25);
     const int32_t P3 = (int32_t)(((int64_t)v * h[7]) >> 25) - (1 << 28);
     const int32_t w28 = w27 * 2;
-    const int64_t ww = (int64_t)w28 * w28;
-    const int32_t ja = spvs_q_opaque32((int32_t)(((int64_t)P0 * P0 + (int64_t)P1 * P1 + ww) >> 32));
-    const int32_t jb = spvs_q_opaque32((int32_t)(((int64_t)P2 * P2 + (int64_t)P3 * P3 + ww) >> 32));
+    /* w28^2 in each sum as a multiply-accumulate of its own (w28 made
+     * opaque once, so the two products are not shared through a 64-bit
+     * addition, which costs more on the Cortex-M3). */
+    const int32_t w28b = spvs_q_opaque32(w28);
+    const int32_t ja = spvs_q_opaque32(
+        (int32_t)(((int64_t)P0 * P0 + (int64_t)P1 * P1 + (int64_t)w28 * w28) >> 32));
+    const int32_t jb = spvs_q_opaque32(
+        (int32_t)(((int64_t)P2 * P2 + (int64_t)P3 * P3 + (int64_t)w28b * w28b) >> 32));
     const int32_t jc = spvs_q_opaque32((int32_t)(((int64_t)P0 * P2 + (int64_t)P1 * P3) >> 32));
     /* det >= w^4 >= 2^-8: at least 2^40 in Q48, below 2^60. */
     const uint64_t det = (uint64_t)((int64_t)ja * jb - (int64_t)jc * jc);
     /* det's bits - 31, in 10..29 (its high word is at least 2^8). */
-    const int sh = 33 - spvs_q_clz32((uint32_t)(det >> 32));
-    const uint32_t m = (uint32_t)(det >> sh);
+    const uint32_t dh = (uint32_t)(det >> 32);
+    const int sh = 33 - spvs_q_clz32(dh);
+    /* det >> sh in 32-bit words (sh in 10..29: no shift count leaves
+     * 0..31). */
+    const uint32_t m = ((uint32_t)det >> sh) | (dh << (32 - sh));
     const int32_t r = q_recip_fast(m); /* 1 / det = r 2^(-13 - sh) */
     /* W in Q(qr): (adj entry Q24 times r) 2^-32, then 2^(qr - 5 - sh). */
     const int k = L->qr - 5 - sh;
@@ -1339,6 +1514,22 @@ static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_st
     return cnt;
 }
 
+/* fit_all for each kind, out of line: the loop's values then have the
+ * registers to themselves rather than spvs_q_pts_sum's. */
+static SPVS_Q_NOINLINE int32_t fit_all_y(const int32_t *h, const spvs_q_store_t *st,
+                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
+                                         int64_t G[9])
+{
+    return fit_all(SPVS_T_FIT_Y, h, st, use, n, F, G);
+}
+
+static SPVS_Q_NOINLINE int32_t fit_all_x(const int32_t *h, const spvs_q_store_t *st,
+                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
+                                         int64_t G[9])
+{
+    return fit_all(SPVS_T_FIT_X, h, st, use, n, F, G);
+}
+
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
                     uint16_t n)
 {
@@ -1373,8 +1564,11 @@ static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1
          * same as rounding each sum once by one bit. */
         int big = 0;
         for (int j = lo; j < hi; j++) {
-            const int64_t f = spvs_q_rshift_rnd64(F[j], df);
-            const int64_t r = spvs_q_rshift_rnd64(s->m[j], ds) + (sub ? -f : f);
+            /* No call where the shift or the value is 0 (the common
+             * cases: a fresh s, F at the larger exponent). */
+            const int64_t f = df == 0 ? F[j] : spvs_q_rshift_rnd64(F[j], df);
+            const int64_t m = s->m[j];
+            const int64_t r = (ds == 0 || m == 0 ? m : spvs_q_rshift_rnd64(m, ds)) + (sub ? -f : f);
             s->m[j] = r;
             big |= spvs_q_abs64(r) >= ((uint64_t)1 << 62);
         }
@@ -1462,6 +1656,26 @@ static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_
     return used;
 }
 
+/* One point's terms on the exact path (terms_lin or terms_fit) into s;
+ * 0 when w <= SPVS_W_EPS (s unchanged).  Out of line, so that
+ * spvs_q_pts_sum's loop over the points keeps its own values in
+ * registers. */
+static SPVS_Q_NOINLINE int sum_exact_point(int kind, const int32_t *h, const int32_t *p,
+                                           spvs_q_sums_t *s)
+{
+    q_eps_t r;
+    q_eps_call(h, p, &r);
+    if (r.w <= W_EPS_Q53) {
+        return 0;
+    }
+    if (kind == SPVS_T_LIN) {
+        terms_lin(h, &r, p, s, 0);
+    } else {
+        terms_fit(kind, &r, p, s);
+    }
+    return 1;
+}
+
 int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_store_t *st,
                        const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
 {
@@ -1489,8 +1703,8 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     if (FT.ok) {
         /* Every point on the fast path (w >= 1/4: none behind the camera). */
         int64_t G[SPVS_NT_FIT] = {0};
-        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all(SPVS_T_FIT_Y, Hq, st, use, n, &FT, G)
-                                                 : fit_all(SPVS_T_FIT_X, Hq, st, use, n, &FT, G);
+        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all_y(Hq, st, use, n, &FT, G)
+                                                 : fit_all_x(Hq, st, use, n, &FT, G);
         lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr), 0, 0);
         return kind == SPVS_T_FIT_X ? 0 : cnt;
     }
@@ -1508,15 +1722,8 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
             fast_used = 1;
             continue;
         }
-        q_eps_t r;
-        q_eps(Hq, p, &r);
-        if (r.w <= W_EPS_Q53) {
+        if (!sum_exact_point((int)kind, Hq, p, out)) {
             return -1;
-        }
-        if (lin) {
-            terms_lin(Hq, &r, p, out, 0);
-        } else {
-            terms_fit((int)kind, &r, p, out);
         }
     }
     if (fast_used) {

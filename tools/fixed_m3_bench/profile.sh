@@ -1,0 +1,84 @@
+#!/bin/sh
+# Where the instructions of one fixed-point update go: the typical update
+# of tools/embedded_measure.sh's frame (N = 256, 20 % mismatches by
+# default), on the Cortex-M3 under QEMU, counted per function from QEMU's
+# translation-block log (profile.py).  docs/FIXED.md, "The update on the
+# Cortex-M3".
+#
+#   tools/fixed_m3_bench/profile.sh [MEASURE_BUILD_DIR [SIZE_INDEX SHARE_INDEX [TOP]]]
+#     MEASURE_BUILD_DIR  the cross build embedded_measure.sh --cpu cortex-m3
+#                        --fixed made (default build/cortex-m3-fixed-measure)
+#     SIZE_INDEX         0, 1, 2 for N = 64, 128, 256 (default 2)
+#     SHARE_INDEX        0, 1, 2 for 0, 20, 40 % mismatches (default 1)
+#
+# The frame is target/main_measure.c's (its generator is taken from that
+# file), warmed up with one update as there; the second update is counted
+# between prof_begin and prof_end.  The total agrees with
+# embedded_measure.sh's update_typ within the markers' few instructions.
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-$root/build/cortex-m3-fixed-measure}
+pn=${2:-2}
+pj=${3:-1}
+top=${4:-40}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# The frame generator of main_measure.c: from the core's instance to the
+# measuring helpers.
+/usr/bin/python3 - "$root/target/main_measure.c" "$work/prof_main.c" "$pn" "$pj" <<'PY'
+import sys
+src = open(sys.argv[1]).read()
+body = src[src.index("static spvs_t core;"):src.index("/* Keep the compiler")]
+pn, pj = sys.argv[3], sys.argv[4]
+head = """#include <math.h>
+#include <stdint.h>
+#include "board.h"
+#include "fmt.h"
+#include "spvs/spvs.h"
+#define NS_PER_TICK 40u
+#define MEASURE_ICOUNT_SHIFT 8
+"""
+tail = """
+__attribute__((noinline)) void prof_begin(void) { __asm__ volatile("nop"); }
+__attribute__((noinline)) void prof_end(void) { __asm__ volatile("nop"); }
+int main(void)
+{
+    static const uint16_t sizes[3] = {64u, 128u, 256u};
+    static const uint32_t bad_pct[3] = {0u, 20u, 40u};
+    board_ticks_start();
+    spvs_rng_seed(&gen, 1000u + (uint32_t)(%s * 3 + %s));
+    uint16_t n = make_frame(sizes[%s], bad_pct[%s]);
+    spvs_params_t p;
+    spvs_params_default(&p, SPVS_METHOD_III);
+    spvs_output_t out;
+    if (spvs_init(&core, &p) != SPVS_OK) {
+        return 1;
+    }
+    int st = spvs_update(&core, frame, n, 0.0f, &out);
+    prof_begin();
+    st = spvs_update(&core, frame, n, 0.1f, &out);
+    prof_end();
+    out_str("status=");
+    out_int(st);
+    out_str(" inliers=");
+    out_u32(out.n_inliers);
+    out_str("\\n");
+    (void)to_instructions;
+    return 0;
+}
+""" % (pn, pj, pn, pj)
+open(sys.argv[2], "w").write(head + body + tail)
+PY
+cflags="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft -ffunction-sections -fdata-sections -Os -DNDEBUG -std=c11"
+arm-none-eabi-gcc $cflags -DSPVS_TARGET_CPU_NAME='"Cortex-M3"' -DSPVS_USE_DOUBLE=0 -DSPVS_USE_FIXED=1 \
+  -I"$root/target" -I"$root/firmware/src/fixed" -I"$root/firmware/include" -I"$build/generated/include" \
+  -c "$work/prof_main.c" -o "$work/prof_main.o"
+arm-none-eabi-gcc -mcpu=cortex-m3 -mthumb -mfloat-abi=soft -Wl,--gc-sections -nostartfiles --specs=nano.specs \
+  -T "$root/target/mps2_an386.ld" "$work/prof_main.o" \
+  -Wl,--whole-archive "$build/target/libspvs_board.a" -Wl,--no-whole-archive "$build/target/libspvs_board_float.a" \
+  "$build/firmware/libspvs_core.a" -lm "$build/target/libspvs_board.a" "$build/firmware/libspvs_core.a" -o "$work/prof.elf"
+timeout 300 qemu-system-arm -M "$(cat "$build/target/qemu_machine")" -nographic \
+  -semihosting-config enable=on,target=native -icount shift=8,align=off,sleep=off \
+  -d in_asm,exec,nochain -D "$work/log.txt" -kernel "$work/prof.elf"
+/usr/bin/python3 "$here/profile.py" "$work/log.txt" "$work/prof.elf" "$top"
