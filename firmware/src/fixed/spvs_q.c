@@ -215,8 +215,10 @@ static uint32_t h_in(const spvs_real H_px[9], int32_t Hq[9])
  * Q inlier count at the pipeline's threshold.  SPVS_OK,
  * SPVS_E_DEGENERATE for a non-finite entry (float's status), SPVS_E_RANGE
  * for an entry outside the Q27 range (the estimator's own models never
- * leave it), SPVS_E_NO_CONSENSUS for fewer than SPVS_MIN_INLIERS inliers. */
-static int adopt_h(spvs_q_t *s, const spvs_real H_px[9])
+ * leave it), SPVS_E_NO_CONSENSUS for fewer than SPVS_MIN_INLIERS inliers.
+ * Out of line, so that its H on the stack is not in estimate()'s frame
+ * under RANSAC's deepest path. */
+static SPVS_Q_NOINLINE int adopt_h(spvs_q_t *s, const spvs_real H_px[9])
 {
     spvs_q_plane_h_t *const e = &s->est;
     int32_t Hq[9];
@@ -391,8 +393,9 @@ static int after_h(spvs_q_t *s, int32_t t, spvs_output_t *out)
     return rc;
 }
 
-/* spvs_q_update and spvs_q_update_with_h. */
-static int update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
+/* spvs_q_update and spvs_q_update_with_h (inlined into both, so neither
+ * adds a frame to the update's stack). */
+static SPVS_Q_INLINE int update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                   const spvs_real *H_px, spvs_output_t *out)
 {
     if (s == 0 || out == 0) {
