@@ -28,12 +28,11 @@
 #include "fixed/control_q.h"
 #include "spvs/spvs.h"
 #include "synth.h"
+#include "synth_scene.h"
 
 #define DEG (SYNTH_PI / 180.0)
 #define DT_S 0.1
 #define MAX_FRAMES 4000
-#define N_PLANE 100
-#define N_OFF 25
 #define CMD_ONE ((double)(1 << SPVS_QCTL_CMD))
 
 /* |v_q - v_f| in m/s and |w_q - w_f| in rad/s.  The Q input rounds H to
@@ -53,69 +52,6 @@
  * tolerance (k tol); from there on the two runs may part and the
  * comparison of that run stops. */
 #define TIE_CMD 3e-6
-
-typedef struct {
-    double X[N_PLANE + N_OFF][3];
-    double p_tgt[N_PLANE + N_OFF][2];
-    int n;
-} scene_t;
-
-/* The simulator's default scene: 100 plane points and 25 off-plane points
- * 15..40 m deep, seen by the target camera at random pixels. */
-static void scene_make(scene_t *s, const synth_plane_t *pl, uint64_t *rng)
-{
-    s->n = 0;
-    for (int i = 0; i < N_PLANE + N_OFF; i++) {
-        for (int tries = 0; tries < 1000; tries++) {
-            const double u = (synth_uniform(rng) - 0.5) * 640;
-            const double v = (synth_uniform(rng) - 0.5) * 480;
-            double X[3];
-            int ok;
-            if (i < N_PLANE) {
-                ok = synth_plane_point(pl, 800, u, v, X);
-            } else {
-                const double z = 15 + 25 * synth_uniform(rng);
-                X[0] = u / 800 * z;
-                X[1] = v / 800 * z;
-                X[2] = z;
-                ok = pl->n[0] * X[0] + pl->n[1] * X[1] + pl->n[2] * X[2] > -pl->d;
-            }
-            if (ok) {
-                memcpy(s->X[s->n], X, sizeof X);
-                s->p_tgt[s->n][0] = u;
-                s->p_tgt[s->n][1] = v;
-                s->n++;
-                break;
-            }
-        }
-    }
-}
-
-/* The frame at pose: as the simulator's default (no clipping at the image
- * border, the core's coordinate limit), noise sigma on the current image. */
-static uint16_t scene_frame(const scene_t *s, const synth_pose_t *pose, double sigma,
-                            uint64_t *rng, spvs_match_t *m)
-{
-    uint16_t k = 0;
-    for (int i = 0; i < s->n; i++) {
-        double pc[2];
-        if (!synth_project(pose, 800, s->X[i], pc)) {
-            continue;
-        }
-        pc[0] += sigma * synth_gauss(rng);
-        pc[1] += sigma * synth_gauss(rng);
-        if (!(fabs(pc[0]) < SPVS_MAX_COORD_PX && fabs(pc[1]) < SPVS_MAX_COORD_PX)) {
-            continue;
-        }
-        m[k].x_tgt = (spvs_real)s->p_tgt[i][0];
-        m[k].y_tgt = (spvs_real)s->p_tgt[i][1];
-        m[k].x_cur = (spvs_real)pc[0];
-        m[k].y_cur = (spvs_real)pc[1];
-        m[k].feature = (uint16_t)i;
-        k++;
-    }
-    return k;
-}
 
 /* The controller's input of the frame spvs_update just ran (spvs.c's
  * after_h): the output's H, epipole, parallax and inliers, and the side of
@@ -211,11 +147,11 @@ static void twin_run(spvs_method_t method, synth_pose_t pose, double sigma, uint
 {
     static spvs_t s;
     static spvs_match_t m[SPVS_MAX_MATCHES];
-    static scene_t sc;
+    static synth_scene_t sc;
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
     uint64_t rng = 0x9e3779b97f4a7c15ull ^ seed;
-    scene_make(&sc, &pl, &rng);
+    synth_scene_make(&sc, &pl, &rng, 0.0);
     /* Noise in the target image too, drawn once (the simulator's model). */
     for (int i = 0; i < sc.n; i++) {
         sc.p_tgt[i][0] += sigma * synth_gauss(&rng);
@@ -240,7 +176,7 @@ static void twin_run(spvs_method_t method, synth_pose_t pose, double sigma, uint
     double last_good = -1;
     for (int k = 0; k < MAX_FRAMES; k++) {
         const double t = k * DT_S;
-        const uint16_t n = scene_frame(&sc, &pose, sigma, &rng, m);
+        const uint16_t n = synth_scene_frame(&sc, &pose, sigma, 0.0, SPVS_MAX_COORD_PX, &rng, m);
         spvs_output_t out;
         const int rc = spvs_update(&s, m, n, (spvs_real)t, &out);
         r->frames = k + 1;

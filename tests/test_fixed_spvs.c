@@ -32,6 +32,7 @@
 
 #include "spvs/spvs.h"
 #include "synth.h"
+#include "synth_scene.h"
 
 #if SPVS_USE_FIXED
 /* The fixed-point build: spvs.h's pipeline is the Q pipeline. */
@@ -52,8 +53,6 @@ typedef spvs_q_t q_inst_t;
 #define DEG (SYNTH_PI / 180.0)
 #define DT_S 0.1
 #define MAX_FRAMES 1500
-#define N_PLANE 100
-#define N_OFF 25
 #define SIGMA_PX 0.5
 #define MISMATCH 0.1
 
@@ -71,74 +70,16 @@ typedef spvs_q_t q_inst_t;
 #define TOL_TWIN_V 2e-5
 #define TOL_TWIN_W 2e-5
 
-typedef struct {
-    double X[N_PLANE + N_OFF][3];
-    double p_tgt[N_PLANE + N_OFF][2];
-    int n;
-} scene_t;
+/* A frame's matches beyond this many pixels from the centre are left out. */
+#define FRAME_LIM_PX 2000.0
 
-/* The simulator's default scene (plane (0.3, -0.6, -0.75) at 45 m, 100
- * plane points and 25 off-plane points 15..40 m deep) with noise sigma in
- * the target image, drawn once. */
-static void scene_make(scene_t *s, uint64_t *rng, double sigma)
+/* The simulator's default scene (plane (0.3, -0.6, -0.75) at 45 m) with
+ * noise sigma in the target image, drawn once. */
+static void scene_default(synth_scene_t *s, uint64_t *rng, double sigma)
 {
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
-    s->n = 0;
-    for (int i = 0; i < N_PLANE + N_OFF; i++) {
-        for (int tries = 0; tries < 1000; tries++) {
-            const double u = (synth_uniform(rng) - 0.5) * 640;
-            const double v = (synth_uniform(rng) - 0.5) * 480;
-            double X[3];
-            int ok;
-            if (i < N_PLANE) {
-                ok = synth_plane_point(&pl, 800, u, v, X);
-            } else {
-                const double z = 15 + 25 * synth_uniform(rng);
-                X[0] = u / 800 * z;
-                X[1] = v / 800 * z;
-                X[2] = z;
-                ok = pl.n[0] * X[0] + pl.n[1] * X[1] + pl.n[2] * X[2] > -pl.d;
-            }
-            if (ok) {
-                memcpy(s->X[s->n], X, sizeof X);
-                s->p_tgt[s->n][0] = u + sigma * synth_gauss(rng);
-                s->p_tgt[s->n][1] = v + sigma * synth_gauss(rng);
-                s->n++;
-                break;
-            }
-        }
-    }
-}
-
-/* The frame at pose: noise sigma on the current image, a share of the
- * matches replaced by a random point of the image (mismatches). */
-static uint16_t scene_frame(const scene_t *s, const synth_pose_t *pose, double sigma,
-                            double mismatch, uint64_t *rng, spvs_match_t *m)
-{
-    uint16_t k = 0;
-    for (int i = 0; i < s->n; i++) {
-        double pc[2];
-        if (!synth_project(pose, 800, s->X[i], pc)) {
-            continue;
-        }
-        pc[0] += sigma * synth_gauss(rng);
-        pc[1] += sigma * synth_gauss(rng);
-        if (synth_uniform(rng) < mismatch) {
-            pc[0] = (synth_uniform(rng) - 0.5) * 640;
-            pc[1] = (synth_uniform(rng) - 0.5) * 480;
-        }
-        if (!(fabs(pc[0]) < 2000 && fabs(pc[1]) < 2000)) {
-            continue;
-        }
-        m[k].x_tgt = (spvs_real)s->p_tgt[i][0];
-        m[k].y_tgt = (spvs_real)s->p_tgt[i][1];
-        m[k].x_cur = (spvs_real)pc[0];
-        m[k].y_cur = (spvs_real)pc[1];
-        m[k].feature = (uint16_t)i;
-        k++;
-    }
-    return k;
+    synth_scene_make(s, &pl, rng, sigma);
 }
 
 /* Eq. (7), the command held over the frame. */
@@ -209,10 +150,10 @@ static void readback_run(spvs_method_t method, const double start[3], uint64_t s
                          readback_t *r)
 {
     static q_inst_t a, b;
-    static scene_t sc;
+    static synth_scene_t sc;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     uint64_t rng = 0x9e3779b97f4a7c15ull ^ seed;
-    scene_make(&sc, &rng, SIGMA_PX);
+    scene_default(&sc, &rng, SIGMA_PX);
     spvs_params_t prm;
     params(&prm, method);
     assert_int_equal(q_init(&a, &prm), SPVS_OK);
@@ -221,7 +162,7 @@ static void readback_run(spvs_method_t method, const double start[3], uint64_t s
     const spvs_real nan_h[9] = {nan_real(), 0, 0, 0, 1, 0, 0, 0, 1};
     spvs_output_t oa, ob;
     for (int k = 0; k < MAX_FRAMES; k++) {
-        const uint16_t n = scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, &rng, m);
+        const uint16_t n = synth_scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, FRAME_LIM_PX, &rng, m);
         const spvs_real t = (spvs_real)(k * DT_S);
         const int rc_a = q_update(&a, m, n, t, &oa);
         if (oa.h_valid) {
@@ -264,18 +205,19 @@ static void test_readback_closed_loop(void **state)
 
 /* Two fresh controllers at poses along the way from each start: three
  * frames 0.1 s apart (a controller commands a stop on its first two
- * frames, while the epipole's side and the gain signs settle), A estimating, B given A's estimate of each. */
+ * frames, while the epipole's side and the gain signs settle), A
+ * estimating, B given A's estimate of each. */
 static void test_readback_fresh(void **state)
 {
     (void)state;
     static q_inst_t a, b;
-    static scene_t sc;
+    static synth_scene_t sc;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     readback_t r;
     memset(&r, 0, sizeof r);
     for (int method = 1; method <= 3; method++) {
         uint64_t rng = 0x51ed270b27a1f3c5ull ^ (uint64_t)method;
-        scene_make(&sc, &rng, SIGMA_PX);
+        scene_default(&sc, &rng, SIGMA_PX);
         spvs_params_t prm;
         params(&prm, (spvs_method_t)method);
         for (int i = 0; i < 4; i++) {
@@ -285,7 +227,8 @@ static void test_readback_fresh(void **state)
                 assert_int_equal(q_init(&a, &prm), SPVS_OK);
                 assert_int_equal(q_init(&b, &prm), SPVS_OK);
                 for (int k = 0; k < 3; k++) {
-                    const uint16_t n = scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, &rng, m);
+                    const uint16_t n =
+                        synth_scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, FRAME_LIM_PX, &rng, m);
                     const spvs_real t = (spvs_real)(1.0 + k * DT_S);
                     spvs_output_t oa, ob;
                     const int rc_a = q_update(&a, m, n, t, &oa);
@@ -314,10 +257,10 @@ static void test_readback_fresh(void **state)
 static void bad_h_case(const spvs_real H[9], int expect)
 {
     static q_inst_t q;
-    static scene_t sc;
+    static synth_scene_t sc;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     uint64_t rng = 77;
-    scene_make(&sc, &rng, 0.0);
+    scene_default(&sc, &rng, 0.0);
     spvs_params_t prm;
     params(&prm, SPVS_METHOD_I);
     assert_int_equal(q_init(&q, &prm), SPVS_OK);
@@ -330,7 +273,7 @@ static void bad_h_case(const spvs_real H[9], int expect)
     for (int k = 0; k < 9; k++) {
         Ht[k] = (spvs_real)Hd[k];
     }
-    const uint16_t n = scene_frame(&sc, &pose, 0.0, 0.0, &rng, m);
+    const uint16_t n = synth_scene_frame(&sc, &pose, 0.0, 0.0, FRAME_LIM_PX, &rng, m);
     spvs_output_t out;
     for (int k = 1; k <= 3; k++) {
         assert_int_equal(q_update_with_h(&q, m, n, (spvs_real)(k * DT_S), Ht, &out), SPVS_OK);
@@ -382,11 +325,11 @@ static void test_bad_h(void **state)
     params(&prm, SPVS_METHOD_II);
     assert_int_equal(q_init(&q, &prm), SPVS_OK);
     static spvs_match_t m[SPVS_MAX_MATCHES];
-    static scene_t sc;
+    static synth_scene_t sc;
     uint64_t rng = 5;
-    scene_make(&sc, &rng, 0.0);
+    scene_default(&sc, &rng, 0.0);
     const synth_pose_t at = {0, 0, 0};
-    const uint16_t n = scene_frame(&sc, &at, 0.0, 0.0, &rng, m);
+    const uint16_t n = synth_scene_frame(&sc, &at, 0.0, 0.0, FRAME_LIM_PX, &rng, m);
     memcpy(H, good, sizeof H);
     H[3] = nan_real();
     H[4] = SPVS_R(3.0);
@@ -493,10 +436,10 @@ static void twin_run(spvs_method_t method, const double start[3], uint64_t seed,
 {
     static spvs_t e, f;
     static spvs_q_t q;
-    static scene_t sc;
+    static synth_scene_t sc;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     uint64_t rng = 0x2545f4914f6cdd1dull ^ seed;
-    scene_make(&sc, &rng, SIGMA_PX);
+    scene_default(&sc, &rng, SIGMA_PX);
     spvs_params_t prm;
     params(&prm, method);
     assert_int_equal(spvs_init(&e, &prm), SPVS_OK);
@@ -507,7 +450,7 @@ static void twin_run(spvs_method_t method, const double start[3], uint64_t seed,
     spvs_output_t oe, of, oq;
     int last_step = -1;
     for (int k = 0; k < MAX_FRAMES; k++) {
-        const uint16_t n = scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, &rng, m);
+        const uint16_t n = synth_scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, FRAME_LIM_PX, &rng, m);
         const spvs_real t = (spvs_real)(k * DT_S);
         const int rc_e = spvs_update(&e, m, n, t, &oe);
         assert_int_equal(rc_e, oe.status);
@@ -559,14 +502,14 @@ static void test_twin_bad_h(void **state)
     (void)state;
     static spvs_t f;
     static spvs_q_t q;
-    static scene_t sc;
+    static synth_scene_t sc;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     uint64_t rng = 3;
-    scene_make(&sc, &rng, 0.0);
+    scene_default(&sc, &rng, 0.0);
     spvs_params_t prm;
     params(&prm, SPVS_METHOD_III);
     const synth_pose_t pose = {-3, -10, -30 * DEG};
-    const uint16_t n = scene_frame(&sc, &pose, 0.0, 0.0, &rng, m);
+    const uint16_t n = synth_scene_frame(&sc, &pose, 0.0, 0.0, FRAME_LIM_PX, &rng, m);
     const int rows13[6] = {0, 1, 2, 6, 7, 8};
     for (int i = 0; i < 6; i++) {
         spvs_real H[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
