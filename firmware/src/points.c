@@ -396,10 +396,7 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
             spvs_v4_store_flags(in, mask + r);
         }
     }
-    /* The four lane counts added by two swaps (no lane extractions). */
-    cnt += SPVS_V4_SHUFFLE(cnt, 2, 3, 0, 1);
-    cnt += SPVS_V4_SHUFFLE(cnt, 1, 0, 3, 2);
-    return (int32_t)cnt[0];
+    return (int32_t)spvs_v4i_sum(cnt);
 }
 
 /* One block of spvs_pts_score, the whole block counted on SIMD lanes;
@@ -430,9 +427,7 @@ static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const sp
         if (mask) {
             spvs_v4_store_flags(in, mask + i);
         }
-        spvs_v4i cnt = in + SPVS_V4_SHUFFLE(in, 2, 3, 0, 1);
-        cnt += SPVS_V4_SHUFFLE(cnt, 1, 0, 3, 2);
-        *inl -= (int32_t)cnt[0];
+        *inl -= (int32_t)spvs_v4i_sum(in);
         if ((int32_t)(i + SPVS_VLANES) - *inl > max_out) {
             return;
         }

@@ -19,6 +19,14 @@
  * a comparison of two such vectors gives (-1 true, 0 false), and the load of
  * SPVS_VLANES consecutive scalars from any scalar-aligned address. */
 #define SPVS_VLANES 4
+/* 1 where the float lanes are SSE2 registers (x86-64 with GCC or Clang):
+ * the helpers below then use SSE instructions the vector extensions do not
+ * name; elsewhere they are written in the extensions alone. */
+#if defined(__SSE2__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+#define SPVS_V4_SSE 1
+#else
+#define SPVS_V4_SSE 0
+#endif
 #if SPVS_USE_DOUBLE
 typedef int64_t spvs_lane_int;
 #else
@@ -46,7 +54,7 @@ static inline spvs_v4 spvs_v4_abs(spvs_v4 v)
  * one is, either may come out): one maxps with SSE. */
 static inline spvs_v4 spvs_v4_max(spvs_v4 a, spvs_v4 b)
 {
-#if defined(__SSE__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+#if SPVS_V4_SSE
     return __builtin_ia32_maxps(a, b);
 #else
     const spvs_v4i gt = a > b;
@@ -101,7 +109,7 @@ static inline void spvs_v4_store_flags(spvs_v4i f, uint8_t *mask)
  * bytes 1 or 0 in mask[0..4 SPVS_VLANES).  With SSE2 the sixteen flags are
  * narrowed by two saturating packs (-1 stays -1, 0 stays 0) and stored at
  * once; elsewhere row by row. */
-#if defined(__SSE2__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+#if SPVS_V4_SSE
 typedef short spvs_v8s __attribute__((vector_size(16)));
 typedef char spvs_v16c __attribute__((vector_size(16)));
 static inline void spvs_v4_store_flags4(spvs_v4i f0, spvs_v4i f1, spvs_v4i f2, spvs_v4i f3,
@@ -129,11 +137,19 @@ static inline void spvs_v4_store_flags4(spvs_v4i f0, spvs_v4i f1, spvs_v4i f2, s
  * bit says the same. */
 static inline int spvs_v4_any(spvs_v4i m)
 {
-#if defined(__SSE__) && !SPVS_USE_DOUBLE && (defined(__GNUC__) || defined(__clang__))
+#if SPVS_V4_SSE
     return __builtin_ia32_movmskps((spvs_v4)m) != 0;
 #else
     return ((m[0] | m[1]) | (m[2] | m[3])) != 0;
 #endif
+}
+
+/* The sum of the four lanes, added by two swaps (no lane extractions). */
+static inline spvs_lane_int spvs_v4i_sum(spvs_v4i v)
+{
+    v += SPVS_V4_SHUFFLE(v, 2, 3, 0, 1);
+    v += SPVS_V4_SHUFFLE(v, 1, 0, 3, 2);
+    return v[0];
 }
 
 #endif /* SPVS_V4_H */
