@@ -1153,8 +1153,11 @@ static SPVS_Q_INLINE int32_t q_recip_fast(uint32_t m)
      * deviation is below 2^48, kept to 2^-29 of it (its low 29 bits). */
     const int64_t dev = (int64_t)((uint64_t)m * (uint32_t)y0) - ((int64_t)1 << 61);
     const int32_t dh = (int32_t)(dev >> 29);
-    const int64_t y1 = (int64_t)y0 - (((int64_t)y0 * dh) >> 32);
-    return y1 > INT32_MAX ? INT32_MAX : (int32_t)y1;
+    /* y1 lies in (2^30, 2^31] for every m of the range (checked on all
+     * 2^30 of them), so it is formed in 32 bits, and only 2^31 (at
+     * m = 2^30) is brought down to 2^31 - 1, by its top bit. */
+    const uint32_t y1 = (uint32_t)y0 - (uint32_t)(((int64_t)y0 * dh) >> 32);
+    return (int32_t)(y1 - (y1 >> 31));
 }
 
 /* The fast path's formats for one sum (block floating point with the set
@@ -1321,6 +1324,36 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     return 1;
 }
 
+/* F[0..2] += (a0 b0, a1 b1, a2 b2) in int64; returns F + 3.  The fast
+ * paths' sums are multiply-accumulates into memory, and on Thumb-2 one
+ * LDM and one STM move three of them (six words, the register pairs of
+ * three SMLAL), where the compiler's LDRD and STRD per sum take two
+ * instructions more for each: the instruction count, not the cycles, is
+ * the Cortex-M3's figure (docs/FIXED.md).  The same sums in C elsewhere.
+ * The six registers are fixed because LDM fills its list in ascending
+ * order; r7 is left out (the frame pointer of an unoptimised build). */
+static SPVS_Q_INLINE int64_t *acc3(int64_t *F, int32_t a0, int32_t b0, int32_t a1, int32_t b1,
+                                   int32_t a2, int32_t b2)
+{
+#if defined(__GNUC__) && defined(__thumb2__) && !defined(__clang__)
+    __asm__("ldm %[F], {r0, r1, r2, r3, r4, r5}\n\t"
+            "smlal r0, r1, %[a0], %[b0]\n\t"
+            "smlal r2, r3, %[a1], %[b1]\n\t"
+            "smlal r4, r5, %[a2], %[b2]\n\t"
+            "stmia %[F]!, {r0, r1, r2, r3, r4, r5}"
+            : [F] "+r"(F), "+m"(*(int64_t(*)[3])F)
+            : [a0] "r"(a0), [b0] "r"(b0), [a1] "r"(a1), [b1] "r"(b1), [a2] "r"(a2),
+              [b2] "r"(b2)
+            : "r0", "r1", "r2", "r3", "r4", "r5");
+    return F;
+#else
+    F[0] += (int64_t)a0 * b0;
+    F[1] += (int64_t)a1 * b1;
+    F[2] += (int64_t)a2 * b2;
+    return F + 3;
+#endif
+}
+
 /* The squared Sampson error eps^T W eps = ex b1 + ey b2 of a point on the
  * fast path (SPVS_T_LIN's term 24 and the SPVS_T_SAMPSON sum, the same
  * bits in both), in Q(qr + 30): |ex|, |ey| <= 2^31 and |b1|, |b2| <= 2^30
@@ -1332,10 +1365,16 @@ static SPVS_Q_INLINE int64_t lin_cost_term(const q_lw_t *o)
     return ((int64_t)o->ex * o->b1 + (int64_t)o->ey * o->b2) >> 10;
 }
 
-/* One point's SPVS_T_LIN terms on the fast path into F: terms 0-5 in
- * Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in Q(qr + 18), 18-20 in
- * Q(qr + 25), 21-23 in Q(qr + 23), 24 in Q(qr + 30).  Returns 0, leaving
- * F as it was, when the point's residual is beyond the path's range. */
+/* Where lin_fast keeps term 6 m + k (m = 0..2, k = 0..5) of the normal
+ * matrix, a[m] q[k]: by columns of q (lin_fast_merge puts them back in
+ * spvs_q_sums_t's order).  Terms 18-24 keep their places. */
+#define LIN_COL(m, k) (3 * (k) + (m))
+
+/* One point's SPVS_T_LIN terms on the fast path into F (in LIN_COL's
+ * layout): terms 0-5 in Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in
+ * Q(qr + 18), 18-20 in Q(qr + 25), 21-23 in Q(qr + 23), 24 in Q(qr + 30).
+ * Returns 0, leaving F as it was, when the point's residual is beyond the
+ * path's range. */
 /* Not inlined: in spvs_q_pts_sum's loop beside the exact path it gets
  * fewer registers (about 1 % more instructions on the M3 inlined). */
 static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_lin_t *L,
@@ -1354,38 +1393,32 @@ static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_
     /* The right side: b1, b2 in Q(qr + 4), b3 in Q(qr + 2). */
     const int32_t b3 = spvs_q_opaque32(-(int32_t)(((int64_t)u16 * b1 + (int64_t)v16 * b2) >> 32));
     const int32_t x21 = x >> 5, y21 = y >> 5;
-    F[18] += (int64_t)b1 * x21;
-    F[19] += (int64_t)b1 * y21;
-    F[20] += (int64_t)b1 * (1 << 21);
-    F[21] += (int64_t)b3 * x21;
-    F[22] += (int64_t)b3 * y21;
-    F[23] += (int64_t)b3 * (1 << 21);
     /* The normal matrix: uw = u w11 + v w12 and vw in Q(qr - 2). */
     const int32_t uw = spvs_q_opaque32((int32_t)(((int64_t)u16 * w11 + (int64_t)v16 * w12) >> 32));
     const int32_t vw = spvs_q_opaque32((int32_t)(((int64_t)u16 * w12 + (int64_t)v16 * w22) >> 32));
-    const int32_t am[3] = {w11 >> 2, -(uw >> 2),
-                           (int32_t)(((int64_t)u16 * uw + (int64_t)v16 * vw) >> 32) >> 2};
-    /* q in Q24: x 4 and y 4 (below 2^31 as x^2, y^2 < 2) give x^2 2^-28 as
-     * a high word. */
+    const int32_t a0 = w11 >> 2, a1 = -(uw >> 2);
+    const int32_t a2 = (int32_t)(((int64_t)u16 * uw + (int64_t)v16 * vw) >> 32) >> 2;
+    /* F's layout (LIN_COL): the normal matrix by columns of q = (x^2,
+     * x y, x, y^2, y, 1) in Q24, each column's three terms beside each
+     * other, so that each q is made just before its three sums and is not
+     * kept beside the others (acc3 steps through F); then the right side.
+     * x 4 and y 4 (below 2^31 as x^2, y^2 < 2) give x^2 2^-28 as a high
+     * word. */
     const int32_t x4 = x * 4, y4 = y * 4;
-    const int32_t q[6] = {(int32_t)(((int64_t)x4 * x4) >> 32), (int32_t)(((int64_t)x4 * y4) >> 32),
-                          x >> 2, (int32_t)(((int64_t)y4 * y4) >> 32), y >> 2, 1 << 24};
-    /* Written out: one multiply-accumulate each (a loop here costs as much
-     * again in its own instructions on the Cortex-M3 at -Os). */
-#define LIN_ROW(mm)                                 \
-    do {                                            \
-        const int32_t a_ = am[mm];                  \
-        F[6 * (mm) + 0] += (int64_t)a_ * q[0];      \
-        F[6 * (mm) + 1] += (int64_t)a_ * q[1];      \
-        F[6 * (mm) + 2] += (int64_t)a_ * q[2];      \
-        F[6 * (mm) + 3] += (int64_t)a_ * q[3];      \
-        F[6 * (mm) + 4] += (int64_t)a_ * q[4];      \
-        F[6 * (mm) + 5] += (int64_t)a_ * q[5];      \
-    } while (0)
-    LIN_ROW(0);
-    LIN_ROW(1);
-    LIN_ROW(2);
-#undef LIN_ROW
+    int64_t *f = F;
+    const int32_t qxx = (int32_t)(((int64_t)x4 * x4) >> 32);
+    f = acc3(f, a0, qxx, a1, qxx, a2, qxx);
+    const int32_t qxy = (int32_t)(((int64_t)x4 * y4) >> 32);
+    f = acc3(f, a0, qxy, a1, qxy, a2, qxy);
+    const int32_t qx = x >> 2;
+    f = acc3(f, a0, qx, a1, qx, a2, qx);
+    const int32_t qyy = (int32_t)(((int64_t)y4 * y4) >> 32);
+    f = acc3(f, a0, qyy, a1, qyy, a2, qyy);
+    const int32_t qy = y >> 2;
+    f = acc3(f, a0, qy, a1, qy, a2, qy);
+    f = acc3(f, a0, 1 << 24, a1, 1 << 24, a2, 1 << 24);
+    f = acc3(f, b1, x21, b1, y21, b1, 1 << 21);
+    (void)acc3(f, b3, x21, b3, y21, b3, 1 << 21);
     return 1;
 }
 
@@ -1486,15 +1519,9 @@ static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
     const int32_t q1 = spvs_q_opaque32((int32_t)(((int64_t)sca * yb) >> 32));
     const int32_t q2 = (int32_t)((uint32_t)sc << F->s2l) >> F->s2r;
     const int32_t rq = (int32_t)((uint32_t)rr << F->srl) >> F->srr;
-    G[0] += (int64_t)q0 * q0;
-    G[1] += (int64_t)q0 * q1;
-    G[2] += (int64_t)q0 * q2;
-    G[3] += (int64_t)q1 * q1;
-    G[4] += (int64_t)q1 * q2;
-    G[5] += (int64_t)q2 * q2;
-    G[6] += (int64_t)q0 * rq;
-    G[7] += (int64_t)q1 * rq;
-    G[8] += (int64_t)q2 * rq;
+    int64_t *g = acc3(G, q0, q0, q0, q1, q0, q2);
+    g = acc3(g, q1, q1, q1, q2, q2, q2);
+    (void)acc3(g, q0, rq, q1, rq, q2, rq);
 }
 
 /* fit_fast over the flagged points among the first n, for one kind (a
@@ -1603,20 +1630,26 @@ static SPVS_Q_NOINLINE int sampson_fast(const int32_t *h, const int32_t *p, cons
     return 1;
 }
 
-/* lin_fast's sums F (formats of qr) into s, added (sub = 0) or
- * subtracted (sub = 1).  One exponent per block: terms 0-11 and 18-20
- * brought to the units of 12-17 and 21-23 first (they are below 2^62
- * before, as are these); term 24 is a block of its own. */
-static void lin_fast_merge(spvs_q_sums_t *s, int64_t F[SPVS_H_LIN_SUMS], int32_t qr, int sub)
+/* lin_fast's sums F (formats of qr, LIN_COL's layout) into s, added
+ * (sub = 0) or subtracted (sub = 1).  One exponent per block: terms 0-11
+ * and 18-20 brought to the units of 12-17 and 21-23 first (they are below
+ * 2^62 before, as are these); term 24 is a block of its own. */
+static void lin_fast_merge(spvs_q_sums_t *s, const int64_t F[SPVS_H_LIN_SUMS], int32_t qr,
+                           int sub)
 {
-    for (int j = 0; j < 6; j++) {
-        F[j] = spvs_q_rshift_rnd64(F[j], 4);
-        F[6 + j] = spvs_q_rshift_rnd64(F[6 + j], 2);
+    int64_t G[SPVS_H_LIN_SUMS];
+    for (int k = 0; k < 6; k++) {
+        G[k] = spvs_q_rshift_rnd64(F[LIN_COL(0, k)], 4);
+        G[6 + k] = spvs_q_rshift_rnd64(F[LIN_COL(1, k)], 2);
+        G[12 + k] = F[LIN_COL(2, k)];
     }
     for (int j = 18; j < 21; j++) {
-        F[j] = spvs_q_rshift_rnd64(F[j], 2);
+        G[j] = spvs_q_rshift_rnd64(F[j], 2);
     }
-    lin_merge(s, F, -(qr + 18), -(qr + 23), -(qr + 30), sub);
+    for (int j = 21; j < SPVS_H_LIN_SUMS; j++) {
+        G[j] = F[j];
+    }
+    lin_merge(s, G, -(qr + 18), -(qr + 23), -(qr + 30), sub);
 }
 
 /* SPVS_T_SAMPSON's sum: the points in SPVS_T_LIN's fast-path range (the
