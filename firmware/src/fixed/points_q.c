@@ -1331,20 +1331,22 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
  * instructions more for each: the instruction count, not the cycles, is
  * the Cortex-M3's figure (docs/FIXED.md).  The same sums in C elsewhere.
  * The six registers are fixed because LDM fills its list in ascending
- * order; r7 is left out (the frame pointer of an unoptimised build). */
+ * order; r7 is left out (the frame pointer of an unoptimised build), and
+ * these six left the compiler's allocation around the calls the fewest
+ * spills at -Os. */
 static SPVS_Q_INLINE int64_t *acc3(int64_t *F, int32_t a0, int32_t b0, int32_t a1, int32_t b1,
                                    int32_t a2, int32_t b2)
 {
 #if defined(__GNUC__) && defined(__thumb2__) && !defined(__clang__)
-    __asm__("ldm %[F], {r0, r1, r2, r3, r4, r5}\n\t"
-            "smlal r0, r1, %[a0], %[b0]\n\t"
-            "smlal r2, r3, %[a1], %[b1]\n\t"
-            "smlal r4, r5, %[a2], %[b2]\n\t"
-            "stmia %[F]!, {r0, r1, r2, r3, r4, r5}"
+    __asm__("ldm %[F], {r1, r2, r8, r9, r10, r11}\n\t"
+            "smlal r1, r2, %[a0], %[b0]\n\t"
+            "smlal r8, r9, %[a1], %[b1]\n\t"
+            "smlal r10, r11, %[a2], %[b2]\n\t"
+            "stmia %[F]!, {r1, r2, r8, r9, r10, r11}"
             : [F] "+r"(F), "+m"(*(int64_t(*)[3])F)
             : [a0] "r"(a0), [b0] "r"(b0), [a1] "r"(a1), [b1] "r"(b1), [a2] "r"(a2),
               [b2] "r"(b2)
-            : "r0", "r1", "r2", "r3", "r4", "r5");
+            : "r1", "r2", "r8", "r9", "r10", "r11");
     return F;
 #else
     F[0] += (int64_t)a0 * b0;
@@ -1441,6 +1443,7 @@ typedef struct {
     int s2l, s2r;     /* sc into Q(qq): left, then right (one of them 0) */
     int srl, srr;     /* r into Q(qr) likewise */
     int32_t qq, qr;   /* the formats */
+    int32_t h6, h7;   /* h31, h32 (Q27): w's, read with the formats */
     int64_t h8c;      /* h33 2^26, Q53 */
 } q_fit_t;
 
@@ -1452,6 +1455,8 @@ static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, ui
     F.qq = F.qr = 0;
     const int64_t one26 = (int64_t)1 << 26;
     F.h8c = (int64_t)h[8] * one26;
+    F.h6 = h[6];
+    F.h7 = h[7];
     const int64_t a6 = h[6] < 0 ? -(int64_t)h[6] : h[6];
     const int64_t a7 = h[7] < 0 ? -(int64_t)h[7] : h[7];
     const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
@@ -1494,11 +1499,10 @@ static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, ui
 
 /* One point's FIT terms on the fast path into G: terms 0-5 in Q(2 qq),
  * 6-8 in Q(qq + qr). */
-static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
-                                   const q_fit_t *F, int64_t G[9])
+static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *p, const q_fit_t *F, int64_t G[9])
 {
     const int32_t x = p[0], y = p[1];
-    const int64_t w = F->h8c + (int64_t)h[6] * x + (int64_t)h[7] * y;
+    const int64_t w = F->h8c + (int64_t)F->h6 * x + (int64_t)F->h7 * y;
     const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^29) */
     /* 1 / w: w27 2^(n - 1) in [2^30, 2^31), so 1 / w = r 2^(n - 35), and in
      * Q28 r 2^(n - 7) with n in 3..6. */
@@ -1527,14 +1531,13 @@ static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
 /* fit_fast over the flagged points among the first n, for one kind (a
  * constant at each call, so each kind gets its own loop).  Returns the
  * number of flagged points.  Bound: n points. */
-static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_store_t *st,
-                                     const uint8_t *use, uint16_t n, const q_fit_t *F,
-                                     int64_t G[9])
+static SPVS_Q_INLINE int32_t fit_all(int kind, const spvs_q_store_t *st, const uint8_t *use,
+                                     uint16_t n, const q_fit_t *F, int64_t G[9])
 {
     int32_t cnt = 0;
     for (uint16_t i = 0; i < n; i++) {
         if (use[i]) {
-            fit_fast(kind, h, &st->v[4u * i], F, G);
+            fit_fast(kind, &st->v[4u * i], F, G);
             cnt++;
         }
     }
@@ -1543,18 +1546,16 @@ static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_st
 
 /* fit_all for each kind, out of line: the loop's values then have the
  * registers to themselves rather than spvs_q_pts_sum's. */
-static SPVS_Q_NOINLINE int32_t fit_all_y(const int32_t *h, const spvs_q_store_t *st,
-                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
-                                         int64_t G[9])
+static SPVS_Q_NOINLINE int32_t fit_all_y(const spvs_q_store_t *st, const uint8_t *use,
+                                         uint16_t n, const q_fit_t *F, int64_t G[9])
 {
-    return fit_all(SPVS_T_FIT_Y, h, st, use, n, F, G);
+    return fit_all(SPVS_T_FIT_Y, st, use, n, F, G);
 }
 
-static SPVS_Q_NOINLINE int32_t fit_all_x(const int32_t *h, const spvs_q_store_t *st,
-                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
-                                         int64_t G[9])
+static SPVS_Q_NOINLINE int32_t fit_all_x(const spvs_q_store_t *st, const uint8_t *use,
+                                         uint16_t n, const q_fit_t *F, int64_t G[9])
 {
-    return fit_all(SPVS_T_FIT_X, h, st, use, n, F, G);
+    return fit_all(SPVS_T_FIT_X, st, use, n, F, G);
 }
 
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
@@ -1573,6 +1574,41 @@ int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t H
  * share is rounded before its sign is applied, so subtracting what was
  * added at the same exponents undoes it exactly.  Empty blocks are left
  * as they are. */
+/* One block of lin_merge: m[j] 2^-ds + F[j] 2^-df (sub = 0) or minus it
+ * (sub = 1), each shift rounded, for j < n; returns 1 when a result
+ * reached 2^62 in magnitude (the bits at or above 62 of their
+ * magnitudes, ORed).  No call where the shift or the value is 0 (the
+ * common cases: a fresh s, F at the larger exponent).  Bound: n <= 25. */
+static SPVS_Q_INLINE int merge_run(int64_t *m, const int64_t *F, int n, int ds, int df, int sub)
+{
+    uint64_t mag = 0;
+    /* The common case, F at the larger exponent and m at it too or all 0
+     * (a fresh s), in a loop that calls nothing. */
+    uint64_t any = 0;
+    for (int j = 0; j < n && ds != 0; j++) {
+        any |= (uint64_t)m[j];
+    }
+    if (df == 0 && (ds == 0 || any == 0u)) {
+        for (int j = 0; j < n; j++) {
+            const int64_t r = m[j] + (sub ? -F[j] : F[j]);
+            m[j] = r;
+            mag |= spvs_q_abs64(r);
+        }
+        return mag >= ((uint64_t)1 << 62);
+    }
+    for (int j = 0; j < n; j++) {
+        int64_t f = df == 0 ? F[j] : spvs_q_rshift_rnd64(F[j], df);
+        if (sub) {
+            f = -f;
+        }
+        const int64_t mj = m[j];
+        const int64_t r = (ds == 0 || mj == 0 ? mj : spvs_q_rshift_rnd64(mj, ds)) + f;
+        m[j] = r;
+        mag |= spvs_q_abs64(r);
+    }
+    return mag >= ((uint64_t)1 << 62);
+}
+
 static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1, int32_t e2,
                       int sub)
 {
@@ -1589,16 +1625,7 @@ static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1
         /* The sums (each below 2^63 in magnitude, so int64 holds them),
          * then, only where one reached 2^62, the block one bit down: the
          * same as rounding each sum once by one bit. */
-        int big = 0;
-        for (int j = lo; j < hi; j++) {
-            /* No call where the shift or the value is 0 (the common
-             * cases: a fresh s, F at the larger exponent). */
-            const int64_t f = df == 0 ? F[j] : spvs_q_rshift_rnd64(F[j], df);
-            const int64_t m = s->m[j];
-            const int64_t r = (ds == 0 || m == 0 ? m : spvs_q_rshift_rnd64(m, ds)) + (sub ? -f : f);
-            s->m[j] = r;
-            big |= spvs_q_abs64(r) >= ((uint64_t)1 << 62);
-        }
+        const int big = merge_run(&s->m[lo], &F[lo], hi - lo, ds, df, sub);
         if (big) {
             for (int j = lo; j < hi; j++) {
                 s->m[j] = spvs_q_rshift_rnd64(s->m[j], 1);
@@ -1736,30 +1763,43 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     if (FT.ok) {
         /* Every point on the fast path (w >= 1/4: none behind the camera). */
         int64_t G[SPVS_NT_FIT] = {0};
-        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all_y(Hq, st, use, n, &FT, G)
-                                                 : fit_all_x(Hq, st, use, n, &FT, G);
+        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all_y(st, use, n, &FT, G)
+                                                 : fit_all_x(st, use, n, &FT, G);
         lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr), 0, 0);
         return kind == SPVS_T_FIT_X ? 0 : cnt;
     }
     int64_t F[SPVS_H_LIN_SUMS] = {0};
-    int fast_used = 0;
-    /* Bound: n points. */
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
+    int32_t exact = 0;
+    /* Bound: n points.  L.ok is tested once, so that the fast path's
+     * points pay only for lin_fast's call. */
+    if (L.ok) {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            const int32_t *p = &st->v[4u * i];
+            used++;
+            /* w >= 1/4 on the fast path: never behind the camera. */
+            if (!lin_fast(Hq, p, &L, F)) {
+                if (!sum_exact_point((int)kind, Hq, p, out)) {
+                    return -1;
+                }
+                exact++;
+            }
         }
-        const int32_t *p = &st->v[4u * i];
-        used++;
-        /* w >= 1/4 on the fast path: never behind the camera. */
-        if (L.ok && lin_fast(Hq, p, &L, F)) {
-            fast_used = 1;
-            continue;
+    } else {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            used++;
+            if (!sum_exact_point((int)kind, Hq, &st->v[4u * i], out)) {
+                return -1;
+            }
         }
-        if (!sum_exact_point((int)kind, Hq, p, out)) {
-            return -1;
-        }
+        exact = used;
     }
-    if (fast_used) {
+    if (used > exact) {
         lin_fast_merge(out, F, L.qr, 0);
     }
     return kind == SPVS_T_FIT_X ? 0 : used;
