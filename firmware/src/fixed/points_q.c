@@ -1679,6 +1679,20 @@ static void lin_fast_merge(spvs_q_sums_t *s, const int64_t F[SPVS_H_LIN_SUMS], i
     lin_merge(s, G, -(qr + 18), -(qr + 23), -(qr + 30), sub);
 }
 
+/* One point's squared Sampson error from its exact residuals
+ * (q_sampson_term) into out's term 0; 0 when w <= SPVS_W_EPS (out
+ * unchanged). */
+static SPVS_Q_NOINLINE int sampson_exact(const int32_t *h, const int32_t *p, spvs_q_sums_t *out)
+{
+    q_eps_t r;
+    q_eps_call(h, p, &r);
+    if (r.w <= W_EPS_Q53) {
+        return 0;
+    }
+    acc_add(out, 0, q_sampson_term(h, &r, p), 0);
+    return 1;
+}
+
 /* SPVS_T_SAMPSON's sum: the points in SPVS_T_LIN's fast-path range (the
  * same bounds, lin_prep) through sampson_fast, the others num / den from
  * their exact residuals (q_sampson_term).  Returns the number of flagged
@@ -1689,28 +1703,36 @@ static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_
 {
     const q_lin_t L = lin_prep(st, h, n);
     int64_t F = 0;
-    int fast_used = 0;
-    int32_t used = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        const int32_t *p = &st->v[4u * i];
-        /* w >= 1/4 on the fast path: never behind the camera. */
-        if (L.ok && sampson_fast(h, p, &L, &F)) {
-            fast_used = 1;
+    int32_t used = 0, exact = 0;
+    /* L.ok tested once (as spvs_q_pts_sum's LIN loop).  Bound: n points. */
+    if (L.ok) {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            const int32_t *p = &st->v[4u * i];
             used++;
-            continue;
+            /* w >= 1/4 on the fast path: never behind the camera. */
+            if (!sampson_fast(h, p, &L, &F)) {
+                if (!sampson_exact(h, p, out)) {
+                    return -1;
+                }
+                exact++;
+            }
         }
-        q_eps_t r;
-        q_eps_call(h, p, &r);
-        if (r.w <= W_EPS_Q53) {
-            return -1;
+    } else {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            used++;
+            if (!sampson_exact(h, &st->v[4u * i], out)) {
+                return -1;
+            }
         }
-        acc_add(out, 0, q_sampson_term(h, &r, p), 0);
-        used++;
+        exact = used;
     }
-    if (fast_used) {
+    if (used > exact) {
         lin_merge(out, &F, -(L.qr + 30), 0, 0, 0);
     }
     return used;
