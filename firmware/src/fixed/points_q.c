@@ -1153,8 +1153,11 @@ static SPVS_Q_INLINE int32_t q_recip_fast(uint32_t m)
      * deviation is below 2^48, kept to 2^-29 of it (its low 29 bits). */
     const int64_t dev = (int64_t)((uint64_t)m * (uint32_t)y0) - ((int64_t)1 << 61);
     const int32_t dh = (int32_t)(dev >> 29);
-    const int64_t y1 = (int64_t)y0 - (((int64_t)y0 * dh) >> 32);
-    return y1 > INT32_MAX ? INT32_MAX : (int32_t)y1;
+    /* y1 lies in (2^30, 2^31] for every m of the range (checked on all
+     * 2^30 of them), so it is formed in 32 bits, and only 2^31 (at
+     * m = 2^30) is brought down to 2^31 - 1, by its top bit. */
+    const uint32_t y1 = (uint32_t)y0 - (uint32_t)(((int64_t)y0 * dh) >> 32);
+    return (int32_t)(y1 - (y1 >> 31));
 }
 
 /* The fast path's formats for one sum (block floating point with the set
@@ -1321,6 +1324,38 @@ static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_
     return 1;
 }
 
+/* F[0..2] += (a0 b0, a1 b1, a2 b2) in int64; returns F + 3.  The fast
+ * paths' sums are multiply-accumulates into memory, and on Thumb-2 one
+ * LDM and one STM move three of them (six words, the register pairs of
+ * three SMLAL), where the compiler's LDRD and STRD per sum take two
+ * instructions more for each: the instruction count, not the cycles, is
+ * the Cortex-M3's figure (docs/FIXED.md).  The same sums in C elsewhere.
+ * The six registers are fixed because LDM fills its list in ascending
+ * order; r7 is left out (the frame pointer of an unoptimised build), and
+ * these six left the compiler's allocation around the calls the fewest
+ * spills at -Os. */
+static SPVS_Q_INLINE int64_t *acc3(int64_t *F, int32_t a0, int32_t b0, int32_t a1, int32_t b1,
+                                   int32_t a2, int32_t b2)
+{
+#if defined(__GNUC__) && defined(__thumb2__) && !defined(__clang__)
+    __asm__("ldm %[F], {r1, r2, r8, r9, r10, r11}\n\t"
+            "smlal r1, r2, %[a0], %[b0]\n\t"
+            "smlal r8, r9, %[a1], %[b1]\n\t"
+            "smlal r10, r11, %[a2], %[b2]\n\t"
+            "stmia %[F]!, {r1, r2, r8, r9, r10, r11}"
+            : [F] "+r"(F), "+m"(*(int64_t(*)[3])F)
+            : [a0] "r"(a0), [b0] "r"(b0), [a1] "r"(a1), [b1] "r"(b1), [a2] "r"(a2),
+              [b2] "r"(b2)
+            : "r1", "r2", "r8", "r9", "r10", "r11");
+    return F;
+#else
+    F[0] += (int64_t)a0 * b0;
+    F[1] += (int64_t)a1 * b1;
+    F[2] += (int64_t)a2 * b2;
+    return F + 3;
+#endif
+}
+
 /* The squared Sampson error eps^T W eps = ex b1 + ey b2 of a point on the
  * fast path (SPVS_T_LIN's term 24 and the SPVS_T_SAMPSON sum, the same
  * bits in both), in Q(qr + 30): |ex|, |ey| <= 2^31 and |b1|, |b2| <= 2^30
@@ -1332,10 +1367,16 @@ static SPVS_Q_INLINE int64_t lin_cost_term(const q_lw_t *o)
     return ((int64_t)o->ex * o->b1 + (int64_t)o->ey * o->b2) >> 10;
 }
 
-/* One point's SPVS_T_LIN terms on the fast path into F: terms 0-5 in
- * Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in Q(qr + 18), 18-20 in
- * Q(qr + 25), 21-23 in Q(qr + 23), 24 in Q(qr + 30).  Returns 0, leaving
- * F as it was, when the point's residual is beyond the path's range. */
+/* Where lin_fast keeps term 6 m + k (m = 0..2, k = 0..5) of the normal
+ * matrix, a[m] q[k]: by columns of q (lin_fast_merge puts them back in
+ * spvs_q_sums_t's order).  Terms 18-24 keep their places. */
+#define LIN_COL(m, k) (3 * (k) + (m))
+
+/* One point's SPVS_T_LIN terms on the fast path into F (in LIN_COL's
+ * layout): terms 0-5 in Q(qr + 22), 6-11 in Q(qr + 20), 12-17 in
+ * Q(qr + 18), 18-20 in Q(qr + 25), 21-23 in Q(qr + 23), 24 in Q(qr + 30).
+ * Returns 0, leaving F as it was, when the point's residual is beyond the
+ * path's range. */
 /* Not inlined: in spvs_q_pts_sum's loop beside the exact path it gets
  * fewer registers (about 1 % more instructions on the M3 inlined). */
 static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_lin_t *L,
@@ -1354,38 +1395,32 @@ static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_
     /* The right side: b1, b2 in Q(qr + 4), b3 in Q(qr + 2). */
     const int32_t b3 = spvs_q_opaque32(-(int32_t)(((int64_t)u16 * b1 + (int64_t)v16 * b2) >> 32));
     const int32_t x21 = x >> 5, y21 = y >> 5;
-    F[18] += (int64_t)b1 * x21;
-    F[19] += (int64_t)b1 * y21;
-    F[20] += (int64_t)b1 * (1 << 21);
-    F[21] += (int64_t)b3 * x21;
-    F[22] += (int64_t)b3 * y21;
-    F[23] += (int64_t)b3 * (1 << 21);
     /* The normal matrix: uw = u w11 + v w12 and vw in Q(qr - 2). */
     const int32_t uw = spvs_q_opaque32((int32_t)(((int64_t)u16 * w11 + (int64_t)v16 * w12) >> 32));
     const int32_t vw = spvs_q_opaque32((int32_t)(((int64_t)u16 * w12 + (int64_t)v16 * w22) >> 32));
-    const int32_t am[3] = {w11 >> 2, -(uw >> 2),
-                           (int32_t)(((int64_t)u16 * uw + (int64_t)v16 * vw) >> 32) >> 2};
-    /* q in Q24: x 4 and y 4 (below 2^31 as x^2, y^2 < 2) give x^2 2^-28 as
-     * a high word. */
+    const int32_t a0 = w11 >> 2, a1 = -(uw >> 2);
+    const int32_t a2 = (int32_t)(((int64_t)u16 * uw + (int64_t)v16 * vw) >> 32) >> 2;
+    /* F's layout (LIN_COL): the normal matrix by columns of q = (x^2,
+     * x y, x, y^2, y, 1) in Q24, each column's three terms beside each
+     * other, so that each q is made just before its three sums and is not
+     * kept beside the others (acc3 steps through F); then the right side.
+     * x 4 and y 4 (below 2^31 as x^2, y^2 < 2) give x^2 2^-28 as a high
+     * word. */
     const int32_t x4 = x * 4, y4 = y * 4;
-    const int32_t q[6] = {(int32_t)(((int64_t)x4 * x4) >> 32), (int32_t)(((int64_t)x4 * y4) >> 32),
-                          x >> 2, (int32_t)(((int64_t)y4 * y4) >> 32), y >> 2, 1 << 24};
-    /* Written out: one multiply-accumulate each (a loop here costs as much
-     * again in its own instructions on the Cortex-M3 at -Os). */
-#define LIN_ROW(mm)                                 \
-    do {                                            \
-        const int32_t a_ = am[mm];                  \
-        F[6 * (mm) + 0] += (int64_t)a_ * q[0];      \
-        F[6 * (mm) + 1] += (int64_t)a_ * q[1];      \
-        F[6 * (mm) + 2] += (int64_t)a_ * q[2];      \
-        F[6 * (mm) + 3] += (int64_t)a_ * q[3];      \
-        F[6 * (mm) + 4] += (int64_t)a_ * q[4];      \
-        F[6 * (mm) + 5] += (int64_t)a_ * q[5];      \
-    } while (0)
-    LIN_ROW(0);
-    LIN_ROW(1);
-    LIN_ROW(2);
-#undef LIN_ROW
+    int64_t *f = F;
+    const int32_t qxx = (int32_t)(((int64_t)x4 * x4) >> 32);
+    f = acc3(f, a0, qxx, a1, qxx, a2, qxx);
+    const int32_t qxy = (int32_t)(((int64_t)x4 * y4) >> 32);
+    f = acc3(f, a0, qxy, a1, qxy, a2, qxy);
+    const int32_t qx = x >> 2;
+    f = acc3(f, a0, qx, a1, qx, a2, qx);
+    const int32_t qyy = (int32_t)(((int64_t)y4 * y4) >> 32);
+    f = acc3(f, a0, qyy, a1, qyy, a2, qyy);
+    const int32_t qy = y >> 2;
+    f = acc3(f, a0, qy, a1, qy, a2, qy);
+    f = acc3(f, a0, 1 << 24, a1, 1 << 24, a2, 1 << 24);
+    f = acc3(f, b1, x21, b1, y21, b1, 1 << 21);
+    (void)acc3(f, b3, x21, b3, y21, b3, 1 << 21);
     return 1;
 }
 
@@ -1408,6 +1443,7 @@ typedef struct {
     int s2l, s2r;     /* sc into Q(qq): left, then right (one of them 0) */
     int srl, srr;     /* r into Q(qr) likewise */
     int32_t qq, qr;   /* the formats */
+    int32_t h6, h7;   /* h31, h32 (Q27): w's, read with the formats */
     int64_t h8c;      /* h33 2^26, Q53 */
 } q_fit_t;
 
@@ -1419,6 +1455,8 @@ static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, ui
     F.qq = F.qr = 0;
     const int64_t one26 = (int64_t)1 << 26;
     F.h8c = (int64_t)h[8] * one26;
+    F.h6 = h[6];
+    F.h7 = h[7];
     const int64_t a6 = h[6] < 0 ? -(int64_t)h[6] : h[6];
     const int64_t a7 = h[7] < 0 ? -(int64_t)h[7] : h[7];
     const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
@@ -1461,11 +1499,10 @@ static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, ui
 
 /* One point's FIT terms on the fast path into G: terms 0-5 in Q(2 qq),
  * 6-8 in Q(qq + qr). */
-static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
-                                   const q_fit_t *F, int64_t G[9])
+static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *p, const q_fit_t *F, int64_t G[9])
 {
     const int32_t x = p[0], y = p[1];
-    const int64_t w = F->h8c + (int64_t)h[6] * x + (int64_t)h[7] * y;
+    const int64_t w = F->h8c + (int64_t)F->h6 * x + (int64_t)F->h7 * y;
     const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^29) */
     /* 1 / w: w27 2^(n - 1) in [2^30, 2^31), so 1 / w = r 2^(n - 35), and in
      * Q28 r 2^(n - 7) with n in 3..6. */
@@ -1486,28 +1523,21 @@ static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *h, const int32_t *p,
     const int32_t q1 = spvs_q_opaque32((int32_t)(((int64_t)sca * yb) >> 32));
     const int32_t q2 = (int32_t)((uint32_t)sc << F->s2l) >> F->s2r;
     const int32_t rq = (int32_t)((uint32_t)rr << F->srl) >> F->srr;
-    G[0] += (int64_t)q0 * q0;
-    G[1] += (int64_t)q0 * q1;
-    G[2] += (int64_t)q0 * q2;
-    G[3] += (int64_t)q1 * q1;
-    G[4] += (int64_t)q1 * q2;
-    G[5] += (int64_t)q2 * q2;
-    G[6] += (int64_t)q0 * rq;
-    G[7] += (int64_t)q1 * rq;
-    G[8] += (int64_t)q2 * rq;
+    int64_t *g = acc3(G, q0, q0, q0, q1, q0, q2);
+    g = acc3(g, q1, q1, q1, q2, q2, q2);
+    (void)acc3(g, q0, rq, q1, rq, q2, rq);
 }
 
 /* fit_fast over the flagged points among the first n, for one kind (a
  * constant at each call, so each kind gets its own loop).  Returns the
  * number of flagged points.  Bound: n points. */
-static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_store_t *st,
-                                     const uint8_t *use, uint16_t n, const q_fit_t *F,
-                                     int64_t G[9])
+static SPVS_Q_INLINE int32_t fit_all(int kind, const spvs_q_store_t *st, const uint8_t *use,
+                                     uint16_t n, const q_fit_t *F, int64_t G[9])
 {
     int32_t cnt = 0;
     for (uint16_t i = 0; i < n; i++) {
         if (use[i]) {
-            fit_fast(kind, h, &st->v[4u * i], F, G);
+            fit_fast(kind, &st->v[4u * i], F, G);
             cnt++;
         }
     }
@@ -1516,18 +1546,16 @@ static SPVS_Q_INLINE int32_t fit_all(int kind, const int32_t *h, const spvs_q_st
 
 /* fit_all for each kind, out of line: the loop's values then have the
  * registers to themselves rather than spvs_q_pts_sum's. */
-static SPVS_Q_NOINLINE int32_t fit_all_y(const int32_t *h, const spvs_q_store_t *st,
-                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
-                                         int64_t G[9])
+static SPVS_Q_NOINLINE int32_t fit_all_y(const spvs_q_store_t *st, const uint8_t *use,
+                                         uint16_t n, const q_fit_t *F, int64_t G[9])
 {
-    return fit_all(SPVS_T_FIT_Y, h, st, use, n, F, G);
+    return fit_all(SPVS_T_FIT_Y, st, use, n, F, G);
 }
 
-static SPVS_Q_NOINLINE int32_t fit_all_x(const int32_t *h, const spvs_q_store_t *st,
-                                         const uint8_t *use, uint16_t n, const q_fit_t *F,
-                                         int64_t G[9])
+static SPVS_Q_NOINLINE int32_t fit_all_x(const spvs_q_store_t *st, const uint8_t *use,
+                                         uint16_t n, const q_fit_t *F, int64_t G[9])
 {
-    return fit_all(SPVS_T_FIT_X, h, st, use, n, F, G);
+    return fit_all(SPVS_T_FIT_X, st, use, n, F, G);
 }
 
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
@@ -1546,6 +1574,41 @@ int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t H
  * share is rounded before its sign is applied, so subtracting what was
  * added at the same exponents undoes it exactly.  Empty blocks are left
  * as they are. */
+/* One block of lin_merge: m[j] 2^-ds + F[j] 2^-df (sub = 0) or minus it
+ * (sub = 1), each shift rounded, for j < n; returns 1 when a result
+ * reached 2^62 in magnitude (the bits at or above 62 of their
+ * magnitudes, ORed).  No call where the shift or the value is 0 (the
+ * common cases: a fresh s, F at the larger exponent).  Bound: n <= 25. */
+static SPVS_Q_INLINE int merge_run(int64_t *m, const int64_t *F, int n, int ds, int df, int sub)
+{
+    uint64_t mag = 0;
+    /* The common case, F at the larger exponent and m at it too or all 0
+     * (a fresh s), in a loop that calls nothing. */
+    uint64_t any = 0;
+    for (int j = 0; j < n && ds != 0; j++) {
+        any |= (uint64_t)m[j];
+    }
+    if (df == 0 && (ds == 0 || any == 0u)) {
+        for (int j = 0; j < n; j++) {
+            const int64_t r = m[j] + (sub ? -F[j] : F[j]);
+            m[j] = r;
+            mag |= spvs_q_abs64(r);
+        }
+        return mag >= ((uint64_t)1 << 62);
+    }
+    for (int j = 0; j < n; j++) {
+        int64_t f = df == 0 ? F[j] : spvs_q_rshift_rnd64(F[j], df);
+        if (sub) {
+            f = -f;
+        }
+        const int64_t mj = m[j];
+        const int64_t r = (ds == 0 || mj == 0 ? mj : spvs_q_rshift_rnd64(mj, ds)) + f;
+        m[j] = r;
+        mag |= spvs_q_abs64(r);
+    }
+    return mag >= ((uint64_t)1 << 62);
+}
+
 static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1, int32_t e2,
                       int sub)
 {
@@ -1562,16 +1625,7 @@ static void lin_merge(spvs_q_sums_t *s, const int64_t *F, int32_t e0, int32_t e1
         /* The sums (each below 2^63 in magnitude, so int64 holds them),
          * then, only where one reached 2^62, the block one bit down: the
          * same as rounding each sum once by one bit. */
-        int big = 0;
-        for (int j = lo; j < hi; j++) {
-            /* No call where the shift or the value is 0 (the common
-             * cases: a fresh s, F at the larger exponent). */
-            const int64_t f = df == 0 ? F[j] : spvs_q_rshift_rnd64(F[j], df);
-            const int64_t m = s->m[j];
-            const int64_t r = (ds == 0 || m == 0 ? m : spvs_q_rshift_rnd64(m, ds)) + (sub ? -f : f);
-            s->m[j] = r;
-            big |= spvs_q_abs64(r) >= ((uint64_t)1 << 62);
-        }
+        const int big = merge_run(&s->m[lo], &F[lo], hi - lo, ds, df, sub);
         if (big) {
             for (int j = lo; j < hi; j++) {
                 s->m[j] = spvs_q_rshift_rnd64(s->m[j], 1);
@@ -1603,20 +1657,40 @@ static SPVS_Q_NOINLINE int sampson_fast(const int32_t *h, const int32_t *p, cons
     return 1;
 }
 
-/* lin_fast's sums F (formats of qr) into s, added (sub = 0) or
- * subtracted (sub = 1).  One exponent per block: terms 0-11 and 18-20
- * brought to the units of 12-17 and 21-23 first (they are below 2^62
- * before, as are these); term 24 is a block of its own. */
-static void lin_fast_merge(spvs_q_sums_t *s, int64_t F[SPVS_H_LIN_SUMS], int32_t qr, int sub)
+/* lin_fast's sums F (formats of qr, LIN_COL's layout) into s, added
+ * (sub = 0) or subtracted (sub = 1).  One exponent per block: terms 0-11
+ * and 18-20 brought to the units of 12-17 and 21-23 first (they are below
+ * 2^62 before, as are these); term 24 is a block of its own. */
+static void lin_fast_merge(spvs_q_sums_t *s, const int64_t F[SPVS_H_LIN_SUMS], int32_t qr,
+                           int sub)
 {
-    for (int j = 0; j < 6; j++) {
-        F[j] = spvs_q_rshift_rnd64(F[j], 4);
-        F[6 + j] = spvs_q_rshift_rnd64(F[6 + j], 2);
+    int64_t G[SPVS_H_LIN_SUMS];
+    for (int k = 0; k < 6; k++) {
+        G[k] = spvs_q_rshift_rnd64(F[LIN_COL(0, k)], 4);
+        G[6 + k] = spvs_q_rshift_rnd64(F[LIN_COL(1, k)], 2);
+        G[12 + k] = F[LIN_COL(2, k)];
     }
     for (int j = 18; j < 21; j++) {
-        F[j] = spvs_q_rshift_rnd64(F[j], 2);
+        G[j] = spvs_q_rshift_rnd64(F[j], 2);
     }
-    lin_merge(s, F, -(qr + 18), -(qr + 23), -(qr + 30), sub);
+    for (int j = 21; j < SPVS_H_LIN_SUMS; j++) {
+        G[j] = F[j];
+    }
+    lin_merge(s, G, -(qr + 18), -(qr + 23), -(qr + 30), sub);
+}
+
+/* One point's squared Sampson error from its exact residuals
+ * (q_sampson_term) into out's term 0; 0 when w <= SPVS_W_EPS (out
+ * unchanged). */
+static SPVS_Q_NOINLINE int sampson_exact(const int32_t *h, const int32_t *p, spvs_q_sums_t *out)
+{
+    q_eps_t r;
+    q_eps_call(h, p, &r);
+    if (r.w <= W_EPS_Q53) {
+        return 0;
+    }
+    acc_add(out, 0, q_sampson_term(h, &r, p), 0);
+    return 1;
 }
 
 /* SPVS_T_SAMPSON's sum: the points in SPVS_T_LIN's fast-path range (the
@@ -1629,28 +1703,36 @@ static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_
 {
     const q_lin_t L = lin_prep(st, h, n);
     int64_t F = 0;
-    int fast_used = 0;
-    int32_t used = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
-        }
-        const int32_t *p = &st->v[4u * i];
-        /* w >= 1/4 on the fast path: never behind the camera. */
-        if (L.ok && sampson_fast(h, p, &L, &F)) {
-            fast_used = 1;
+    int32_t used = 0, exact = 0;
+    /* L.ok tested once (as spvs_q_pts_sum's LIN loop).  Bound: n points. */
+    if (L.ok) {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            const int32_t *p = &st->v[4u * i];
             used++;
-            continue;
+            /* w >= 1/4 on the fast path: never behind the camera. */
+            if (!sampson_fast(h, p, &L, &F)) {
+                if (!sampson_exact(h, p, out)) {
+                    return -1;
+                }
+                exact++;
+            }
         }
-        q_eps_t r;
-        q_eps_call(h, p, &r);
-        if (r.w <= W_EPS_Q53) {
-            return -1;
+    } else {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            used++;
+            if (!sampson_exact(h, &st->v[4u * i], out)) {
+                return -1;
+            }
         }
-        acc_add(out, 0, q_sampson_term(h, &r, p), 0);
-        used++;
+        exact = used;
     }
-    if (fast_used) {
+    if (used > exact) {
         lin_merge(out, &F, -(L.qr + 30), 0, 0, 0);
     }
     return used;
@@ -1703,30 +1785,43 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     if (FT.ok) {
         /* Every point on the fast path (w >= 1/4: none behind the camera). */
         int64_t G[SPVS_NT_FIT] = {0};
-        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all_y(Hq, st, use, n, &FT, G)
-                                                 : fit_all_x(Hq, st, use, n, &FT, G);
+        const int32_t cnt = kind == SPVS_T_FIT_Y ? fit_all_y(st, use, n, &FT, G)
+                                                 : fit_all_x(st, use, n, &FT, G);
         lin_merge(out, G, -2 * FT.qq, -(FT.qq + FT.qr), 0, 0);
         return kind == SPVS_T_FIT_X ? 0 : cnt;
     }
     int64_t F[SPVS_H_LIN_SUMS] = {0};
-    int fast_used = 0;
-    /* Bound: n points. */
-    for (uint16_t i = 0; i < n; i++) {
-        if (!use[i]) {
-            continue;
+    int32_t exact = 0;
+    /* Bound: n points.  L.ok is tested once, so that the fast path's
+     * points pay only for lin_fast's call. */
+    if (L.ok) {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            const int32_t *p = &st->v[4u * i];
+            used++;
+            /* w >= 1/4 on the fast path: never behind the camera. */
+            if (!lin_fast(Hq, p, &L, F)) {
+                if (!sum_exact_point((int)kind, Hq, p, out)) {
+                    return -1;
+                }
+                exact++;
+            }
         }
-        const int32_t *p = &st->v[4u * i];
-        used++;
-        /* w >= 1/4 on the fast path: never behind the camera. */
-        if (L.ok && lin_fast(Hq, p, &L, F)) {
-            fast_used = 1;
-            continue;
+    } else {
+        for (uint16_t i = 0; i < n; i++) {
+            if (!use[i]) {
+                continue;
+            }
+            used++;
+            if (!sum_exact_point((int)kind, Hq, &st->v[4u * i], out)) {
+                return -1;
+            }
         }
-        if (!sum_exact_point((int)kind, Hq, p, out)) {
-            return -1;
-        }
+        exact = used;
     }
-    if (fast_used) {
+    if (used > exact) {
         lin_fast_merge(out, F, L.qr, 0);
     }
     return kind == SPVS_T_FIT_X ? 0 : used;
