@@ -299,6 +299,14 @@ static SPVS_Q_INLINE int spvs_q_transfer(const int32_t H[9], const int32_t p[4],
  * rounding), so y <= 2^31; every product is 32 x 32 -> 64 bits:
  * y^2 <= 2^62, f y2 < 3 2^62 (F y^2 < 3), y (t >> 32) < 2^31 3 2^30.
  * *f_out: f (F in Q32). */
+/* One Newton step of spvs_q_rsqrt: y (3 - F y^2) / 2 from y and y2 =
+ * y^2 2^-30 (Q30, at most 2^32). */
+static SPVS_Q_INLINE uint32_t spvs_q_rsqrt_step(uint32_t f, uint32_t y, uint64_t y2)
+{
+    const uint64_t t = ((uint64_t)3 << 62) - (uint64_t)f * y2; /* Q62 */
+    return (uint32_t)(((uint64_t)y * (uint32_t)(t >> 32)) >> 31);
+}
+
 static SPVS_Q_INLINE uint32_t spvs_q_rsqrt(uint64_t x, int *half, uint32_t *f_out)
 {
     const int b = spvs_q_bits(x);
@@ -308,13 +316,13 @@ static SPVS_Q_INLINE uint32_t spvs_q_rsqrt(uint64_t x, int *half, uint32_t *f_ou
     static const uint16_t seed[12] = {61788, 55889, 51411, 47861, 44957, 42525,
                                       40450, 38651, 37073, 35673, 34421, 33292};
     const uint32_t f = e >= 32 ? (uint32_t)(x >> (e - 32)) : (uint32_t)(x << (32 - e));
-    uint32_t y = (uint32_t)seed[(f >> 28) - 4u] << 15;
-    /* Bound: 3 steps. */
-    for (int it = 0; it < 3; it++) {
-        const uint64_t y2 = ((uint64_t)y * y) >> 30;            /* Q30 */
-        const uint64_t t = ((uint64_t)3 << 62) - (uint64_t)f * y2; /* Q62 */
-        y = (uint32_t)(((uint64_t)y * (uint32_t)(t >> 32)) >> 31);
-    }
+    const uint32_t s0 = seed[(f >> 28) - 4u];
+    /* The first step from y = s0 2^15, whose y^2 2^-30 is s0^2 exactly
+     * (one 32-bit multiply), then the other two; written out, so that no
+     * loop counter takes a register or a stack slot. */
+    uint32_t y = spvs_q_rsqrt_step(f, s0 << 15, s0 * s0);
+    y = spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
+    y = spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
     *half = e / 2;
     *f_out = f;
     return y;
