@@ -256,20 +256,26 @@ static int64_t cos_of(int32_t s)
 }
 
 /* The median turn of b = (bx, bz) by the supporters' sines v[0..n)
- * (sorted, n >= 1) as (c, s), the turn's cosine and sine up to one
+ * (n >= 1, reordered here) as (c, s), the turn's cosine and sine up to one
  * positive factor, Q30 (|.| <= 2^31).  epipole.c turns b by the median
  * of tan(delta_i) (their mean for an even n).  The tangent is monotone
  * in the sine over (-90, 90) degrees, so the median element is the same;
  * for an odd n the turn is (cos, sin) of it, with no division; for an
  * even n, (1, (t1 + t2) / 2) is along (2 c1 c2, s1 c2 + s2 c1). */
-static void median_turn(const int32_t *v, uint16_t n, int64_t *c, int64_t *s)
+static void median_turn(int32_t *v, uint16_t n, int64_t *c, int64_t *s)
 {
+    const int32_t s2 = spvs_q_select_i32(v, n, n / 2u);
     if ((n & 1u) != 0u) {
-        *s = v[n / 2];
-        *c = cos_of(v[n / 2]);
+        *s = s2;
+        *c = cos_of(s2);
         return;
     }
-    const int32_t s1 = v[n / 2 - 1], s2 = v[n / 2];
+    /* The element below the median in sorted order: the largest of those
+     * spvs_q_select_i32 left below it.  Bound: n / 2 steps. */
+    int32_t s1 = v[0];
+    for (uint16_t i = 1; i < n / 2u; i++) {
+        s1 = v[i] > s1 ? v[i] : s1;
+    }
     const int64_t c1 = cos_of(s1), c2 = cos_of(s2);
     *c = (c1 * c2) >> 29;
     *s = (s1 * c2 + s2 * c1) >> 30;
@@ -319,7 +325,6 @@ static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *
             par[n_par++] = spvs_q_sqrt_q52_px16(e2);
         }
     }
-    spvs_q_sort_i32(sines, n_t);
     int64_t c, s;
     median_turn(sines, n_t, &c, &s);
     /* b turned: (bx c - bz s, bz c + bx s), each product below 2^61 (1 +
@@ -328,9 +333,8 @@ static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *
     uint64_t n2;
     (void)unit(bx * c - bz * s, bz * c + bx * s, &out->dir_x, &out->dir_z, &sh, &n2);
     out->e_x_q16 = e_x_q16(out->dir_x, out->dir_z);
-    spvs_q_sort_i32(par, n_par);
     if (n_par > 0) {
-        out->parallax_q16 = par[n_par / 2];
+        out->parallax_q16 = spvs_q_select_i32(par, n_par, n_par / 2u);
     }
 }
 

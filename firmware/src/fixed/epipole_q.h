@@ -364,15 +364,59 @@ static SPVS_Q_INLINE int64_t spvs_q_transfer_err2(const int32_t H[9], const int3
  * moves, n <= SPVS_MAX_OFFPLANE). */
 static inline void spvs_q_sort_i32(int32_t *v, uint16_t n)
 {
-    for (uint16_t i = 1; i < n; i++) {
+    /* Pointers, not 16-bit indices, in the inner loop: each index step
+     * would be truncated to 16 bits again. */
+    for (uint32_t i = 1; i < n; i++) {
         const int32_t key = v[i];
-        uint16_t k = i;
-        while (k > 0 && v[k - 1] > key) {
-            v[k] = v[k - 1];
-            k--;
+        int32_t *q = &v[i];
+        while (q > v && q[-1] > key) {
+            *q = q[-1];
+            q--;
         }
-        v[k] = key;
+        *q = key;
     }
+}
+
+/* The k-th smallest of v[0..n) (k < n <= SPVS_MAX_OFFPLANE), with v
+ * reordered so that v[i] <= v[k] for i < k and v[i] >= v[k] for i > k:
+ * the value a sort would put at k, for the medians, which need no full
+ * sort (Hoare's FIND, as in Wirth, "Algorithms + Data Structures =
+ * Programs", 1976).  Each pass moves l up or r down past the pivot's
+ * position, so at most n passes, each at most n + 2 steps of i and j. */
+static inline int32_t spvs_q_select_i32(int32_t *v, uint32_t n, uint32_t k)
+{
+    int32_t l = 0, r = (int32_t)n - 1;
+    const int32_t kk = (int32_t)k;
+    /* Bound: n passes (above). */
+    while (l < r) {
+        const int32_t x = v[kk];
+        int32_t i = l, j = r;
+        /* Bound: i only grows and j only falls, each within [l, r]
+         * (v[k] stops both scans in the first sweep, the swapped pair in
+         * the later ones). */
+        do {
+            while (v[i] < x) {
+                i++;
+            }
+            while (x < v[j]) {
+                j--;
+            }
+            if (i <= j) {
+                const int32_t t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+                i++;
+                j--;
+            }
+        } while (i <= j);
+        if (j < kk) {
+            l = i;
+        }
+        if (kk < i) {
+            r = j;
+        }
+    }
+    return v[kk];
 }
 
 #endif /* SPVS_FIXED_EPIPOLE_Q_H */

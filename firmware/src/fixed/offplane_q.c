@@ -248,8 +248,7 @@ int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int
     }
     /* The square root is monotone (to its 2^-27), so the median of the
      * errors is the root of float's median of their squares. */
-    spvs_q_sort_i32(scratch, nv);
-    return scratch[nv / 2];
+    return spvs_q_select_i32(scratch, nv, nv / 2u);
 }
 
 void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
@@ -258,36 +257,39 @@ void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, i
     const off_thr_t thr = off_thr(offplane_q16);
     /* The count and the bounds in locals: every store into the int8
      * scores may alias them, so the compiler would reload them per
-     * point. */
-    uint16_t n_known = o->n_known;
+     * point; the count in 32 bits, which no step truncates. */
+    uint32_t n_known = o->n_known;
     int8_t *const scores = o->score;
     const uint16_t *const feat = e->feat;
     if (e_ok) {
-        const uint16_t n_cand = o->n_cand;
-        for (uint16_t k = 0; k < n_cand; k++) {
+        const uint32_t n_cand = o->n_cand;
+        for (uint32_t k = 0; k < n_cand; k++) {
             if (!o->support[k]) {
                 continue;
             }
             int8_t *score = &scores[feat[o->cand[k]]];
             if (*score < SPVS_OFFPLANE_MAX && transfer_above_call(e->H, o->cand_pts[k], &thr) == 1) {
                 (*score)++;
-                n_known = (uint16_t)(n_known + (*score == SPVS_OFFPLANE_ON));
+                n_known += (uint32_t)(*score == SPVS_OFFPLANE_ON);
             }
         }
     }
     if ((int64_t)parallax_q16 > (int64_t)SPVS_PARALLAX_CLEAR * offplane_q16) {
-        const uint16_t n_plane = e->n_plane;
+        const uint32_t n_plane = e->n_plane;
         const uint8_t *const mask = e->mask;
-        for (uint16_t i = 0; i < n_plane; i++) {
+        for (uint32_t i = 0; i < n_plane; i++) {
             if (!mask[i]) {
                 continue;
             }
             int8_t *score = &scores[feat[i]];
-            if (*score > SPVS_OFFPLANE_MIN) {
-                n_known = (uint16_t)(n_known - (*score == SPVS_OFFPLANE_ON));
-                (*score)--;
+            const int32_t sc = *score;
+            if (sc > SPVS_OFFPLANE_MIN) {
+                n_known -= (uint32_t)(sc == SPVS_OFFPLANE_ON);
+                *score = (int8_t)(sc - 1);
             }
         }
     }
-    o->n_known = n_known;
+    /* At most SPVS_MAX_FEATURES: the count of the scores at or above
+     * SPVS_OFFPLANE_ON, kept in 32 bits in the loops. */
+    o->n_known = (uint16_t)n_known;
 }
