@@ -38,26 +38,29 @@ uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m
     return n_plane;
 }
 
+/* The fast test below decides where o is in [2^13, 2^27) (0.06 px to
+ * 1,024 px): there Q (below) is below 2^31 for every w28 of the fast
+ * path (at most 2^30), so the test is in 32-bit words and products. */
+#define OFF_FAST_MIN ((uint32_t)1 << 13)
+#define OFF_FAST_MAX ((uint32_t)1 << 27)
+
 /* The threshold: o = 2 offplane_q16, offplane_px in Q26 scaled units
  * (Q16 pixels are Q25 scaled units), below 2^32; off2 = o^2 in Q52
- * scaled units^2, below 2^64; negative is 0. */
+ * scaled units^2, below 2^64; negative is 0.  o_fast is o where the fast
+ * test decides, else 0: that range decided once per frame. */
 typedef struct {
     uint64_t off2;
-    uint32_t o;
+    uint32_t o_fast;
 } off_thr_t;
 
 static off_thr_t off_thr(int32_t offplane_q16)
 {
     off_thr_t t;
-    t.o = offplane_q16 > 0 ? 2u * (uint32_t)offplane_q16 : 0u;
-    t.off2 = (uint64_t)t.o * t.o;
+    const uint32_t o = offplane_q16 > 0 ? 2u * (uint32_t)offplane_q16 : 0u;
+    t.off2 = (uint64_t)o * o;
+    t.o_fast = o >= OFF_FAST_MIN && o < OFF_FAST_MAX ? o : 0u;
     return t;
 }
-
-/* The fast test below decides where o is in [2^13, 2^31) (0.06 px to
- * 2^22 px). */
-#define OFF_FAST_MIN ((uint32_t)1 << 13)
-#define OFF_FAST_MAX ((uint32_t)1 << 31)
 
 /* Whether the squared transfer error of row p under H exceeds off2:
  * -1 for w <= SPVS_W_EPS (float's e2 = -1, above no threshold), else 1
@@ -67,7 +70,7 @@ static off_thr_t off_thr(int32_t offplane_q16)
  * On the fast path the ratio's exact value d = n28 / w28 (Q26: d 2^26)
  * gives e = |d|^2 2^52 = A 2^52 / w28^2 with A = nx28^2 + ny28^2 (below
  * 2^61), and e > off2 is A > t^2 with t = o w28 2^-26, where
- * Q = floor(o w28 2^-26) <= t < Q + 1 (o w28 < 2^61).  spvs_q_transfer's
+ * Q = floor(o w28 2^-26) <= t < Q + 1 (o w28 < 2^57).  spvs_q_transfer's
  * du is within 2^-27 |d| + 1 unit of d 2^26 for w28 >= 2^25 (k <= 5 in
  * spvs_q_ratio_fast: the reciprocal's 2^-28 and its clamp's 2^-31, 1/2
  * unit of Q(31 - k), 1/2 of Q26), so its e2 is within 2^-26 e +
@@ -88,20 +91,17 @@ static SPVS_Q_INLINE int transfer_above(const int32_t H[9], const int32_t p[4], 
         return -1;
     }
     if (path == SPVS_Q_TF_FAST) {
-        if (t.o >= OFF_FAST_MIN && t.o < OFF_FAST_MAX && f.w28 >= ((int32_t)1 << 25)) {
+        if (t.o_fast != 0u && f.w28 >= ((int32_t)1 << 25)) {
             const uint64_t A = (uint64_t)((int64_t)f.nx28 * f.nx28) +
                                (uint64_t)((int64_t)f.ny28 * f.ny28);
-            const uint64_t Q = ((uint64_t)t.o * (uint32_t)f.w28) >> 26;
-            /* Q < 2^35; from 2^31 on, (Q - Q / 2^8 - 1)^2 > 2^61 > A. */
-            if (Q >= ((uint64_t)1 << 31)) {
-                return 0;
-            }
-            const uint64_t hi = Q + 1u + ((Q + 1u) >> 8); /* below 2^31.01 */
-            if (A > hi * hi) {
+            /* o < 2^27 and w28 <= 2^30: Q < 2^31. */
+            const uint32_t Q = (uint32_t)(((uint64_t)t.o_fast * (uint32_t)f.w28) >> 26);
+            const uint32_t hi = Q + 1u + ((Q + 1u) >> 8); /* below 2^31.01 */
+            if (A > (uint64_t)hi * hi) {
                 return 1;
             }
-            const uint64_t lo = Q - (Q >> 8);
-            if (lo >= 1u && A < (lo - 1u) * (lo - 1u)) {
+            const uint32_t lo = Q - (Q >> 8);
+            if (lo >= 1u && A < (uint64_t)(lo - 1u) * (lo - 1u)) {
                 return 0;
             }
         }
