@@ -53,11 +53,11 @@ typedef struct {
 } spvs_q_epipole_t;
 
 /* Caller-owned scratch for one estimate (off the stack): the candidates'
- * unit directions, then (written behind the reads) the supporters' sines
- * and parallaxes. */
+ * unit directions, u[i] = (x, z), side by side so that one load reads
+ * both; then (written behind the reads) the supporters' sines in u[k][0]
+ * and parallaxes in u[k][1]. */
 typedef struct {
-    int32_t ux[SPVS_MAX_OFFPLANE];
-    int32_t uz[SPVS_MAX_OFFPLANE];
+    int32_t u[SPVS_MAX_OFFPLANE][2];
 } spvs_q_epipole_work_t;
 
 /* spvs_epipole_estimate in fixed point.
@@ -377,34 +377,35 @@ static inline void spvs_q_sort_i32(int32_t *v, uint16_t n)
     }
 }
 
-/* The k-th smallest of v[0..n) (k < n <= SPVS_MAX_OFFPLANE), with v
- * reordered so that v[i] <= v[k] for i < k and v[i] >= v[k] for i > k:
- * the value a sort would put at k, for the medians, which need no full
- * sort (Hoare's FIND, as in Wirth, "Algorithms + Data Structures =
- * Programs", 1976).  Each pass moves l up or r down past the pivot's
- * position, so at most n passes, each at most n + 2 steps of i and j. */
-static inline int32_t spvs_q_select_i32(int32_t *v, uint32_t n, uint32_t k)
+/* The k-th smallest of the n values v[i stride], i < n (k < n <=
+ * SPVS_MAX_OFFPLANE), with them reordered so that those before k are at
+ * most it and those after at least it: the value a sort would put at k,
+ * for the medians, which need no full sort (Hoare's FIND, as in Wirth,
+ * "Algorithms + Data Structures = Programs", 1976).  Each pass moves l up
+ * or r down past the pivot's position, so at most n passes, each at most
+ * n + 2 steps of i and j. */
+static inline int32_t spvs_q_select_i32(int32_t *v, uint32_t stride, uint32_t n, uint32_t k)
 {
     int32_t l = 0, r = (int32_t)n - 1;
     const int32_t kk = (int32_t)k;
     /* Bound: n passes (above). */
     while (l < r) {
-        const int32_t x = v[kk];
+        const int32_t x = v[(uint32_t)kk * stride];
         int32_t i = l, j = r;
         /* Bound: i only grows and j only falls, each within [l, r]
          * (v[k] stops both scans in the first sweep, the swapped pair in
          * the later ones). */
         do {
-            while (v[i] < x) {
+            while (v[(uint32_t)i * stride] < x) {
                 i++;
             }
-            while (x < v[j]) {
+            while (x < v[(uint32_t)j * stride]) {
                 j--;
             }
             if (i <= j) {
-                const int32_t t = v[i];
-                v[i] = v[j];
-                v[j] = t;
+                const int32_t t = v[(uint32_t)i * stride];
+                v[(uint32_t)i * stride] = v[(uint32_t)j * stride];
+                v[(uint32_t)j * stride] = t;
                 i++;
                 j--;
             }
@@ -416,7 +417,7 @@ static inline int32_t spvs_q_select_i32(int32_t *v, uint32_t n, uint32_t k)
             r = j;
         }
     }
-    return v[kk];
+    return v[(uint32_t)kk * stride];
 }
 
 #endif /* SPVS_FIXED_EPIPOLE_Q_H */

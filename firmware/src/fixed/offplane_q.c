@@ -248,7 +248,7 @@ int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int
     }
     /* The square root is monotone (to its 2^-27), so the median of the
      * errors is the root of float's median of their squares. */
-    return spvs_q_select_i32(scratch, nv, nv / 2u);
+    return spvs_q_select_i32(scratch, 1u, nv, nv / 2u);
 }
 
 void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
