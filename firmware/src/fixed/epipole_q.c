@@ -52,11 +52,12 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
         z = (int32_t)(dz * ((int64_t)1 << -sh));
     }
     const uint64_t n2 = (uint64_t)((int64_t)x * x) + (uint64_t)((int64_t)z * z);
-    int half;
-    uint32_t f;
-    const uint32_t y = spvs_q_rsqrt(n2, &half, &f);
-    /* half is 30 or 31 (n2 has 59 to 62 bits): two constant shifts, not
-     * a 64-bit shift by a variable amount. */
+    /* spvs_q_rsqrt's normalisation where n2 has 59 to 62 bits: F = n2
+     * 2^-60 (half 30) for 59 or 60 bits, n2 2^-62 (half 31) for 61 or 62,
+     * decided by the high word; two constant shifts, not a 64-bit shift by
+     * a variable amount. */
+    const int half = (uint32_t)(n2 >> 32) < ((uint32_t)1 << 28) ? 30 : 31;
+    const uint32_t y = spvs_q_rsqrt_f(half == 30 ? (uint32_t)(n2 >> 28) : (uint32_t)(n2 >> 30));
     if (half == 30) {
         *ux = (int32_t)spvs_q_rsh((int64_t)x * y, 30);
         *uz = (int32_t)spvs_q_rsh((int64_t)z * y, 30);

@@ -291,14 +291,6 @@ static SPVS_Q_INLINE int spvs_q_transfer(const int32_t H[9], const int32_t p[4],
     return 1;
 }
 
-/* 1 / sqrt(x) for x > 0 as y 2^-30 2^-(*half): y in (2^29.9, 2^31], *half
- * in 1..32.  x = F 2^(2 half) with F in [1/4, 1) kept to 32 bits (f),
- * Newton's y <- y (3 - F y^2) / 2 three times from the seed: 6.1 %, then
- * 5.6e-3, 4.7e-5, 3.3e-9, plus three truncations of 2^-30 each: relative
- * error below 2^-27.  Newton's iterates never exceed the root (but by
- * rounding), so y <= 2^31; every product is 32 x 32 -> 64 bits:
- * y^2 <= 2^62, f y2 < 3 2^62 (F y^2 < 3), y (t >> 32) < 2^31 3 2^30.
- * *f_out: f (F in Q32). */
 /* One Newton step of spvs_q_rsqrt: y (3 - F y^2) / 2 from y and y2 =
  * y^2 2^-30 (Q30, at most 2^32). */
 static SPVS_Q_INLINE uint32_t spvs_q_rsqrt_step(uint32_t f, uint32_t y, uint64_t y2)
@@ -307,25 +299,38 @@ static SPVS_Q_INLINE uint32_t spvs_q_rsqrt_step(uint32_t f, uint32_t y, uint64_t
     return (uint32_t)(((uint64_t)y * (uint32_t)(t >> 32)) >> 31);
 }
 
-static SPVS_Q_INLINE uint32_t spvs_q_rsqrt(uint64_t x, int *half, uint32_t *f_out)
+/* spvs_q_rsqrt's Newton steps on F in [1/4, 1) as f (Q32). */
+static SPVS_Q_INLINE uint32_t spvs_q_rsqrt_f(uint32_t f)
 {
-    const int b = spvs_q_bits(x);
-    const int e = b + (b & 1);
     /* F^-1/2 over [1/4, 1) in 12 pieces of 1/16, Q15, the value at each
      * piece's middle: relative error at most 6.1 % (the first piece). */
     static const uint16_t seed[12] = {61788, 55889, 51411, 47861, 44957, 42525,
                                       40450, 38651, 37073, 35673, 34421, 33292};
-    const uint32_t f = e >= 32 ? (uint32_t)(x >> (e - 32)) : (uint32_t)(x << (32 - e));
     const uint32_t s0 = seed[(f >> 28) - 4u];
     /* The first step from y = s0 2^15, whose y^2 2^-30 is s0^2 exactly
      * (one 32-bit multiply), then the other two; written out, so that no
      * loop counter takes a register or a stack slot. */
     uint32_t y = spvs_q_rsqrt_step(f, s0 << 15, s0 * s0);
     y = spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
-    y = spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
+    return spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
+}
+
+/* 1 / sqrt(x) for x > 0 as y 2^-30 2^-(*half): y in (2^29.9, 2^31], *half
+ * in 1..32.  x = F 2^(2 half) with F in [1/4, 1) kept to 32 bits (f),
+ * Newton's y <- y (3 - F y^2) / 2 three times from the seed: 6.1 %, then
+ * 5.6e-3, 4.7e-5, 3.3e-9, plus three truncations of 2^-30 each: relative
+ * error below 2^-27.  Newton's iterates never exceed the root (but by
+ * rounding), so y <= 2^31; every product is 32 x 32 -> 64 bits:
+ * y^2 <= 2^62, f y2 < 3 2^62 (F y^2 < 3), y (t >> 32) < 2^31 3 2^30.
+ * *f_out: f (F in Q32). */
+static SPVS_Q_INLINE uint32_t spvs_q_rsqrt(uint64_t x, int *half, uint32_t *f_out)
+{
+    const int b = spvs_q_bits(x);
+    const int e = b + (b & 1);
+    const uint32_t f = e >= 32 ? (uint32_t)(x >> (e - 32)) : (uint32_t)(x << (32 - e));
     *half = e / 2;
     *f_out = f;
-    return y;
+    return spvs_q_rsqrt_f(f);
 }
 
 /* sqrt(x) for x in Q52 (scaled units^2) as Q16 pixels: sqrt(x) 2^-26
