@@ -221,21 +221,23 @@ typedef struct {
     int32_t w28;        /* w in Q28, in (2^8, 2^30)                     */
 } spvs_q_tf_t;
 
-static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t p[4],
-                                               spvs_q_tf_t *f)
+/* spvs_q_transfer_front on the row's values (target x, y, current x, y),
+ * for a caller that also takes the row the other way round. */
+static SPVS_Q_INLINE int spvs_q_transfer_front_v(const int32_t H[9], int32_t tx, int32_t ty,
+                                                 int32_t cx, int32_t cy, spvs_q_tf_t *f)
 {
-    const int64_t w = (int64_t)H[6] * p[0] + (int64_t)H[7] * p[1] + (int64_t)H[8] * ((int64_t)1 << 26);
+    const int64_t w = (int64_t)H[6] * tx + (int64_t)H[7] * ty + (int64_t)H[8] * ((int64_t)1 << 26);
     if (w <= SPVS_Q_W_EPS_Q53) {
         return SPVS_Q_TF_BEHIND;
     }
-    const int64_t g = (int64_t)H[0] * p[0] + (int64_t)H[1] * p[1] + (int64_t)H[2] * ((int64_t)1 << 26);
+    const int64_t g = (int64_t)H[0] * tx + (int64_t)H[1] * ty + (int64_t)H[2] * ((int64_t)1 << 26);
     const int64_t b55 = (int64_t)1 << 55, b56 = (int64_t)1 << 56;
     if (w < b55 && (uint64_t)(g + b55) < (uint64_t)b55 * 2u) {
         const int32_t w28 = spvs_q_opaque32((int32_t)((w + ((int64_t)1 << 24)) >> 25));
         const int32_t g28 = (int32_t)((g + ((int64_t)1 << 24)) >> 25);
         /* Q54: |g28 2^26| < 2^56, |x_cur w28| < 2^60. */
-        const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)p[2] * w28;
-        const int64_t ny = (int64_t)p[1] * ((int64_t)1 << 28) - (int64_t)p[3] * w28;
+        const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)cx * w28;
+        const int64_t ny = (int64_t)ty * ((int64_t)1 << 28) - (int64_t)cy * w28;
         if ((uint64_t)(nx + b56) < (uint64_t)b56 * 2u && (uint64_t)(ny + b56) < (uint64_t)b56 * 2u) {
             f->w28 = w28;
             f->nx28 = spvs_q_opaque32((int32_t)((nx + ((int64_t)1 << 25)) >> 26));
@@ -244,6 +246,12 @@ static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t
         }
     }
     return SPVS_Q_TF_GEN;
+}
+
+static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t p[4],
+                                               spvs_q_tf_t *f)
+{
+    return spvs_q_transfer_front_v(H, p[0], p[1], p[2], p[3], f);
 }
 
 /* The fast path's second half: 1 / w28 = r 2^(k - 61) with k in 0..22,

@@ -83,10 +83,11 @@ static SPVS_Q_NOINLINE int64_t err2_call(const int32_t H[9], const int32_t p[4])
     return spvs_q_transfer_err2(H, p);
 }
 
-static SPVS_Q_INLINE int transfer_above(const int32_t H[9], const int32_t p[4], off_thr_t t)
+static SPVS_Q_INLINE int transfer_above(const int32_t H[9], int32_t tx, int32_t ty, int32_t cx,
+                                        int32_t cy, off_thr_t t)
 {
     spvs_q_tf_t f;
-    const int path = spvs_q_transfer_front(H, p, &f);
+    const int path = spvs_q_transfer_front_v(H, tx, ty, cx, cy, &f);
     if (path == SPVS_Q_TF_BEHIND) {
         return -1;
     }
@@ -109,7 +110,8 @@ static SPVS_Q_INLINE int transfer_above(const int32_t H[9], const int32_t p[4], 
     /* Near the threshold or off the fast path (rare): the transfer itself,
      * out of line (it repeats the first half), so that flash holds one
      * copy of it; w > SPVS_W_EPS, so its e2 is not negative. */
-    return (uint64_t)err2_call(H, p) > t.off2;
+    const int32_t row[4] = {tx, ty, cx, cy};
+    return (uint64_t)err2_call(H, row) > t.off2;
 }
 
 /* num 2^e / det (id = 1 / det) in Q27, rounded, saturated (flagged). */
@@ -159,11 +161,13 @@ static int inverse_q(const int32_t H[9], int32_t Hi[9], int *out_of_range)
 static SPVS_Q_INLINE int off_plane(const int32_t H[9], const int32_t *Hi, const int32_t q[4],
                                    off_thr_t t)
 {
-    const int32_t back[4] = {q[2], q[3], q[0], q[1]};
-    const int32_t *M = H, *p = q;
+    /* The row's values, which the back test takes the other way round
+     * (current to target), swapped in place of a copy of the row. */
+    int32_t tx = q[0], ty = q[1], cx = q[2], cy = q[3];
+    const int32_t *M = H;
     /* Bound: two tests, forward and back. */
     for (int dir = 0; dir < 2; dir++) {
-        const int a = transfer_above(M, p, t);
+        const int a = transfer_above(M, tx, ty, cx, cy, t);
         if (dir == 0 ? a != 1 : a == 0) {
             return 0;
         }
@@ -171,7 +175,11 @@ static SPVS_Q_INLINE int off_plane(const int32_t H[9], const int32_t *Hi, const 
             break;
         }
         M = Hi;
-        p = back;
+        const int32_t x = tx, y = ty;
+        tx = cx;
+        ty = cy;
+        cx = x;
+        cy = y;
     }
     return 1;
 }
@@ -181,7 +189,7 @@ static SPVS_Q_INLINE int off_plane(const int32_t H[9], const int32_t *Hi, const 
 static SPVS_Q_NOINLINE int transfer_above_call(const int32_t H[9], const int32_t p[4],
                                                const off_thr_t *t)
 {
-    return transfer_above(H, p, *t);
+    return transfer_above(H, p[0], p[1], p[2], p[3], *t);
 }
 
 /* The first i' >= i below n with mask[i'] == 0, or n: the scan over the
