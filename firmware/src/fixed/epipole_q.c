@@ -104,6 +104,12 @@ static SPVS_Q_NOINLINE void line_directions(const int32_t H[9], const int32_t (*
             (*d)[1] = 0;
         }
     }
+    /* A zero direction after an odd count, which cone_count's two
+     * directions a step may read (it supports none). */
+    if ((n_cand & 1u) != 0u) {
+        work->u[n_cand][0] = 0;
+        work->u[n_cand][1] = 0;
+    }
 }
 
 /* The cone of squared sine tol (Q62, below 2^63) around a direction,
@@ -195,19 +201,40 @@ static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj,
     return in_cone_n(xi, zi, xj, -xj, zj, k->lh, k);
 }
 
+/* 1 when direction d supports (xj, zj) (nxj = -xj): in_cone_n's tests.
+ * With u1 = ch + lh + 1 (unsigned), ch's range [-lh - 1, lh] is u1 in
+ * [0, 2 lh + 1], that is u1 < 2 lh1 (lh1 = lh + 1), tested as u1 >> 1 <
+ * lh1 (one shifted comparison against the one constant); the inside, u1
+ * in [1, 2 lh], is u1 != 0 and (u1 + 1) >> 1 < lh1; 0 and 2 lh + 1 are
+ * the edges.  A zero direction supports none (dot = 0). */
+static SPVS_Q_INLINE int supports(const int32_t d[2], int32_t xj, int32_t nxj, int32_t zj,
+                                  uint32_t lh1, const cone_t *k)
+{
+    const int32_t xi = d[0], zi = d[1];
+    const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
+    const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
+    if ((u1 >> 1) >= lh1) {
+        return 0;
+    }
+    const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
+    if (dot <= 0) {
+        return 0;
+    }
+    return (u1 != 0u && ((u1 + 1u) >> 1) < lh1) || cone_edge(crs, k);
+}
+
 /* The supporters of direction (xj, zj) among the n unit directions of
  * work, where they can reach need (at least 1): the consensus's inner
- * loop (in_cone_n's tests), in a function of its own so that its few
- * values stay in registers.  With u1 = ch + lh + 1 (unsigned), ch's range
- * [-lh - 1, lh] is u1 in [0, 2 lh + 1], that is u1 < 2 lh1 (lh1 = lh +
- * 1), tested as u1 >> 1 < lh1 (one shifted comparison against the one
- * constant); the inside, u1 in [1, 2 lh], is u1 != 0 and (u1 + 1) >> 1 <
- * lh1; 0 and 2 lh + 1 are the edges.
+ * loop, in a function of its own so that its few values stay in
+ * registers, two directions a step (line_directions makes u[n] zero for
+ * an odd n, so the last step may read it).
  * The scan stops where the supporters found and the directions left
- * cannot reach need: at i = end with end = min(n, n + 1 - need +
- * support), one more a supporter.  A count that reaches need - 1 scans to
- * n, so a count of need or more is exact; a smaller one is returned as
- * found (below need, as the whole count is). */
+ * cannot reach need: at the first step that starts at or after end =
+ * min(n, n + 1 - need + support), one more a supporter.  A count that
+ * reaches need - 1 scans to n, so a count of need or more is exact; a
+ * smaller one is returned as found, and stays below need (the one
+ * direction a step may take past end adds at most 1 where the count is
+ * at most need - 2). */
 static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, uint16_t n,
                                            int32_t xj, int32_t zj, const cone_t *k,
                                            uint32_t need)
@@ -222,23 +249,17 @@ static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, ui
     const int32_t(*u)[2] = work->u;
     const int32_t(*const last)[2] = &work->u[n];
     const int32_t(*end)[2] = &work->u[n + 1u - need];
-    /* Bound: end <= last, n steps. */
+    /* Bound: end <= last, (n + 1) / 2 steps. */
     do {
-        const int32_t xi = (*u)[0], zi = (*u)[1];
-        u++;
-        const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
-        const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
-        if ((u1 >> 1) >= lh1) {
-            continue;
-        }
-        const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
-        if (dot <= 0) {
-            continue;
-        }
-        if ((u1 != 0u && ((u1 + 1u) >> 1) < lh1) || cone_edge(crs, k)) {
+        if (supports(u[0], xj, nxj, zj, lh1, k)) {
             support++;
             end += end < last ? 1 : 0;
         }
+        if (supports(u[1], xj, nxj, zj, lh1, k)) {
+            support++;
+            end += end < last ? 1 : 0;
+        }
+        u += 2;
     } while (u < end);
     return (uint16_t)support;
 }

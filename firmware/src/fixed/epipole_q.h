@@ -54,7 +54,8 @@ typedef struct {
 
 /* Caller-owned scratch for one estimate (off the stack): the candidates'
  * unit directions, u[i] = (x, z), side by side so that one load reads
- * both; then (written behind the reads) the supporters' sines in u[k][0]
+ * both, and a zero one after an odd count (the consensus reads two a
+ * step); then (written behind the reads) the supporters' sines in u[k][0]
  * and parallaxes in u[k][1]. */
 typedef struct {
     int32_t u[SPVS_MAX_OFFPLANE][2];
