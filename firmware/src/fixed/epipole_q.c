@@ -160,53 +160,33 @@ static cone_t cone_of(uint64_t tol)
     return k;
 }
 
-/* 1 when unit direction (xi, zi) lies within the cone k around (xj, zj):
- * dot > 0 and cross^2 <= tol.  dot and cross are Q60 (|.| < 2^61 for
- * |u| <= 2^30 (1 + 2^-27)); the test on cross is floor(|cross| 2^-29)^2
- * <= tol (|cross| to Q31, below 2^32, squared in Q62): exact up to 2^-31
- * on the sine (2^-30 sin on sin^2, 1e-8 of the default 0.01).  With
- * c = floor(|cross| 2^-29) and cmax = floor(sqrt(tol)), c^2 <= tol is
- * c <= cmax, that is |cross| <= k.lim.  cross's high word ch decides it
- * in 32 bits but at two values: ch in [-lh, lh - 1] puts |cross| below
- * lh 2^32 <= lim (inside), ch above lh or below -lh - 1 puts it above
- * (lh + 1) 2^32 > lim (outside); ch = lh or -lh - 1 takes the 64-bit
- * comparison.  The same decision as the squares', with neither a square
- * nor an absolute value per pair. */
+/* The cone test (supports, below): unit direction (xi, zi) lies within
+ * the cone k around (xj, zj) when dot > 0 and cross^2 <= tol.  dot and
+ * cross are Q60 (|.| < 2^61 for |u| <= 2^30 (1 + 2^-27)); the test on
+ * cross is floor(|cross| 2^-29)^2 <= tol (|cross| to Q31, below 2^32,
+ * squared in Q62): exact up to 2^-31 on the sine (2^-30 sin on sin^2,
+ * 1e-8 of the default 0.01).  With c = floor(|cross| 2^-29) and cmax =
+ * floor(sqrt(tol)), c^2 <= tol is c <= cmax, that is |cross| <= k.lim.
+ * cross's high word ch decides it in 32 bits but at two values: ch in
+ * [-lh, lh - 1] puts |cross| below lh 2^32 <= lim (inside), ch above lh
+ * or below -lh - 1 puts it above (lh + 1) 2^32 > lim (outside); ch = lh
+ * or -lh - 1 takes the 64-bit comparison (cone_edge).  The same decision
+ * as the squares', with neither a square nor an absolute value per
+ * pair. */
 static SPVS_Q_NOINLINE int cone_edge(int64_t crs, const cone_t *k)
 {
     return (uint64_t)crs + k->lim <= 2u * k->lim;
 }
 
-/* in_cone with nxj = -xj (|xj| <= 2^30 (1 + 2^-27), so no overflow): the
- * cross product as one multiply and one multiply-accumulate, and the
- * cross test first, which most pairs fail. */
-static SPVS_Q_INLINE int in_cone_n(int32_t xi, int32_t zi, int32_t xj, int32_t nxj, int32_t zj,
-                                   uint32_t lh, const cone_t *k)
-{
-    const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
-    const uint32_t u = (uint32_t)(int32_t)(crs >> 32) + lh;
-    /* u + 1 in [0, 2 lh + 1]: ch in [-lh - 1, lh]. */
-    if (u + 1u > 2u * lh + 1u) {
-        return 0;
-    }
-    const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
-    if (dot <= 0) {
-        return 0;
-    }
-    return u < 2u * lh ? 1 : cone_edge(crs, k);
-}
-
-static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj, const cone_t *k)
-{
-    return in_cone_n(xi, zi, xj, -xj, zj, k->lh, k);
-}
-
-/* 1 when direction d supports (xj, zj) (nxj = -xj): in_cone_n's tests.
- * With u1 = ch + lh + 1 (unsigned), ch's range [-lh - 1, lh] is u1 in
- * [0, 2 lh + 1], that is u1 < 2 lh1 (lh1 = lh + 1), tested as u1 >> 1 <
- * lh1 (one shifted comparison against the one constant); the inside, u1
- * in [1, 2 lh], is u1 != 0 and (u1 + 1) >> 1 < lh1; 0 and 2 lh + 1 are
- * the edges.  A zero direction supports none (dot = 0). */
+/* 1 when direction d supports (xj, zj): the cone test above, with nxj =
+ * -xj (|xj| <= 2^30 (1 + 2^-27), so no overflow), so that cross is one
+ * multiply and one multiply-accumulate, and the cross test first, which
+ * most pairs fail.  With u1 = ch + lh + 1 (unsigned), ch's range
+ * [-lh - 1, lh] is u1 in [0, 2 lh + 1], that is u1 < 2 lh1 (lh1 = lh +
+ * 1), tested as u1 >> 1 < lh1 (one shifted comparison against the one
+ * constant); the inside, u1 in [1, 2 lh], is u1 != 0 and (u1 + 1) >> 1 <
+ * lh1; 0 and 2 lh + 1 are the edges.  A zero direction supports none
+ * (dot = 0). */
 static SPVS_Q_INLINE int supports(const int32_t d[2], int32_t xj, int32_t nxj, int32_t zj,
                                   uint32_t lh1, const cone_t *k)
 {
@@ -265,7 +245,7 @@ static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, ui
 }
 
 /* epipole.c's 1-point consensus on the unit directions: the same
- * hypotheses, the same test (in_cone), the same tie rule (the first best).
+ * hypotheses, the same test (supports), the same tie rule (the first best).
  * Bound: SPVS_EPIPOLE_MAX_HYP x n_cand pair tests. */
 static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, const cone_t *k,
                           uint16_t *best)
@@ -350,17 +330,26 @@ static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *
                    uint8_t *support_out, spvs_q_epipole_work_t *work)
 {
     const int32_t bx = work->u[best][0], bz = work->u[best][1];
-    uint16_t n_t = 0, n_par = 0;
-    for (uint16_t i = 0; i < n_cand; i++) {
-        const int32_t xi = work->u[i][0], zi = work->u[i][1];
-        if (!in_cone(xi, zi, bx, bz, k)) {
-            continue;
+    /* The supporters first, in a loop of the test alone (the consensus's,
+     * so the same set), then their sines and parallaxes: entry t written
+     * after entry sup[t] >= t was read, and sup rising. */
+    uint8_t sup[SPVS_MAX_OFFPLANE];
+    uint32_t n_t = 0;
+    const uint32_t lh1 = k->lh + 1u;
+    for (uint32_t i = 0; i < n_cand; i++) {
+        if (supports(work->u[i], bx, -bx, bz, lh1, k)) {
+            sup[n_t++] = (uint8_t)i;
         }
+    }
+    uint32_t n_par = 0;
+    for (uint32_t t = 0; t < n_t; t++) {
+        const uint32_t i = sup[t];
+        const int32_t xi = work->u[i][0], zi = work->u[i][1];
         if (support_out) {
             support_out[i] = 1;
         }
         /* cross(b, d_i) in Q60 to Q30: |.| <= 2^30 (1 + 2^-26). */
-        work->u[n_t++][0] = (int32_t)spvs_q_rsh((int64_t)bx * zi - (int64_t)bz * xi, 30);
+        work->u[t][0] = (int32_t)spvs_q_rsh((int64_t)bx * zi - (int64_t)bz * xi, 30);
         int32_t du, dv;
         if (spvs_q_transfer(H, pts[cand[i]], &du, &dv)) {
             const uint64_t e2 = (uint64_t)((int64_t)du * du) + (uint64_t)((int64_t)dv * dv);
@@ -368,7 +357,7 @@ static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *
         }
     }
     int64_t c, s;
-    median_turn(&work->u[0][0], n_t, &c, &s);
+    median_turn(&work->u[0][0], (uint16_t)n_t, &c, &s);
     /* b turned: (bx c - bz s, bz c + bx s), each product below 2^61 (1 +
      * 2^-26), the sums below 2^63. */
     int sh;
