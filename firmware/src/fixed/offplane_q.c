@@ -15,6 +15,10 @@ void spvs_q_offplane_reset(spvs_q_offplane_t *o)
     o->n_cand = 0;
     o->n_cand_known = 0;
     o->hi_out_of_range = 0;
+    for (uint32_t i = 0; i < 9u; i++) {
+        o->cand_H[i] = 0;
+    }
+    o->cand_thr = -1;
 }
 
 int spvs_q_offplane_known(const spvs_q_offplane_t *o, uint16_t f)
@@ -214,6 +218,10 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
                              int32_t offplane_q16)
 {
     const off_thr_t thr = off_thr(offplane_q16);
+    for (uint32_t i = 0; i < 9u; i++) {
+        o->cand_H[i] = e->H[i];
+    }
+    o->cand_thr = offplane_q16;
     o->n_cand = 0;
     for (uint16_t i = e->n_plane; i < e->n_pts && o->n_cand < SPVS_MAX_OFFPLANE; i++) {
         spvs_q_pts_row(&e->pts, i, o->cand_pts[o->n_cand]);
@@ -270,13 +278,21 @@ void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, i
     int8_t *const scores = o->score;
     const uint16_t *const feat = e->feat;
     if (e_ok) {
+        /* The collect's forward test, the same computation, passed for the
+         * candidates it tested where H and the threshold are the same. */
+        uint32_t same = o->cand_thr == offplane_q16;
+        for (uint32_t i = 0; i < 9u; i++) {
+            same &= (uint32_t)(o->cand_H[i] == e->H[i]);
+        }
+        const uint32_t tested = same ? o->n_cand_known : SPVS_MAX_OFFPLANE;
         const uint32_t n_cand = o->n_cand;
         for (uint32_t k = 0; k < n_cand; k++) {
             if (!o->support[k]) {
                 continue;
             }
             int8_t *score = &scores[feat[o->cand[k]]];
-            if (*score < SPVS_OFFPLANE_MAX && transfer_above_call(e->H, o->cand_pts[k], &thr) == 1) {
+            if (*score < SPVS_OFFPLANE_MAX &&
+                (k >= tested || transfer_above_call(e->H, o->cand_pts[k], &thr) == 1)) {
                 (*score)++;
                 n_known += (uint32_t)(*score == SPVS_OFFPLANE_ON);
             }
