@@ -93,7 +93,8 @@ static SPVS_Q_NOINLINE void line_directions(const int32_t H[9], const int32_t (*
     for (const uint16_t *c = cand; c < cand + n_cand; c++, d++) {
         const int32_t *p = pts[*c];
         const spvs_q_hp_t h = spvs_q_hp(H, p);
-        const int64_t l1 = (int64_t)p[3] * h.q3 - (int64_t)h.q2 * ((int64_t)1 << 26);
+        /* 2^26 opaque: l1 as two multiplies rather than a 64-bit shift. */
+        const int64_t l1 = (int64_t)p[3] * h.q3 - (int64_t)h.q2 * spvs_q_opaque32((int32_t)1 << 26);
         const int64_t l3 = (int64_t)p[2] * h.q2 - (int64_t)p[3] * h.q1;
         const int neg = p[3] < 0;
         int sh = 0;
