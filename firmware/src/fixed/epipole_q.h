@@ -238,7 +238,9 @@ static SPVS_Q_INLINE int spvs_q_transfer_front_v(const int32_t H[9], int32_t tx,
         const int32_t g28 = (int32_t)((g + ((int64_t)1 << 24)) >> 25);
         /* Q54: |g28 2^26| < 2^56, |x_cur w28| < 2^60. */
         const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)cx * w28;
-        const int64_t ny = (int64_t)ty * ((int64_t)1 << 28) - (int64_t)cy * w28;
+        /* 2^28 opaque: ny two multiplies rather than a 64-bit shift and a
+         * multiply. */
+        const int64_t ny = (int64_t)ty * spvs_q_opaque32((int32_t)1 << 28) - (int64_t)cy * w28;
         if ((uint64_t)(nx + b56) < (uint64_t)b56 * 2u && (uint64_t)(ny + b56) < (uint64_t)b56 * 2u) {
             f->w28 = w28;
             f->nx28 = spvs_q_opaque32((int32_t)((nx + ((int64_t)1 << 25)) >> 26));
