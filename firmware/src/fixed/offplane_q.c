@@ -197,9 +197,10 @@ static SPVS_Q_NOINLINE int transfer_above_call(const int32_t H[9], const int32_t
 }
 
 /* The first i' >= i below n with mask[i'] == 0, or n: the scan over the
- * inliers, most of the plane's points, in a loop of its own (bound: n -
+ * inliers, most of the plane's points, in a loop of its own, inline (a
+ * call a rejected point cost more than the loop's registers; bound: n -
  * i steps). */
-static SPVS_Q_NOINLINE uint16_t next_rejected(const uint8_t *mask, uint32_t i, uint32_t n)
+static SPVS_Q_INLINE uint16_t next_rejected(const uint8_t *mask, uint32_t i, uint32_t n)
 {
     while (i < n && mask[i] != 0u) {
         i++;
