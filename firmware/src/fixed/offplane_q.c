@@ -99,8 +99,10 @@ static SPVS_Q_INLINE int transfer_above(const int32_t H[9], int32_t tx, int32_t 
         if (t.o_fast != 0u && f.w28 >= ((int32_t)1 << 25)) {
             const uint64_t A = (uint64_t)((int64_t)f.nx28 * f.nx28) +
                                (uint64_t)((int64_t)f.ny28 * f.ny28);
-            /* o < 2^27 and w28 <= 2^30: Q < 2^31. */
-            const uint32_t Q = (uint32_t)(((uint64_t)t.o_fast * (uint32_t)f.w28) >> 26);
+            /* o < 2^27 and w28 <= 2^30: Q < 2^31.  w28 opaque, so that the
+             * product is one UMULL (GCC otherwise extends w28's sign). */
+            const uint32_t uw = (uint32_t)spvs_q_opaque32(f.w28);
+            const uint32_t Q = (uint32_t)(((uint64_t)t.o_fast * uw) >> 26);
             const uint32_t hi = Q + 1u + ((Q + 1u) >> 8); /* below 2^31.01 */
             if (A > (uint64_t)hi * hi) {
                 return 1;
