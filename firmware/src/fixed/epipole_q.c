@@ -234,11 +234,13 @@ static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, ui
     do {
         if (supports(u[0], xj, nxj, zj, lh1, k)) {
             support++;
-            end += end < last ? 1 : 0;
+            end++;
+            end = end > last ? last : end;
         }
         if (supports(u[1], xj, nxj, zj, lh1, k)) {
             support++;
-            end += end < last ? 1 : 0;
+            end++;
+            end = end > last ? last : end;
         }
         u += 2;
     } while (u < end);
