@@ -210,11 +210,14 @@ static SPVS_Q_INLINE uint16_t next_rejected(const uint8_t *mask, uint32_t i, uin
     return (uint16_t)i;
 }
 
-static SPVS_Q_INLINE void take(spvs_q_offplane_t *o, uint16_t i)
+/* Candidate n is match i (the order of the candidates is their index);
+ * returns n + 1.  The count is the caller's local: a store into the
+ * uint16 lists may alias o->n_cand, which would then be read again. */
+static SPVS_Q_INLINE uint32_t take(spvs_q_offplane_t *o, uint32_t n, uint16_t i)
 {
-    o->cand[o->n_cand] = i;
-    o->cand_ord[o->n_cand] = o->n_cand;
-    o->n_cand++;
+    o->cand[n] = i;
+    o->cand_ord[n] = (uint16_t)n;
+    return n + 1u;
 }
 
 void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
@@ -225,12 +228,12 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
         o->cand_H[i] = e->H[i];
     }
     o->cand_thr = offplane_q16;
-    o->n_cand = 0;
-    for (uint16_t i = e->n_plane; i < e->n_pts && o->n_cand < SPVS_MAX_OFFPLANE; i++) {
-        spvs_q_pts_row(&e->pts, i, o->cand_pts[o->n_cand]);
-        take(o, i);
+    uint32_t n_cand = 0;
+    for (uint16_t i = e->n_plane; i < e->n_pts && n_cand < SPVS_MAX_OFFPLANE; i++) {
+        spvs_q_pts_row(&e->pts, i, o->cand_pts[n_cand]);
+        n_cand = take(o, n_cand, i);
     }
-    o->n_cand_known = o->n_cand;
+    o->n_cand_known = (uint16_t)n_cand;
     int32_t Hi[9];
     int oor = 0;
     const int32_t *hi = inverse_q(e->H, Hi, &oor) ? Hi : 0;
@@ -240,15 +243,16 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
     const uint16_t n_plane = e->n_plane;
     for (uint16_t i = next_rejected(e->mask, 0, n_plane); i < n_plane;
          i = next_rejected(e->mask, i + 1u, n_plane)) {
-        if (o->n_cand >= SPVS_MAX_OFFPLANE) {
+        if (n_cand >= SPVS_MAX_OFFPLANE) {
             break;
         }
-        int32_t *const q = o->cand_pts[o->n_cand];
+        int32_t *const q = o->cand_pts[n_cand];
         spvs_q_pts_row(&e->pts, i, q);
         if (off_plane(e->H, hi, q, thr)) {
-            take(o, i);
+            n_cand = take(o, n_cand, i);
         }
     }
+    o->n_cand = (uint16_t)n_cand;
 }
 
 int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],
