@@ -230,7 +230,9 @@ static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, ui
     const int32_t(*u)[2] = work->u;
     const int32_t(*const last)[2] = &work->u[n];
     const int32_t(*end)[2] = &work->u[n + 1u - need];
-    /* Bound: end <= last, (n + 1) / 2 steps. */
+    /* Bound: end <= last, (n + 1) / 2 steps.  A supporter moves end by
+     * one, then caps it at last: in between it is at most &u[n + 1],
+     * which work holds (its spare entry). */
     do {
         if (supports(u[0], xj, nxj, zj, lh1, k)) {
             support++;

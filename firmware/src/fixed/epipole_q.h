@@ -56,9 +56,10 @@ typedef struct {
  * unit directions, u[i] = (x, z), side by side so that one load reads
  * both, and a zero one after an odd count (the consensus reads two a
  * step); then (written behind the reads) the supporters' sines in u[k][0]
- * and parallaxes in u[k][1]. */
+ * and parallaxes in u[k][1].  One entry more than the candidates, which
+ * the consensus's moving end may point one past before it is capped. */
 typedef struct {
-    int32_t u[SPVS_MAX_OFFPLANE][2];
+    int32_t u[SPVS_MAX_OFFPLANE + 1][2];
 } spvs_q_epipole_work_t;
 
 /* spvs_epipole_estimate in fixed point.
