@@ -52,11 +52,12 @@ static SPVS_Q_INLINE int unit(int64_t dx, int64_t dz, int32_t *ux, int32_t *uz, 
         z = (int32_t)(dz * ((int64_t)1 << -sh));
     }
     const uint64_t n2 = (uint64_t)((int64_t)x * x) + (uint64_t)((int64_t)z * z);
-    int half;
-    uint32_t f;
-    const uint32_t y = spvs_q_rsqrt(n2, &half, &f);
-    /* half is 30 or 31 (n2 has 59 to 62 bits): two constant shifts, not
-     * a 64-bit shift by a variable amount. */
+    /* spvs_q_rsqrt's normalisation where n2 has 59 to 62 bits: F = n2
+     * 2^-60 (half 30) for 59 or 60 bits, n2 2^-62 (half 31) for 61 or 62,
+     * decided by the high word; two constant shifts, not a 64-bit shift by
+     * a variable amount. */
+    const int half = (uint32_t)(n2 >> 32) < ((uint32_t)1 << 28) ? 30 : 31;
+    const uint32_t y = spvs_q_rsqrt_f(half == 30 ? (uint32_t)(n2 >> 28) : (uint32_t)(n2 >> 30));
     if (half == 30) {
         *ux = (int32_t)spvs_q_rsh((int64_t)x * y, 30);
         *uz = (int32_t)spvs_q_rsh((int64_t)z * y, 30);
@@ -87,19 +88,28 @@ static SPVS_Q_NOINLINE void line_directions(const int32_t H[9], const int32_t (*
     if (support_out) {
         memset(support_out, 0, n_cand);
     }
-    for (uint16_t i = 0; i < n_cand; i++) {
-        const int32_t *p = pts[cand[i]];
+    /* On pointers: the candidate's index and its direction. */
+    int32_t(*d)[2] = work->u;
+    for (const uint16_t *c = cand; c < cand + n_cand; c++, d++) {
+        const int32_t *p = pts[*c];
         const spvs_q_hp_t h = spvs_q_hp(H, p);
-        const int64_t l1 = (int64_t)p[3] * h.q3 - (int64_t)h.q2 * ((int64_t)1 << 26);
+        /* 2^26 opaque: l1 as two multiplies rather than a 64-bit shift. */
+        const int64_t l1 = (int64_t)p[3] * h.q3 - (int64_t)h.q2 * spvs_q_opaque32((int32_t)1 << 26);
         const int64_t l3 = (int64_t)p[2] * h.q2 - (int64_t)p[3] * h.q1;
         const int neg = p[3] < 0;
         int sh = 0;
         uint64_t n2 = 0;
-        if (unit(neg ? -l3 : l3, neg ? l1 : -l1, &work->ux[i], &work->uz[i], &sh, &n2) &&
+        if (unit(neg ? -l3 : l3, neg ? l1 : -l1, &(*d)[0], &(*d)[1], &sh, &n2) &&
             !dir_usable(n2, 2 * (sh + h.s) - 158)) {
-            work->ux[i] = 0;
-            work->uz[i] = 0;
+            (*d)[0] = 0;
+            (*d)[1] = 0;
         }
+    }
+    /* A zero direction after an odd count, which cone_count's two
+     * directions a step may read (it supports none). */
+    if ((n_cand & 1u) != 0u) {
+        work->u[n_cand][0] = 0;
+        work->u[n_cand][1] = 0;
     }
 }
 
@@ -151,93 +161,112 @@ static cone_t cone_of(uint64_t tol)
     return k;
 }
 
-/* 1 when unit direction (xi, zi) lies within the cone k around (xj, zj):
- * dot > 0 and cross^2 <= tol.  dot and cross are Q60 (|.| < 2^61 for
- * |u| <= 2^30 (1 + 2^-27)); the test on cross is floor(|cross| 2^-29)^2
- * <= tol (|cross| to Q31, below 2^32, squared in Q62): exact up to 2^-31
- * on the sine (2^-30 sin on sin^2, 1e-8 of the default 0.01).  With
- * c = floor(|cross| 2^-29) and cmax = floor(sqrt(tol)), c^2 <= tol is
- * c <= cmax, that is |cross| <= k.lim.  cross's high word ch decides it
- * in 32 bits but at two values: ch in [-lh, lh - 1] puts |cross| below
- * lh 2^32 <= lim (inside), ch above lh or below -lh - 1 puts it above
- * (lh + 1) 2^32 > lim (outside); ch = lh or -lh - 1 takes the 64-bit
- * comparison.  The same decision as the squares', with neither a square
- * nor an absolute value per pair. */
+/* The cone test (supports, below): unit direction (xi, zi) lies within
+ * the cone k around (xj, zj) when dot > 0 and cross^2 <= tol.  dot and
+ * cross are Q60 (|.| < 2^61 for |u| <= 2^30 (1 + 2^-27)); the test on
+ * cross is floor(|cross| 2^-29)^2 <= tol (|cross| to Q31, below 2^32,
+ * squared in Q62): exact up to 2^-31 on the sine (2^-30 sin on sin^2,
+ * 1e-8 of the default 0.01).  With c = floor(|cross| 2^-29) and cmax =
+ * floor(sqrt(tol)), c^2 <= tol is c <= cmax, that is |cross| <= k.lim.
+ * cross's high word ch decides it in 32 bits but at two values: ch in
+ * [-lh, lh - 1] puts |cross| below lh 2^32 <= lim (inside), ch above lh
+ * or below -lh - 1 puts it above (lh + 1) 2^32 > lim (outside); ch = lh
+ * or -lh - 1 takes the 64-bit comparison (cone_edge).  The same decision
+ * as the squares', with neither a square nor an absolute value per
+ * pair. */
 static SPVS_Q_NOINLINE int cone_edge(int64_t crs, const cone_t *k)
 {
     return (uint64_t)crs + k->lim <= 2u * k->lim;
 }
 
-/* in_cone with nxj = -xj (|xj| <= 2^30 (1 + 2^-27), so no overflow): the
- * cross product as one multiply and one multiply-accumulate, and the
- * cross test first, which most pairs fail. */
-static SPVS_Q_INLINE int in_cone_n(int32_t xi, int32_t zi, int32_t xj, int32_t nxj, int32_t zj,
-                                   uint32_t lh, const cone_t *k)
+/* 1 when direction d supports (xj, zj): the cone test above, with nxj =
+ * -xj (|xj| <= 2^30 (1 + 2^-27), so no overflow), so that cross is one
+ * multiply and one multiply-accumulate, and the cross test first, which
+ * most pairs fail.  With u1 = ch + lh + 1 (unsigned), ch's range
+ * [-lh - 1, lh] is u1 in [0, 2 lh + 1], that is u1 < 2 lh1 (lh1 = lh +
+ * 1), tested as u1 >> 1 < lh1 (one shifted comparison against the one
+ * constant); the inside, u1 in [1, 2 lh], is u1 != 0 and (u1 + 1) >> 1 <
+ * lh1; 0 and 2 lh + 1 are the edges.  A zero direction supports none
+ * (dot = 0). */
+static SPVS_Q_INLINE int supports(const int32_t d[2], int32_t xj, int32_t nxj, int32_t zj,
+                                  uint32_t lh1, const cone_t *k)
 {
+    const int32_t xi = d[0], zi = d[1];
     const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
-    const uint32_t u = (uint32_t)(int32_t)(crs >> 32) + lh;
-    /* u + 1 in [0, 2 lh + 1]: ch in [-lh - 1, lh]. */
-    if (u + 1u > 2u * lh + 1u) {
+    const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
+    if ((u1 >> 1) >= lh1) {
         return 0;
     }
     const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
     if (dot <= 0) {
         return 0;
     }
-    return u < 2u * lh ? 1 : cone_edge(crs, k);
-}
-
-static SPVS_Q_INLINE int in_cone(int32_t xi, int32_t zi, int32_t xj, int32_t zj, const cone_t *k)
-{
-    return in_cone_n(xi, zi, xj, -xj, zj, k->lh, k);
+    return (u1 != 0u && ((u1 + 1u) >> 1) < lh1) || cone_edge(crs, k);
 }
 
 /* The supporters of direction (xj, zj) among the n unit directions of
- * work: the consensus's inner loop (in_cone_n's tests), in a function of
- * its own so that its few values stay in registers.  With u1 = ch + lh +
- * 1 (unsigned), ch's range [-lh - 1, lh] is u1 in [0, 2 lh + 1], that is
- * u1 < 2 lh1 (lh1 = lh + 1), tested as u1 >> 1 < lh1 (one shifted
- * comparison against the one constant); the inside, u1 in [1, 2 lh], is
- * u1 != 0 and (u1 + 1) >> 1 < lh1; 0 and 2 lh + 1 are the edges. */
+ * work, where they can reach need (at least 1): the consensus's inner
+ * loop, in a function of its own so that its few values stay in
+ * registers, two directions a step (line_directions makes u[n] zero for
+ * an odd n, so the last step may read it).
+ * The scan stops where the supporters found and the directions left
+ * cannot reach need: at the first step that starts at or after end =
+ * min(n, n + 1 - need + support), one more a supporter.  A count that
+ * reaches need - 1 scans to n, so a count of need or more is exact; a
+ * smaller one is returned as found, and stays below need (the one
+ * direction a step may take past end adds at most 1 where the count is
+ * at most need - 2). */
 static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, uint16_t n,
-                                           int32_t xj, int32_t zj, const cone_t *k)
+                                           int32_t xj, int32_t zj, const cone_t *k,
+                                           uint32_t need)
 {
+    if (need > n) {
+        return 0;
+    }
     const uint32_t lh1 = k->lh + 1u;
     const int32_t nxj = -xj;
     uint32_t support = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        const int32_t xi = work->ux[i], zi = work->uz[i];
-        const int64_t crs = (int64_t)xi * zj + (int64_t)zi * nxj;
-        const uint32_t u1 = (uint32_t)(int32_t)(crs >> 32) + lh1;
-        if ((u1 >> 1) >= lh1) {
-            continue;
+    /* On a pointer, whose end moves; n + 1 - need >= 1 directions. */
+    const int32_t(*u)[2] = work->u;
+    const int32_t(*const last)[2] = &work->u[n];
+    const int32_t(*end)[2] = &work->u[n + 1u - need];
+    /* Bound: end <= last, (n + 1) / 2 steps.  A supporter moves end by
+     * one, then caps it at last: in between it is at most &u[n + 1],
+     * which work holds (its spare entry). */
+    do {
+        if (supports(u[0], xj, nxj, zj, lh1, k)) {
+            support++;
+            end++;
+            end = end > last ? last : end;
         }
-        const int64_t dot = (int64_t)xi * xj + (int64_t)zi * zj;
-        if (dot <= 0) {
-            continue;
+        if (supports(u[1], xj, nxj, zj, lh1, k)) {
+            support++;
+            end++;
+            end = end > last ? last : end;
         }
-        support += (u1 != 0u && ((u1 + 1u) >> 1) < lh1) ? 1u : (uint32_t)cone_edge(crs, k);
-    }
+        u += 2;
+    } while (u < end);
     return (uint16_t)support;
 }
 
 /* epipole.c's 1-point consensus on the unit directions: the same
- * hypotheses, the same test (in_cone), the same tie rule (the first best).
+ * hypotheses, the same test (supports), the same tie rule (the first best).
  * Bound: SPVS_EPIPOLE_MAX_HYP x n_cand pair tests. */
 static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, const cone_t *k,
                           uint16_t *best)
 {
-    const int32_t *ux = work->ux, *uz = work->uz;
     uint16_t best_support = 0;
     *best = 0;
     const uint16_t n_hyp = n_cand < SPVS_EPIPOLE_MAX_HYP ? n_cand : (uint16_t)SPVS_EPIPOLE_MAX_HYP;
     for (uint16_t h = 0; h < n_hyp; h++) {
         const uint16_t j = (uint16_t)(((uint32_t)h * n_cand) / n_hyp);
-        const int32_t xj = ux[j], zj = uz[j];
+        const int32_t xj = work->u[j][0], zj = work->u[j][1];
         if (xj == 0 && zj == 0) {
             continue;
         }
-        const uint16_t support = cone_count(work, n_cand, xj, zj, k);
+        /* Only a count above the best so far matters (the first best
+         * wins a tie). */
+        const uint16_t support = cone_count(work, n_cand, xj, zj, k, best_support + 1u);
         if (support > best_support) {
             best_support = support;
             *best = j;
@@ -255,21 +284,27 @@ static int64_t cos_of(int32_t s)
     return s2 >= one ? 0 : (int64_t)isqrt_fast((uint64_t)(one - s2));
 }
 
-/* The median turn of b = (bx, bz) by the supporters' sines v[0..n)
- * (sorted, n >= 1) as (c, s), the turn's cosine and sine up to one
+/* The median turn of b = (bx, bz) by the supporters' sines v[2 i], i < n
+ * (n >= 1, reordered here) as (c, s), the turn's cosine and sine up to one
  * positive factor, Q30 (|.| <= 2^31).  epipole.c turns b by the median
  * of tan(delta_i) (their mean for an even n).  The tangent is monotone
  * in the sine over (-90, 90) degrees, so the median element is the same;
  * for an odd n the turn is (cos, sin) of it, with no division; for an
  * even n, (1, (t1 + t2) / 2) is along (2 c1 c2, s1 c2 + s2 c1). */
-static void median_turn(const int32_t *v, uint16_t n, int64_t *c, int64_t *s)
+static void median_turn(int32_t *v, uint16_t n, int64_t *c, int64_t *s)
 {
+    const int32_t s2 = spvs_q_select_i32(v, 2u, n, n / 2u);
     if ((n & 1u) != 0u) {
-        *s = v[n / 2];
-        *c = cos_of(v[n / 2]);
+        *s = s2;
+        *c = cos_of(s2);
         return;
     }
-    const int32_t s1 = v[n / 2 - 1], s2 = v[n / 2];
+    /* The element below the median in sorted order: the largest of those
+     * spvs_q_select_i32 left below it.  Bound: n / 2 steps. */
+    int32_t s1 = v[0];
+    for (uint32_t i = 1; i < n / 2u; i++) {
+        s1 = v[2u * i] > s1 ? v[2u * i] : s1;
+    }
     const int64_t c1 = cos_of(s1), c2 = cos_of(s2);
     *c = (c1 * c2) >> 29;
     *s = (s1 * c2 + s2 * c1) >> 30;
@@ -292,45 +327,50 @@ static int32_t e_x_q16(int32_t dx, int32_t dz)
 
 /* epipole.c's refine: the supporters of hypothesis `best` (the same test
  * as the consensus, so the same set), their sines about b = u[best]
- * (Q30) into ux[] and parallaxes (Q16 px) into uz[], entry k <= i written
+ * (Q30) into u[k][0] and parallaxes (Q16 px) into u[k][1], entry k <= i written
  * after entry i was read; the median turn, the epipole's direction and
  * e_x, the median parallax (the upper median, as epipole.c). */
 static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
                    uint16_t n_cand, const cone_t *k, uint16_t best, spvs_q_epipole_t *out,
                    uint8_t *support_out, spvs_q_epipole_work_t *work)
 {
-    int32_t *const sines = work->ux;
-    int32_t *const par = work->uz;
-    const int32_t bx = work->ux[best], bz = work->uz[best];
-    uint16_t n_t = 0, n_par = 0;
-    for (uint16_t i = 0; i < n_cand; i++) {
-        const int32_t xi = work->ux[i], zi = work->uz[i];
-        if (!in_cone(xi, zi, bx, bz, k)) {
-            continue;
+    const int32_t bx = work->u[best][0], bz = work->u[best][1];
+    /* The supporters first, in a loop of the test alone (the consensus's,
+     * so the same set), then their sines and parallaxes: entry t written
+     * after entry sup[t] >= t was read, and sup rising. */
+    uint8_t sup[SPVS_MAX_OFFPLANE];
+    uint32_t n_t = 0;
+    const uint32_t lh1 = k->lh + 1u;
+    for (uint32_t i = 0; i < n_cand; i++) {
+        if (supports(work->u[i], bx, -bx, bz, lh1, k)) {
+            sup[n_t++] = (uint8_t)i;
         }
+    }
+    uint32_t n_par = 0;
+    for (uint32_t t = 0; t < n_t; t++) {
+        const uint32_t i = sup[t];
+        const int32_t xi = work->u[i][0], zi = work->u[i][1];
         if (support_out) {
             support_out[i] = 1;
         }
         /* cross(b, d_i) in Q60 to Q30: |.| <= 2^30 (1 + 2^-26). */
-        sines[n_t++] = (int32_t)spvs_q_rsh((int64_t)bx * zi - (int64_t)bz * xi, 30);
+        work->u[t][0] = (int32_t)spvs_q_rsh((int64_t)bx * zi - (int64_t)bz * xi, 30);
         int32_t du, dv;
         if (spvs_q_transfer(H, pts[cand[i]], &du, &dv)) {
             const uint64_t e2 = (uint64_t)((int64_t)du * du) + (uint64_t)((int64_t)dv * dv);
-            par[n_par++] = spvs_q_sqrt_q52_px16(e2);
+            work->u[n_par++][1] = spvs_q_sqrt_q52_px16(e2);
         }
     }
-    spvs_q_sort_i32(sines, n_t);
     int64_t c, s;
-    median_turn(sines, n_t, &c, &s);
+    median_turn(&work->u[0][0], (uint16_t)n_t, &c, &s);
     /* b turned: (bx c - bz s, bz c + bx s), each product below 2^61 (1 +
      * 2^-26), the sums below 2^63. */
     int sh;
     uint64_t n2;
     (void)unit(bx * c - bz * s, bz * c + bx * s, &out->dir_x, &out->dir_z, &sh, &n2);
     out->e_x_q16 = e_x_q16(out->dir_x, out->dir_z);
-    spvs_q_sort_i32(par, n_par);
     if (n_par > 0) {
-        out->parallax_q16 = par[n_par / 2];
+        out->parallax_q16 = spvs_q_select_i32(&work->u[0][1], 2u, n_par, n_par / 2u);
     }
 }
 

@@ -53,11 +53,13 @@ typedef struct {
 } spvs_q_epipole_t;
 
 /* Caller-owned scratch for one estimate (off the stack): the candidates'
- * unit directions, then (written behind the reads) the supporters' sines
- * and parallaxes. */
+ * unit directions, u[i] = (x, z), side by side so that one load reads
+ * both, and a zero one after an odd count (the consensus reads two a
+ * step); then (written behind the reads) the supporters' sines in u[k][0]
+ * and parallaxes in u[k][1].  One entry more than the candidates, which
+ * the consensus's moving end may point one past before it is capped. */
 typedef struct {
-    int32_t ux[SPVS_MAX_OFFPLANE];
-    int32_t uz[SPVS_MAX_OFFPLANE];
+    int32_t u[SPVS_MAX_OFFPLANE + 1][2];
 } spvs_q_epipole_work_t;
 
 /* spvs_epipole_estimate in fixed point.
@@ -221,21 +223,25 @@ typedef struct {
     int32_t w28;        /* w in Q28, in (2^8, 2^30)                     */
 } spvs_q_tf_t;
 
-static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t p[4],
-                                               spvs_q_tf_t *f)
+/* spvs_q_transfer_front on the row's values (target x, y, current x, y),
+ * for a caller that also takes the row the other way round. */
+static SPVS_Q_INLINE int spvs_q_transfer_front_v(const int32_t H[9], int32_t tx, int32_t ty,
+                                                 int32_t cx, int32_t cy, spvs_q_tf_t *f)
 {
-    const int64_t w = (int64_t)H[6] * p[0] + (int64_t)H[7] * p[1] + (int64_t)H[8] * ((int64_t)1 << 26);
+    const int64_t w = (int64_t)H[6] * tx + (int64_t)H[7] * ty + (int64_t)H[8] * ((int64_t)1 << 26);
     if (w <= SPVS_Q_W_EPS_Q53) {
         return SPVS_Q_TF_BEHIND;
     }
-    const int64_t g = (int64_t)H[0] * p[0] + (int64_t)H[1] * p[1] + (int64_t)H[2] * ((int64_t)1 << 26);
+    const int64_t g = (int64_t)H[0] * tx + (int64_t)H[1] * ty + (int64_t)H[2] * ((int64_t)1 << 26);
     const int64_t b55 = (int64_t)1 << 55, b56 = (int64_t)1 << 56;
     if (w < b55 && (uint64_t)(g + b55) < (uint64_t)b55 * 2u) {
         const int32_t w28 = spvs_q_opaque32((int32_t)((w + ((int64_t)1 << 24)) >> 25));
         const int32_t g28 = (int32_t)((g + ((int64_t)1 << 24)) >> 25);
         /* Q54: |g28 2^26| < 2^56, |x_cur w28| < 2^60. */
-        const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)p[2] * w28;
-        const int64_t ny = (int64_t)p[1] * ((int64_t)1 << 28) - (int64_t)p[3] * w28;
+        const int64_t nx = (int64_t)g28 * ((int64_t)1 << 26) - (int64_t)cx * w28;
+        /* 2^28 opaque: ny two multiplies rather than a 64-bit shift and a
+         * multiply. */
+        const int64_t ny = (int64_t)ty * spvs_q_opaque32((int32_t)1 << 28) - (int64_t)cy * w28;
         if ((uint64_t)(nx + b56) < (uint64_t)b56 * 2u && (uint64_t)(ny + b56) < (uint64_t)b56 * 2u) {
             f->w28 = w28;
             f->nx28 = spvs_q_opaque32((int32_t)((nx + ((int64_t)1 << 25)) >> 26));
@@ -244,6 +250,12 @@ static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t
         }
     }
     return SPVS_Q_TF_GEN;
+}
+
+static SPVS_Q_INLINE int spvs_q_transfer_front(const int32_t H[9], const int32_t p[4],
+                                               spvs_q_tf_t *f)
+{
+    return spvs_q_transfer_front_v(H, p[0], p[1], p[2], p[3], f);
 }
 
 /* The fast path's second half: 1 / w28 = r 2^(k - 61) with k in 0..22,
@@ -291,6 +303,30 @@ static SPVS_Q_INLINE int spvs_q_transfer(const int32_t H[9], const int32_t p[4],
     return 1;
 }
 
+/* One Newton step of spvs_q_rsqrt: y (3 - F y^2) / 2 from y and y2 =
+ * y^2 2^-30 (Q30, at most 2^32). */
+static SPVS_Q_INLINE uint32_t spvs_q_rsqrt_step(uint32_t f, uint32_t y, uint64_t y2)
+{
+    const uint64_t t = ((uint64_t)3 << 62) - (uint64_t)f * y2; /* Q62 */
+    return (uint32_t)(((uint64_t)y * (uint32_t)(t >> 32)) >> 31);
+}
+
+/* spvs_q_rsqrt's Newton steps on F in [1/4, 1) as f (Q32). */
+static SPVS_Q_INLINE uint32_t spvs_q_rsqrt_f(uint32_t f)
+{
+    /* F^-1/2 over [1/4, 1) in 12 pieces of 1/16, Q15, the value at each
+     * piece's middle: relative error at most 6.1 % (the first piece). */
+    static const uint16_t seed[12] = {61788, 55889, 51411, 47861, 44957, 42525,
+                                      40450, 38651, 37073, 35673, 34421, 33292};
+    const uint32_t s0 = seed[(f >> 28) - 4u];
+    /* The first step from y = s0 2^15, whose y^2 2^-30 is s0^2 exactly
+     * (one 32-bit multiply), then the other two; written out, so that no
+     * loop counter takes a register or a stack slot. */
+    uint32_t y = spvs_q_rsqrt_step(f, s0 << 15, s0 * s0);
+    y = spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
+    return spvs_q_rsqrt_step(f, y, ((uint64_t)y * y) >> 30);
+}
+
 /* 1 / sqrt(x) for x > 0 as y 2^-30 2^-(*half): y in (2^29.9, 2^31], *half
  * in 1..32.  x = F 2^(2 half) with F in [1/4, 1) kept to 32 bits (f),
  * Newton's y <- y (3 - F y^2) / 2 three times from the seed: 6.1 %, then
@@ -303,21 +339,10 @@ static SPVS_Q_INLINE uint32_t spvs_q_rsqrt(uint64_t x, int *half, uint32_t *f_ou
 {
     const int b = spvs_q_bits(x);
     const int e = b + (b & 1);
-    /* F^-1/2 over [1/4, 1) in 12 pieces of 1/16, Q15, the value at each
-     * piece's middle: relative error at most 6.1 % (the first piece). */
-    static const uint16_t seed[12] = {61788, 55889, 51411, 47861, 44957, 42525,
-                                      40450, 38651, 37073, 35673, 34421, 33292};
     const uint32_t f = e >= 32 ? (uint32_t)(x >> (e - 32)) : (uint32_t)(x << (32 - e));
-    uint32_t y = (uint32_t)seed[(f >> 28) - 4u] << 15;
-    /* Bound: 3 steps. */
-    for (int it = 0; it < 3; it++) {
-        const uint64_t y2 = ((uint64_t)y * y) >> 30;            /* Q30 */
-        const uint64_t t = ((uint64_t)3 << 62) - (uint64_t)f * y2; /* Q62 */
-        y = (uint32_t)(((uint64_t)y * (uint32_t)(t >> 32)) >> 31);
-    }
     *half = e / 2;
     *f_out = f;
-    return y;
+    return spvs_q_rsqrt_f(f);
 }
 
 /* sqrt(x) for x in Q52 (scaled units^2) as Q16 pixels: sqrt(x) 2^-26
@@ -356,15 +381,60 @@ static SPVS_Q_INLINE int64_t spvs_q_transfer_err2(const int32_t H[9], const int3
  * moves, n <= SPVS_MAX_OFFPLANE). */
 static inline void spvs_q_sort_i32(int32_t *v, uint16_t n)
 {
-    for (uint16_t i = 1; i < n; i++) {
+    /* Pointers, not 16-bit indices, in the inner loop: each index step
+     * would be truncated to 16 bits again. */
+    for (uint32_t i = 1; i < n; i++) {
         const int32_t key = v[i];
-        uint16_t k = i;
-        while (k > 0 && v[k - 1] > key) {
-            v[k] = v[k - 1];
-            k--;
+        int32_t *q = &v[i];
+        while (q > v && q[-1] > key) {
+            *q = q[-1];
+            q--;
         }
-        v[k] = key;
+        *q = key;
     }
+}
+
+/* The k-th smallest of the n values v[i stride], i < n (k < n <=
+ * SPVS_MAX_OFFPLANE), with them reordered so that those before k are at
+ * most it and those after at least it: the value a sort would put at k,
+ * for the medians, which need no full sort (Hoare's FIND, as in Wirth,
+ * "Algorithms + Data Structures = Programs", 1976).  Each pass moves l up
+ * or r down past the pivot's position, so at most n passes, each at most
+ * n + 2 steps of i and j. */
+static inline int32_t spvs_q_select_i32(int32_t *v, uint32_t stride, uint32_t n, uint32_t k)
+{
+    int32_t l = 0, r = (int32_t)n - 1;
+    const int32_t kk = (int32_t)k;
+    /* Bound: n passes (above). */
+    while (l < r) {
+        const int32_t x = v[(uint32_t)kk * stride];
+        int32_t i = l, j = r;
+        /* Bound: i only grows and j only falls, each within [l, r]
+         * (v[k] stops both scans in the first sweep, the swapped pair in
+         * the later ones). */
+        do {
+            while (v[(uint32_t)i * stride] < x) {
+                i++;
+            }
+            while (x < v[(uint32_t)j * stride]) {
+                j--;
+            }
+            if (i <= j) {
+                const int32_t t = v[(uint32_t)i * stride];
+                v[(uint32_t)i * stride] = v[(uint32_t)j * stride];
+                v[(uint32_t)j * stride] = t;
+                i++;
+                j--;
+            }
+        } while (i <= j);
+        if (j < kk) {
+            l = i;
+        }
+        if (kk < i) {
+            r = j;
+        }
+    }
+    return v[(uint32_t)kk * stride];
 }
 
 #endif /* SPVS_FIXED_EPIPOLE_Q_H */

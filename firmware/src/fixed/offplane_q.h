@@ -45,6 +45,11 @@ typedef struct {
     /* Frames whose H had an inverse (|det| > 1e-9) outside Q27's range:
      * collected on the forward test alone. */
     uint16_t hi_out_of_range;
+    /* The H and the threshold of the last collect, whose forward tests
+     * the memory's update then reuses (each tested candidate from
+     * n_cand_known on passed it). */
+    int32_t cand_H[9];
+    int32_t cand_thr;
 } spvs_q_offplane_t;
 
 /* offplane_px (float or double bits read by the caller once) to Q16 px:
@@ -71,7 +76,9 @@ int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int
                                            int32_t *scratch);
 
 /* spvs_offplane_remember: e_ok, parallax_q16 (Q16 px) and offplane_q16
- * as float's arguments. */
+ * as float's arguments.  Where e->H and offplane_q16 are those of the
+ * frame's collect, the candidates it tested (from n_cand_known on) are
+ * above the threshold forward without a second test. */
 void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
                               int32_t parallax_q16, int32_t offplane_q16);
 
