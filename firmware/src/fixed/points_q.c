@@ -140,46 +140,143 @@ static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t li
     return q;
 }
 
+/* The loader's constants for SPVS_COORD_SCALE and SPVS_MAX_COORD_PX: the
+ * pixels' fraction bits px_frac (pixels in Q(px_frac) are scaled units in
+ * Q26), the limit lim (SPVS_MAX_COORD_PX in Q(px_frac), <= 2^30) and the
+ * largest s of load_coord_mag's fixed-position rounding whose magnitudes
+ * (at most 2^(24 + s)) stay below lim: 2^(24 + s) <= 2^(floor(log2 lim) -
+ * 1), at most 7 (the shift 7 - s). */
+#define LOAD_PX_FRAC (SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE)))
+#define LOAD_LIM ((int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE))
+#define LOAD_S_LG (31 - spvs_q_clz32((uint32_t)LOAD_LIM) - 25)
+#define LOAD_S_MAX (LOAD_S_LG > 7 ? 7 : LOAD_S_LG)
+
+#if !SPVS_USE_DOUBLE
+/* The match's fast path takes the 16 binades s = LOAD_S_MAX - 15 ..
+ * LOAD_S_MAX of load_coord_mag's (at the default scale, magnitudes from
+ * 1/16 px to below 4,096 px): a power of two, so that one OR of the four
+ * biased exponents tests them all.  d = exponent - LOAD_E_LO, unsigned,
+ * is below 16 exactly there (0 and 255 as exponents are far outside). */
+#define LOAD_E_LO ((uint32_t)(LOAD_S_MAX - 15 + 150 - LOAD_PX_FRAC))
+
+/* A feature index's part of that OR: below 16 exactly when the index is
+ * below SPVS_MAX_FEATURES (a shift where that is a multiple of 16). */
+static SPVS_Q_INLINE uint32_t load_feat_over(uint32_t f)
+{
+    return SPVS_MAX_FEATURES % 16 == 0 ? f / (uint32_t)(SPVS_MAX_FEATURES / 16)
+                                       : (f >= (uint32_t)SPVS_MAX_FEATURES ? 16u : 0u);
+}
+
+/* The biased exponent of a float32 with bits b, less LOAD_E_LO. */
+static SPVS_Q_INLINE uint32_t load_d(uint32_t b)
+{
+    return ((b >> 23) & 0xffu) - LOAD_E_LO;
+}
+
+/* load_coord_mag's fixed-position rounding of a float32 with bits b whose
+ * load_d is in 0..15 (its shift 7 - s is 7 - LOAD_S_MAX + 15 - d), with
+ * b's sign, into *r; the magnitude is returned. */
+static SPVS_Q_INLINE uint32_t load_fast(uint32_t b, int32_t *r)
+{
+    const uint32_t m8 = (b << 8) | 0x80000000u;
+    const uint32_t a = ((m8 >> ((uint32_t)(22 - LOAD_S_MAX) - load_d(b))) + 1u) >> 1;
+    const int32_t sg = (int32_t)b >> 31;
+    *r = ((int32_t)a ^ sg) - sg;
+    return a;
+}
+#endif
+
+/* |q| as unsigned: INT32_MIN (a clamped value) is 2^31, above any bound. */
+static SPVS_Q_INLINE uint32_t load_umag(int32_t q)
+{
+    const uint32_t sg = (uint32_t)(q >> 31);
+    return ((uint32_t)q ^ sg) - sg;
+}
+
+/* One match outside the fast path (a magnitude beyond its binades, NaN,
+ * infinity, a subnormal or 0, or a feature index out of range): its four
+ * coordinates by load_coord_mag into r[0..3], its flags into *bad. */
+static SPVS_Q_NOINLINE void load_match_slow(int32_t *r, const spvs_match_t *mi, uint32_t *bad)
+{
+    int32_t a;
+    r[0] = load_coord_mag(mi->x_tgt, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    r[1] = load_coord_mag(mi->y_tgt, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    r[2] = load_coord_mag(mi->x_cur, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    r[3] = load_coord_mag(mi->y_cur, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    *bad |= mi->feature >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
+}
+
+/* The frame's largest magnitudes while it loads, unsigned: a clamped
+ * INT32_MIN counts as 2^31, which the store's bound takes to COORD_LIM. */
+typedef struct {
+    uint32_t xm, ym, um, vm;
+} load_max_t;
+
+/* Match mi into slot k: its feature index and its four coordinates, the
+ * maxima updated; a match outside the fast path ORs its flags into *bad. */
+static SPVS_Q_INLINE void load_match(spvs_q_store_t *st, uint16_t *feat, uint16_t k,
+                                     const spvs_match_t *mi, load_max_t *mx, uint32_t *bad)
+{
+    const uint16_t f = mi->feature;
+    feat[k] = f;
+    int32_t *const r = &st->v[4u * k];
+    uint32_t ax, ay, au, av;
+#if !SPVS_USE_DOUBLE
+    uint32_t bx, by, bu, bv;
+    memcpy(&bx, &mi->x_tgt, sizeof bx);
+    memcpy(&by, &mi->y_tgt, sizeof by);
+    memcpy(&bu, &mi->x_cur, sizeof bu);
+    memcpy(&bv, &mi->y_cur, sizeof bv);
+    /* The exponents' test first (each exponent made again below: fewer
+     * values live at once). */
+    if ((load_d(bx) | load_d(by) | load_d(bu) | load_d(bv) | load_feat_over(f)) < 16u) {
+        ax = load_fast(bx, &r[0]);
+        ay = load_fast(by, &r[1]);
+        au = load_fast(bu, &r[2]);
+        av = load_fast(bv, &r[3]);
+    } else
+#endif
+    {
+        load_match_slow(r, mi, bad);
+        ax = load_umag(r[0]);
+        ay = load_umag(r[1]);
+        au = load_umag(r[2]);
+        av = load_umag(r[3]);
+    }
+    mx->xm = ax > mx->xm ? ax : mx->xm;
+    mx->ym = ay > mx->ym ? ay : mx->ym;
+    mx->um = au > mx->um ? au : mx->um;
+    mx->vm = av > mx->vm ? av : mx->vm;
+}
+
 uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t *m, uint16_t n,
                          uint16_t n_plane, const uint16_t *order, uint16_t stride)
 {
-    const int px_frac = SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE));
-    /* SPVS_MAX_COORD_PX in pixels Q(px_frac) = in scaled Q26, <= 2^30. */
-    const int32_t lim = (int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE);
-    /* The largest s of load_coord_mag's fixed-position rounding whose
-     * magnitudes (at most 2^(24 + s)) stay below lim: 2^(24 + s) <=
-     * 2^(floor(log2 lim) - 1); at most 7 (the shift 7 - s). */
-    const int s_lg = 31 - spvs_q_clz32((uint32_t)lim) - 25;
-    const int s_max = s_lg > 7 ? 7 : s_lg;
-    uint16_t pos = 0;
     uint32_t bad = 0;
-    int32_t um = 0, vm = 0, xm = 0, ym = 0;
-    /* The largest feature index, tested once after the loop. */
-    uint32_t fm = 0;
-    /* Bound: n slots. */
-    for (uint16_t k = 0; k < n; k++) {
-        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
-        const uint16_t f = m[i].feature;
-        fm = f > fm ? f : fm;
-        feat[k] = f;
-        int32_t *const r = &st->v[4u * k];
-        int32_t ax, ay, au, av;
-        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, s_max, &bad, &ax);
-        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, s_max, &bad, &ay);
-        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, s_max, &bad, &au);
-        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, s_max, &bad, &av);
-        xm = ax > xm ? ax : xm;
-        ym = ay > ym ? ay : ym;
-        um = au > um ? au : um;
-        vm = av > vm ? av : vm;
+    load_max_t mx = {0u, 0u, 0u, 0u};
+    if (order == 0) {
+        /* spvs_slot_source without order[]: the position alone. */
+        uint32_t pos = 0;
+        /* Bound: n slots. */
+        for (uint16_t k = 0; k < n; k++) {
+            load_match(st, feat, k, &m[pos], &mx, &bad);
+            pos += stride;
+            pos = pos >= n_plane ? pos - n_plane : pos;
+        }
+    } else {
+        uint16_t pos = 0;
+        /* Bound: n slots. */
+        for (uint16_t k = 0; k < n; k++) {
+            load_match(st, feat, k, &m[spvs_slot_source(k, n_plane, order, stride, &pos)], &mx,
+                       &bad);
+        }
     }
-    bad |= fm >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
     /* On a bad frame the clamped values are not in range: keep the bound
      * meaningful anyway. */
-    st->cur_max[0] = um > COORD_LIM ? COORD_LIM : um;
-    st->cur_max[1] = vm > COORD_LIM ? COORD_LIM : vm;
-    st->tgt_max[0] = xm > COORD_LIM ? COORD_LIM : xm;
-    st->tgt_max[1] = ym > COORD_LIM ? COORD_LIM : ym;
+    st->cur_max[0] = mx.um > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.um;
+    st->cur_max[1] = mx.vm > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.vm;
+    st->tgt_max[0] = mx.xm > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.xm;
+    st->tgt_max[1] = mx.ym > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.ym;
     return bad;
 }
 
