@@ -959,7 +959,17 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     const int32_t h6 = h[6], h7 = h[7], nh0 = md->nh0, nh1 = md->nh1, T = md->T;
     const int64_t h8c = md->h8c, nh2c = md->nh2c;
     const uint64_t c2s = md->c2s;
-    const uint32_t far = md->far;
+    /* |e| <= far as one unsigned comparison, (uint32_t)e + fo <= 2 fo (e
+     * in -fo..fo): model_prep keeps |ex|, |ey| below 2^62 in Q53, so
+     * |exh|, |eyh| < 2^30 and a far of 2^30 or more bounds nothing (fo =
+     * 2^30 passes every point). */
+    const uint32_t fo = md->far < 0x40000000u ? md->far : 0x40000000u;
+    /* bails() with its factors made once: need, n and m at most
+     * SPVS_MAX_MATCHES <= 4096 (spvs_config.h), so D = need m - inl n is
+     * within +-2^24 in int32 and the right side's factor below 2^28. */
+    const int32_t nb = (int32_t)need_b, ni = (int32_t)n;
+    const uint32_t kb = (uint32_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * (uint32_t)nb *
+                        (uint32_t)(ni - nb);
     /* Outliers still allowed: the stop comes at the first point r with
      * (r + 1) - count > max_out. */
     int32_t left = max_out;
@@ -972,34 +982,41 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
         /* Bound: SPVS_SCORE_BLOCK points (at least one: me > m). */
         do {
             int ok = 0;
+            /* fo read here, so that 2 fo is a shifted operand of the
+             * comparisons rather than a second value kept. */
+            const uint32_t fl = (uint32_t)spvs_q_opaque32((int32_t)fo);
             const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
             /* q_hw and q_fast on the locals; a residual beyond far
              * decides alone (q_far_bound), ey first, the cheaper.  A
              * point with w27 <= 0 (w below 2^-27, or behind the camera)
              * goes to the exact test, which decides w <= 0 as well. */
             const int32_t w27 = (int32_t)(w >> 26);
-            const int32_t eyh =
-                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
-            const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+            const int32_t eyh = spvs_q_opaque32(
+                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32));
             if (w27 <= 0) {
                 spvs_qf_t e;
                 ok = q_inlier_exact(h, p, *t2, &e);
-            } else if (ay <= far) {
-                const int32_t exh = (int32_t)((nh2c + (int64_t)p[2] * w27 +
-                                               (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
-                                              32);
-                const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
-                if (ax <= far) {
+            } else if ((uint32_t)eyh + fl <= 2u * fl) {
+                const int32_t exh = spvs_q_opaque32((int32_t)(
+                    (nh2c + (int64_t)p[2] * w27 + (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
+                    32));
+                if ((uint32_t)exh + fl <= 2u * fl) {
                     const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
-                    const uint64_t E13 = (uint64_t)(13 * Q_FAST_D * Q_FAST_D) +
-                                         (uint64_t)ax * ax + (uint64_t)ay * ay;
+                    /* The squares of the signed values are those of the
+                     * magnitudes. */
+                    const uint64_t E13 =
+                        (uint64_t)((int64_t)(13 * Q_FAST_D * Q_FAST_D) + (int64_t)exh * exh +
+                                   (int64_t)eyh * eyh);
                     const int32_t ti = (int32_t)tw - 3 * Q_FAST_D;
-                    const uint32_t to = tw + Q_FAST_D;
                     if (E13 <= (uint64_t)((int64_t)ti * ti)) {
                         ok = 1;
-                    } else if (E13 <= c2s + (uint64_t)to * to +
-                                          (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
-                        ok = q_band_or_exact(h, p, md, t2);
+                    } else {
+                        const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
+                        const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+                        const uint32_t to = tw + Q_FAST_D;
+                        if (E13 <= c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
+                            ok = q_band_or_exact(h, p, md, t2);
+                        }
                     }
                 }
             }
@@ -1009,10 +1026,13 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
             }
             p += 4;
         } while (m != me);
-        const size_t done = (size_t)(m - mask);
-        const int32_t inl = (int32_t)done - (max_out - left);
-        if (done % SPVS_SCORE_BLOCK == 0u && bails(need_b, (int64_t)n, (int64_t)done, inl)) {
-            return (uint16_t)inl;
+        const int32_t done = (int32_t)(m - mask);
+        const int32_t inl = done - (max_out - left);
+        if (done % SPVS_SCORE_BLOCK == 0) {
+            const int32_t d = nb * done - inl * ni;
+            if (d > 0 && (uint64_t)((int64_t)d * d) > (uint64_t)kb * (uint32_t)done) {
+                return (uint16_t)inl;
+            }
         }
     }
     return (uint16_t)((int32_t)n - (max_out - left));
