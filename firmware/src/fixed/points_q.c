@@ -987,20 +987,26 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
             const uint32_t fl = (uint32_t)spvs_q_opaque32((int32_t)fo);
             const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
             /* q_hw and q_fast on the locals; a residual beyond far
-             * decides alone (q_far_bound), ey first, the cheaper.  A
-             * point with w27 <= 0 (w below 2^-27, or behind the camera)
-             * goes to the exact test, which decides w <= 0 as well. */
+             * decides alone (q_far_bound), ey first, the cheaper, and
+             * before w's sign: where w > 0 that is q_fast's decision
+             * (which takes w27 = 0 as well), where w <= 0 the point is out
+             * as in the exact test (the high words stay in range for
+             * either sign, model_prep).  A point within far with w27 <= 0
+             * (w below 2^-26, or behind the camera) goes to the exact
+             * test, which decides w <= 0 as well. */
             const int32_t w27 = (int32_t)(w >> 26);
             const int32_t eyh = spvs_q_opaque32(
                 (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32));
-            if (w27 <= 0) {
-                spvs_qf_t e;
-                ok = q_inlier_exact(h, p, *t2, &e);
-            } else if ((uint32_t)eyh + fl <= 2u * fl) {
+            if ((uint32_t)eyh + fl <= 2u * fl) {
                 const int32_t exh = spvs_q_opaque32((int32_t)(
                     (nh2c + (int64_t)p[2] * w27 + (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
                     32));
-                if ((uint32_t)exh + fl <= 2u * fl) {
+                if ((uint32_t)exh + fl > 2u * fl) {
+                    ok = 0;
+                } else if (w27 <= 0) {
+                    spvs_qf_t e;
+                    ok = q_inlier_exact(h, p, *t2, &e);
+                } else {
                     const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
                     /* The squares of the signed values are those of the
                      * magnitudes. */
