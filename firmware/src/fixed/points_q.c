@@ -388,6 +388,15 @@ static SPVS_Q_INLINE void h_abs(const int32_t *h, int64_t a[9])
     a[8] = h_abs1(h[8]);
 }
 
+/* |x| as uint32 (at most 2^31): its products with the frame's bounds
+ * (below 2^31) are one 32 x 32 -> 64-bit multiply each. */
+static SPVS_Q_INLINE uint64_t h_mag(int32_t x)
+{
+    const uint32_t u = (uint32_t)x;
+    /* Opaque: GCC otherwise widens the negation to 64 bits. */
+    return (uint32_t)spvs_q_opaque32((int32_t)(x < 0 ? 0u - u : u));
+}
+
 /* The exact test of one point (the slow path): residuals exact
  * (q_eps), the Sampson error in spvs_qf_t.  1 for an inlier; *e2 =
  * |eps|^2, scaled units^2. */
@@ -429,17 +438,15 @@ static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs
  * band test: E never exceeds it). */
 static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
 {
-    const int64_t one26 = (int64_t)1 << 26;
-    const int64_t um = st->cur_max[0], vm = st->cur_max[1];
-    int64_t a[9];
-    h_abs(h, a);
-    /* Each entry's high word rounded up, squared (written out: no
-     * array). */
-    const uint64_t e0 = ((uint64_t)(um * a[6] + a[0] * one26) >> 32) + 1u;
-    const uint64_t e1 = ((uint64_t)(um * a[7] + a[1] * one26) >> 32) + 1u;
-    const uint64_t e2 = ((uint64_t)(vm * a[6]) >> 32) + 1u;
-    const uint64_t e3 = ((uint64_t)(vm * a[7] + ((int64_t)1 << 53)) >> 32) + 1u;
-    const uint64_t b = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
+    const uint64_t um = (uint32_t)st->cur_max[0], vm = (uint32_t)st->cur_max[1];
+    /* Each entry's high word rounded up (<= 2^30), squared (written out:
+     * no array). */
+    const uint32_t e0 = (uint32_t)((um * h_mag(h[6]) + (h_mag(h[0]) << 26)) >> 32) + 1u;
+    const uint32_t e1 = (uint32_t)((um * h_mag(h[7]) + (h_mag(h[1]) << 26)) >> 32) + 1u;
+    const uint32_t e2 = (uint32_t)((vm * h_mag(h[6])) >> 32) + 1u;
+    const uint32_t e3 = (uint32_t)((vm * h_mag(h[7]) + ((uint64_t)1 << 53)) >> 32) + 1u;
+    const uint64_t b = (uint64_t)e0 * e0 + (uint64_t)e1 * e1 + (uint64_t)e2 * e2 +
+                       (uint64_t)e3 * e3;
     /* t2 b in Q42 is t2.m b 2^t2.e, bounded above in integers: b's top
      * 32 bits rounded up (bu 2^sb >= b), their product with the 31-bit
      * mantissa below 2^63, shifted by t2.e + sb (rounded up). */
@@ -672,8 +679,9 @@ static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
         return UINT32_MAX;
     }
     /* T < 2^28 and wb < 2^57: twb < 2^27. */
-    const uint64_t twb = (((uint64_t)T * (uint64_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
-    const uint64_t X = c2s + twb * twb;
+    const uint32_t twb =
+        (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
+    const uint64_t X = c2s + (uint64_t)twb * twb;
     const int k = (spvs_q_bitlen64(X) + 1) / 2;
     const uint64_t r = (((uint64_t)1 << k) + (X >> k) + 2u) >> 1;
     return r >= ((uint64_t)1 << 31) ? UINT32_MAX : (uint32_t)r + Q_FAST_D;
@@ -688,23 +696,21 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     md.nh1 = -h[1];
     md.nh2c = -((int64_t)h[2] * one26);
     md.h8c = (int64_t)h[8] * one26;
-    int64_t a[9];
-    h_abs(h, a);
-    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
-    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    const uint64_t X = (uint32_t)st->tgt_max[0], Y = (uint32_t)st->tgt_max[1];
+    const uint64_t U = (uint32_t)st->cur_max[0], V = (uint32_t)st->cur_max[1];
     /* Exact Q53 bounds (each < 2^62 + 2^57, as q_eps). */
-    const int64_t wb = a[6] * X + a[7] * Y + a[8] * one26;
-    const int64_t gb = a[0] * X + a[1] * Y + a[2] * one26;
-    const int64_t yb = Y * ((int64_t)1 << 27);
+    const int64_t wb = (int64_t)(h_mag(h[6]) * X + h_mag(h[7]) * Y + (h_mag(h[8]) << 26));
+    const int64_t gb = (int64_t)(h_mag(h[0]) * X + h_mag(h[1]) * Y + (h_mag(h[2]) << 26));
+    const int64_t yb = (int64_t)(Y << 27);
     const int64_t lim57 = (int64_t)1 << 57;
     if (wb >= lim57) {
         return md;
     }
     /* |u w27| <= U (wb 2^-26 + 1) < 2^30 2^31 = 2^61, and gb, yb < 2^62 +
      * 2^57: |ex|, |ey| < 2^62 is tested in pieces that cannot overflow. */
-    const int64_t w27b = (wb >> 26) + 1;
+    const uint64_t w27b = (uint32_t)(wb >> 26) + 1u;
     const int64_t lim62 = (int64_t)1 << 62;
-    if (gb >= lim62 || U * w27b >= lim62 - gb || V * w27b >= lim62 - yb) {
+    if (gb >= lim62 || (int64_t)(U * w27b) >= lim62 - gb || (int64_t)(V * w27b) >= lim62 - yb) {
         return md;
     }
     if (!thr->fast) {
