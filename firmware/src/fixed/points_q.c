@@ -801,9 +801,13 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_
     const uint32_t ee = (uint32_t)(e0 * e0) + (uint32_t)(e1 * e1);
     const uint32_t q01 = (uint32_t)(p0 * p0) + (uint32_t)(p1 * p1);
     const uint32_t q23 = (uint32_t)(p2 * p2) + (uint32_t)(p3 * p3);
-    const uint64_t num = (uint64_t)ww * ee + (uint64_t)((int64_t)a0 * a0) +
-                         (uint64_t)((int64_t)a1 * a1);
-    const uint64_t den = (uint64_t)ww * ww + (uint64_t)ww * q01 + (uint64_t)ww * q23 +
+    /* Each sum a chain of 32 x 32 -> 64-bit multiply-accumulates: the
+     * opaque copies keep GCC from factoring ww out into a 64-bit sum. */
+    const uint32_t ww0 = (uint32_t)spvs_q_opaque32((int32_t)ww);
+    const uint32_t ww1 = (uint32_t)spvs_q_opaque32((int32_t)ww);
+    const uint32_t ww2 = (uint32_t)spvs_q_opaque32((int32_t)ww);
+    const uint64_t num = (uint64_t)((int64_t)a0 * a0 + (int64_t)a1 * a1) + (uint64_t)ww0 * ee;
+    const uint64_t den = (uint64_t)ww * ww + (uint64_t)ww1 * q01 + (uint64_t)ww2 * q23 +
                          (uint64_t)((int64_t)dt * dt);
     /* 2 E* = 2 (30 (mo + 1) + 32 + 2048); Gh and Hh rounded up (each
      * halving's floor loses under 1/2). */
