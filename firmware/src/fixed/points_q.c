@@ -175,22 +175,25 @@ static SPVS_Q_INLINE uint32_t load_d(uint32_t b)
 
 /* load_coord_mag's fixed-position rounding of a float32 with bits b whose
  * load_d is in 0..15 (its shift 7 - s is 7 - LOAD_S_MAX + 15 - d), with
- * b's sign, into *r; the magnitude is returned. */
+ * b's sign, into *r.  Returned: the magnitude doubled, before its halving
+ * (2 a or 2 a + 1), which orders the magnitudes as they are. */
 static SPVS_Q_INLINE uint32_t load_fast(uint32_t b, int32_t *r)
 {
     const uint32_t m8 = (b << 8) | 0x80000000u;
-    const uint32_t a = ((m8 >> ((uint32_t)(22 - LOAD_S_MAX) - load_d(b))) + 1u) >> 1;
+    const uint32_t a2 = (m8 >> ((uint32_t)(22 - LOAD_S_MAX) - load_d(b))) + 1u;
     const int32_t sg = (int32_t)b >> 31;
-    *r = ((int32_t)a ^ sg) - sg;
-    return a;
+    *r = ((int32_t)(a2 >> 1) ^ sg) - sg;
+    return a2;
 }
 #endif
 
-/* |q| as unsigned: INT32_MIN (a clamped value) is 2^31, above any bound. */
-static SPVS_Q_INLINE uint32_t load_umag(int32_t q)
+/* 2 |q| for load_fast's maxima, |q| taken at most to COORD_LIM + 1 (the
+ * store's bound is COORD_LIM beyond that): below 2^32. */
+static SPVS_Q_INLINE uint32_t load_umag2(int32_t q)
 {
     const uint32_t sg = (uint32_t)(q >> 31);
-    return ((uint32_t)q ^ sg) - sg;
+    const uint32_t a = ((uint32_t)q ^ sg) - sg;
+    return 2u * (a > (uint32_t)COORD_LIM ? (uint32_t)COORD_LIM + 1u : a);
 }
 
 /* One match outside the fast path (a magnitude beyond its binades, NaN,
@@ -206,8 +209,8 @@ static SPVS_Q_NOINLINE void load_match_slow(int32_t *r, const spvs_match_t *mi, 
     *bad |= mi->feature >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
 }
 
-/* The frame's largest magnitudes while it loads, unsigned: a clamped
- * INT32_MIN counts as 2^31, which the store's bound takes to COORD_LIM. */
+/* The frame's largest magnitudes while it loads, doubled (load_fast,
+ * load_umag2). */
 typedef struct {
     uint32_t xm, ym, um, vm;
 } load_max_t;
@@ -238,15 +241,22 @@ static SPVS_Q_INLINE void load_match(spvs_q_store_t *st, uint16_t *feat, uint16_
 #endif
     {
         load_match_slow(r, mi, bad);
-        ax = load_umag(r[0]);
-        ay = load_umag(r[1]);
-        au = load_umag(r[2]);
-        av = load_umag(r[3]);
+        ax = load_umag2(r[0]);
+        ay = load_umag2(r[1]);
+        au = load_umag2(r[2]);
+        av = load_umag2(r[3]);
     }
     mx->xm = ax > mx->xm ? ax : mx->xm;
     mx->ym = ay > mx->ym ? ay : mx->ym;
     mx->um = au > mx->um ? au : mx->um;
     mx->vm = av > mx->vm ? av : mx->vm;
+}
+
+/* The store's bound from a doubled maximum: at most COORD_LIM. */
+static int32_t load_bound(uint32_t m2)
+{
+    const uint32_t a = m2 >> 1;
+    return a > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)a;
 }
 
 uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t *m, uint16_t n,
@@ -273,10 +283,10 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     }
     /* On a bad frame the clamped values are not in range: keep the bound
      * meaningful anyway. */
-    st->cur_max[0] = mx.um > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.um;
-    st->cur_max[1] = mx.vm > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.vm;
-    st->tgt_max[0] = mx.xm > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.xm;
-    st->tgt_max[1] = mx.ym > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)mx.ym;
+    st->cur_max[0] = load_bound(mx.um);
+    st->cur_max[1] = load_bound(mx.vm);
+    st->tgt_max[0] = load_bound(mx.xm);
+    st->tgt_max[1] = load_bound(mx.ym);
     return bad;
 }
 
