@@ -265,13 +265,17 @@ uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t 
     uint32_t bad = 0;
     load_max_t mx = {0u, 0u, 0u, 0u};
     if (order == 0) {
-        /* spvs_slot_source without order[]: the position alone. */
-        uint32_t pos = 0;
+        /* spvs_slot_source without order[]: the position alone, kept as
+         * a byte offset into m[] (no multiply per match). */
+        const unsigned char *const mb = (const unsigned char *)m;
+        const uint32_t step = (uint32_t)stride * (uint32_t)sizeof *m;
+        const uint32_t span = (uint32_t)n_plane * (uint32_t)sizeof *m;
+        uint32_t off = 0;
         /* Bound: n slots. */
         for (uint16_t k = 0; k < n; k++) {
-            load_match(st, feat, k, &m[pos], &mx, &bad);
-            pos += stride;
-            pos = pos >= n_plane ? pos - n_plane : pos;
+            load_match(st, feat, k, (const spvs_match_t *)(const void *)(mb + off), &mx, &bad);
+            off += step;
+            off = off >= span ? off - span : off;
         }
     } else {
         uint16_t pos = 0;
