@@ -983,6 +983,9 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     const int32_t h6 = h[6], h7 = h[7], nh0 = md->nh0, nh1 = md->nh1, T = md->T;
     const int64_t h8c = md->h8c, nh2c = md->nh2c;
     const uint64_t c2s = md->c2s;
+    /* The model for the band's calls, read from memory there, so that no
+     * register holds it through the loop. */
+    q_model_t *volatile mdv = md;
     /* |e| <= far as one unsigned comparison, (uint32_t)e + fo <= 2 fo (e
      * in -fo..fo): model_prep keeps |ex|, |ey| below 2^62 in Q53, so
      * |exh|, |eyh| < 2^30 and a far of 2^30 or more bounds nothing (fo =
@@ -1045,7 +1048,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
                         const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
                         const uint32_t to = tw + Q_FAST_D;
                         if (E13 <= c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
-                            ok = q_band_or_exact(h, p, md, t2);
+                            ok = q_band_or_exact(h, p, mdv, t2);
                         }
                     }
                 }
