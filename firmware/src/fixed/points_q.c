@@ -233,10 +233,10 @@ static SPVS_Q_INLINE void load_match(spvs_q_store_t *st, uint16_t *feat, uint16_
     /* The exponents' test first (each exponent made again below: fewer
      * values live at once). */
     if ((load_d(bx) | load_d(by) | load_d(bu) | load_d(bv) | load_feat_over(f)) < 16u) {
-        ax = load_fast(bx, &r[0]);
-        ay = load_fast(by, &r[1]);
-        au = load_fast(bu, &r[2]);
-        av = load_fast(bv, &r[3]);
+        ax = load_fast((uint32_t)spvs_q_opaque32((int32_t)bx), &r[0]);
+        ay = load_fast((uint32_t)spvs_q_opaque32((int32_t)by), &r[1]);
+        au = load_fast((uint32_t)spvs_q_opaque32((int32_t)bu), &r[2]);
+        av = load_fast((uint32_t)spvs_q_opaque32((int32_t)bv), &r[3]);
     } else
 #endif
     {
