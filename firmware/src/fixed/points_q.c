@@ -637,23 +637,21 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
     const spvs_q_store_t *st = md->st;
     const int64_t wb = md->wb;
     md->sfast = 0;
-    const int64_t one26 = (int64_t)1 << 26;
     const int64_t T = md->T;
-    int64_t a[9];
-    h_abs(h, a);
-    const int64_t um = st->cur_max[0], vm = st->cur_max[1];
-    const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
-                          vm * a[7] + ((int64_t)1 << 53)};
+    const uint64_t um = (uint32_t)st->cur_max[0], vm = (uint32_t)st->cur_max[1];
+    const uint64_t e[4] = {um * h_mag(h[6]) + (h_mag(h[0]) << 26),
+                           um * h_mag(h[7]) + (h_mag(h[1]) << 26), vm * h_mag(h[6]),
+                           vm * h_mag(h[7]) + ((uint64_t)1 << 53)};
     /* t w and t |P_k| over the frame in Q21: T (< 2^28) times a Q27 bound
      * (< 2^31), each below 2^27; their squares sum below 2^57. */
-    const int64_t tw = (T * (wb >> 26)) >> 32;
-    uint64_t m2 = (uint64_t)(tw * tw);
+    const uint32_t tw = (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(wb >> 26)) >> 32);
+    uint64_t m2 = (uint64_t)tw * tw;
     for (int k = 0; k < 4; k++) {
-        if (e[k] >= ((int64_t)1 << 57)) {
+        if (e[k] >= ((uint64_t)1 << 57)) {
             return;
         }
-        const int64_t tp = (T * (e[k] >> 26)) >> 32;
-        m2 += (uint64_t)(tp * tp);
+        const uint32_t tp = (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(e[k] >> 26)) >> 32);
+        m2 += (uint64_t)tp * tp;
     }
     const int64_t a6 = spvs_q_rshift_rnd64(T * h[6], 26);
     const int64_t a7 = spvs_q_rshift_rnd64(T * h[7], 26);
@@ -661,12 +659,10 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
     if (a6 >= lim31 || a6 < -lim31 || a7 >= lim31 || a7 < -lim31) {
         return;
     }
-    int sh = 0;
-    /* Bound: m2 < 2^57, so at most 14 steps. */
-    while ((m2 >> (2 * sh)) >= ((uint64_t)1 << 30)) {
-        sh++;
-    }
-    md->sh = sh;
+    /* The least sh with m2 2^(-2 sh) < 2^30: m2's bit length at most
+     * 30 + 2 sh. */
+    const int bl = spvs_q_bitlen64(m2);
+    md->sh = bl > 30 ? (bl - 29) / 2 : 0;
     md->a6 = (int32_t)a6;
     md->a7 = (int32_t)a7;
     md->c0 = T * h[0];
