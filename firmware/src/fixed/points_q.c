@@ -230,8 +230,9 @@ static SPVS_Q_INLINE void load_match(spvs_q_store_t *st, uint16_t *feat, uint16_
     memcpy(&by, &mi->y_tgt, sizeof by);
     memcpy(&bu, &mi->x_cur, sizeof bu);
     memcpy(&bv, &mi->y_cur, sizeof bv);
-    /* The exponents' test first (each exponent made again below: fewer
-     * values live at once). */
+    /* The exponents' test first; the conversions take opaque copies of
+     * the bits, so that each exponent is made again there rather than
+     * kept (fewer values live at once). */
     if ((load_d(bx) | load_d(by) | load_d(bu) | load_d(bv) | load_feat_over(f)) < 16u) {
         ax = load_fast((uint32_t)spvs_q_opaque32((int32_t)bx), &r[0]);
         ay = load_fast((uint32_t)spvs_q_opaque32((int32_t)by), &r[1]);
@@ -989,7 +990,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     const uint32_t fo = md->far < 0x40000000u ? md->far : 0x40000000u;
     /* bails() with its factors made once: need, n and m at most
      * SPVS_MAX_MATCHES <= 4096 (spvs_config.h), so D = need m - inl n is
-     * within +-2^24 in int32 and the right side's factor below 2^28. */
+     * within +-2^24 in int32 and the right side's factor kb below 2^27. */
     const int32_t nb = (int32_t)need_b, ni = (int32_t)n;
     const uint32_t kb = (uint32_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * (uint32_t)nb *
                         (uint32_t)(ni - nb);
@@ -1015,7 +1016,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
              * (which takes w27 = 0 as well), where w <= 0 the point is out
              * as in the exact test (the high words stay in range for
              * either sign, model_prep).  A point within far with w27 <= 0
-             * (w below 2^-26, or behind the camera) goes to the exact
+             * (w below 2^-27, or behind the camera) goes to the exact
              * test, which decides w <= 0 as well. */
             const int32_t w27 = (int32_t)(w >> 26);
             const int32_t eyh = spvs_q_opaque32(
