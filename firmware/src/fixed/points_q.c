@@ -781,11 +781,14 @@ static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *p, const q_model_t *md, int64_t 
  * the loop over the points keeps none of its values alive. */
 static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_model_t *md)
 {
-    if (md->sfast < 0) {
-        sampson_prep(md, h);
-    }
-    if (!md->sfast) {
-        return Q_EXACT;
+    /* Made at the model's first band point; one test once it is on. */
+    if (md->sfast <= 0) {
+        if (md->sfast < 0) {
+            sampson_prep(md, h);
+        }
+        if (!md->sfast) {
+            return Q_EXACT;
+        }
     }
     const q_hw_t r = q_hw(p, md, q_w(h, p, md));
     const int sh = md->sh;
