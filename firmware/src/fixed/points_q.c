@@ -945,19 +945,6 @@ static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h,
     return ok_all;
 }
 
-/* The points of the band and the rest of a point's decision, out of the
- * loop below: q_band_sampson, then the exact test. */
-static SPVS_Q_NOINLINE int q_band_or_exact(const int32_t *h, const int32_t *p, q_model_t *md,
-                                           const spvs_qf_t *t2)
-{
-    const int b = q_band_sampson(h, p, md);
-    if (b >= 0) {
-        return b;
-    }
-    spvs_qf_t e;
-    return q_inlier_exact(h, p, *t2, &e);
-}
-
 /* score_range with the model's fast test, or without it (every point to
  * the exact test), chosen once per call. */
 static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
@@ -1048,7 +1035,11 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
                         const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
                         const uint32_t to = tw + Q_FAST_D;
                         if (E13 <= c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
-                            ok = q_band_or_exact(h, p, mdv, t2);
+                            ok = q_band_sampson(h, p, mdv);
+                            if (ok < 0) {
+                                spvs_qf_t e;
+                                ok = q_inlier_exact(h, p, *t2, &e);
+                            }
                         }
                     }
                 }
