@@ -1068,13 +1068,17 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
     /* need > n: the float test's p = 1 (points.c), as need = n here. */
     const int64_t need_b = need <= n ? (int64_t)need : (int64_t)n;
+    q_model_t md = model_prep(st, Hq, thr);
+    if (md.fast && mask) {
+        /* It takes the model's constants into locals itself. */
+        return score_fast_mask(st, Hq, n, &md, &thr->t2, need_b, max_out, mask);
+    }
+    /* H in a local copy for the loops below: the mask's byte stores may
+     * alias any object, so values read through Hq would be read again
+     * after each. */
     int32_t h[9];
     for (int k = 0; k < 9; k++) {
         h[k] = Hq[k];
-    }
-    q_model_t md = model_prep(st, h, thr);
-    if (md.fast && mask) {
-        return score_fast_mask(st, h, n, &md, &thr->t2, need_b, max_out, mask);
     }
     int32_t inl = 0;
     size_t i = 0;
