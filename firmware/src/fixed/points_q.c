@@ -140,46 +140,158 @@ static SPVS_Q_INLINE int32_t load_coord_mag(spvs_real c, int px_frac, int32_t li
     return q;
 }
 
+/* The loader's constants for SPVS_COORD_SCALE and SPVS_MAX_COORD_PX: the
+ * pixels' fraction bits px_frac (pixels in Q(px_frac) are scaled units in
+ * Q26), the limit lim (SPVS_MAX_COORD_PX in Q(px_frac), <= 2^30) and the
+ * largest s of load_coord_mag's fixed-position rounding whose magnitudes
+ * (at most 2^(24 + s)) stay below lim: 2^(24 + s) <= 2^(floor(log2 lim) -
+ * 1), at most 7 (the shift 7 - s). */
+#define LOAD_PX_FRAC (SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE)))
+#define LOAD_LIM ((int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE))
+#define LOAD_S_LG (31 - spvs_q_clz32((uint32_t)LOAD_LIM) - 25)
+#define LOAD_S_MAX (LOAD_S_LG > 7 ? 7 : LOAD_S_LG)
+
+#if !SPVS_USE_DOUBLE
+/* The match's fast path takes the 16 binades s = LOAD_S_MAX - 15 ..
+ * LOAD_S_MAX of load_coord_mag's (at the default scale, magnitudes from
+ * 1/16 px to below 4,096 px): a power of two, so that one OR of the four
+ * biased exponents tests them all.  d = exponent - LOAD_E_LO, unsigned,
+ * is below 16 exactly there (0 and 255 as exponents are far outside). */
+#define LOAD_E_LO ((uint32_t)(LOAD_S_MAX - 15 + 150 - LOAD_PX_FRAC))
+
+/* A feature index's part of that OR: below 16 exactly when the index is
+ * below SPVS_MAX_FEATURES (a shift where that is a multiple of 16). */
+static SPVS_Q_INLINE uint32_t load_feat_over(uint32_t f)
+{
+    return SPVS_MAX_FEATURES % 16 == 0 ? f / (uint32_t)(SPVS_MAX_FEATURES / 16)
+                                       : (f >= (uint32_t)SPVS_MAX_FEATURES ? 16u : 0u);
+}
+
+/* The biased exponent of a float32 with bits b, less LOAD_E_LO. */
+static SPVS_Q_INLINE uint32_t load_d(uint32_t b)
+{
+    return ((b >> 23) & 0xffu) - LOAD_E_LO;
+}
+
+/* load_coord_mag's fixed-position rounding of a float32 with bits b whose
+ * load_d is in 0..15 (its shift 7 - s is 7 - LOAD_S_MAX + 15 - d), with
+ * b's sign, into *r.  Returned: the magnitude doubled, before its halving
+ * (2 a or 2 a + 1), which orders the magnitudes as they are. */
+static SPVS_Q_INLINE uint32_t load_fast(uint32_t b, int32_t *r)
+{
+    const uint32_t m8 = (b << 8) | 0x80000000u;
+    const uint32_t a2 = (m8 >> ((uint32_t)(22 - LOAD_S_MAX) - load_d(b))) + 1u;
+    const int32_t sg = (int32_t)b >> 31;
+    *r = ((int32_t)(a2 >> 1) ^ sg) - sg;
+    return a2;
+}
+#endif
+
+/* 2 |q| for load_fast's maxima, |q| taken at most to COORD_LIM + 1 (the
+ * store's bound is COORD_LIM beyond that): below 2^32. */
+static SPVS_Q_INLINE uint32_t load_umag2(int32_t q)
+{
+    const uint32_t sg = (uint32_t)(q >> 31);
+    const uint32_t a = ((uint32_t)q ^ sg) - sg;
+    return 2u * (a > (uint32_t)COORD_LIM ? (uint32_t)COORD_LIM + 1u : a);
+}
+
+/* One match outside the fast path (a magnitude beyond its binades, NaN,
+ * infinity, a subnormal or 0, or a feature index out of range): its four
+ * coordinates by load_coord_mag into r[0..3], its flags into *bad. */
+static SPVS_Q_NOINLINE void load_match_slow(int32_t *r, const spvs_match_t *mi, uint32_t *bad)
+{
+    int32_t a;
+    r[0] = load_coord_mag(mi->x_tgt, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    r[1] = load_coord_mag(mi->y_tgt, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    r[2] = load_coord_mag(mi->x_cur, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    r[3] = load_coord_mag(mi->y_cur, LOAD_PX_FRAC, LOAD_LIM, LOAD_S_MAX, bad, &a);
+    *bad |= mi->feature >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
+}
+
+/* The frame's largest magnitudes while it loads, doubled (load_fast,
+ * load_umag2). */
+typedef struct {
+    uint32_t xm, ym, um, vm;
+} load_max_t;
+
+/* Match mi into slot k: its feature index and its four coordinates, the
+ * maxima updated; a match outside the fast path ORs its flags into *bad. */
+static SPVS_Q_INLINE void load_match(spvs_q_store_t *st, uint16_t *feat, uint16_t k,
+                                     const spvs_match_t *mi, load_max_t *mx, uint32_t *bad)
+{
+    const uint16_t f = mi->feature;
+    feat[k] = f;
+    int32_t *const r = &st->v[4u * k];
+    uint32_t ax, ay, au, av;
+#if !SPVS_USE_DOUBLE
+    uint32_t bx, by, bu, bv;
+    memcpy(&bx, &mi->x_tgt, sizeof bx);
+    memcpy(&by, &mi->y_tgt, sizeof by);
+    memcpy(&bu, &mi->x_cur, sizeof bu);
+    memcpy(&bv, &mi->y_cur, sizeof bv);
+    /* The exponents' test first; the conversions take opaque copies of
+     * the bits, so that each exponent is made again there rather than
+     * kept (fewer values live at once). */
+    if ((load_d(bx) | load_d(by) | load_d(bu) | load_d(bv) | load_feat_over(f)) < 16u) {
+        ax = load_fast((uint32_t)spvs_q_opaque32((int32_t)bx), &r[0]);
+        ay = load_fast((uint32_t)spvs_q_opaque32((int32_t)by), &r[1]);
+        au = load_fast((uint32_t)spvs_q_opaque32((int32_t)bu), &r[2]);
+        av = load_fast((uint32_t)spvs_q_opaque32((int32_t)bv), &r[3]);
+    } else
+#endif
+    {
+        load_match_slow(r, mi, bad);
+        ax = load_umag2(r[0]);
+        ay = load_umag2(r[1]);
+        au = load_umag2(r[2]);
+        av = load_umag2(r[3]);
+    }
+    mx->xm = ax > mx->xm ? ax : mx->xm;
+    mx->ym = ay > mx->ym ? ay : mx->ym;
+    mx->um = au > mx->um ? au : mx->um;
+    mx->vm = av > mx->vm ? av : mx->vm;
+}
+
+/* The store's bound from a doubled maximum: at most COORD_LIM. */
+static int32_t load_bound(uint32_t m2)
+{
+    const uint32_t a = m2 >> 1;
+    return a > (uint32_t)COORD_LIM ? COORD_LIM : (int32_t)a;
+}
+
 uint32_t spvs_q_pts_load(spvs_q_store_t *st, uint16_t *feat, const spvs_match_t *m, uint16_t n,
                          uint16_t n_plane, const uint16_t *order, uint16_t stride)
 {
-    const int px_frac = SPVS_QC - (31 - spvs_q_clz32((uint32_t)SPVS_COORD_SCALE));
-    /* SPVS_MAX_COORD_PX in pixels Q(px_frac) = in scaled Q26, <= 2^30. */
-    const int32_t lim = (int32_t)(((int64_t)SPVS_MAX_COORD_PX << SPVS_QC) / SPVS_COORD_SCALE);
-    /* The largest s of load_coord_mag's fixed-position rounding whose
-     * magnitudes (at most 2^(24 + s)) stay below lim: 2^(24 + s) <=
-     * 2^(floor(log2 lim) - 1); at most 7 (the shift 7 - s). */
-    const int s_lg = 31 - spvs_q_clz32((uint32_t)lim) - 25;
-    const int s_max = s_lg > 7 ? 7 : s_lg;
-    uint16_t pos = 0;
     uint32_t bad = 0;
-    int32_t um = 0, vm = 0, xm = 0, ym = 0;
-    /* The largest feature index, tested once after the loop. */
-    uint32_t fm = 0;
-    /* Bound: n slots. */
-    for (uint16_t k = 0; k < n; k++) {
-        const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
-        const uint16_t f = m[i].feature;
-        fm = f > fm ? f : fm;
-        feat[k] = f;
-        int32_t *const r = &st->v[4u * k];
-        int32_t ax, ay, au, av;
-        r[0] = load_coord_mag(m[i].x_tgt, px_frac, lim, s_max, &bad, &ax);
-        r[1] = load_coord_mag(m[i].y_tgt, px_frac, lim, s_max, &bad, &ay);
-        r[2] = load_coord_mag(m[i].x_cur, px_frac, lim, s_max, &bad, &au);
-        r[3] = load_coord_mag(m[i].y_cur, px_frac, lim, s_max, &bad, &av);
-        xm = ax > xm ? ax : xm;
-        ym = ay > ym ? ay : ym;
-        um = au > um ? au : um;
-        vm = av > vm ? av : vm;
+    load_max_t mx = {0u, 0u, 0u, 0u};
+    if (order == 0) {
+        /* spvs_slot_source without order[]: the position alone, kept as
+         * a byte offset into m[] (no multiply per match). */
+        const unsigned char *const mb = (const unsigned char *)m;
+        const uint32_t step = (uint32_t)stride * (uint32_t)sizeof *m;
+        const uint32_t span = (uint32_t)n_plane * (uint32_t)sizeof *m;
+        uint32_t off = 0;
+        /* Bound: n slots. */
+        for (uint16_t k = 0; k < n; k++) {
+            load_match(st, feat, k, (const spvs_match_t *)(const void *)(mb + off), &mx, &bad);
+            off += step;
+            off = off >= span ? off - span : off;
+        }
+    } else {
+        uint16_t pos = 0;
+        /* Bound: n slots. */
+        for (uint16_t k = 0; k < n; k++) {
+            load_match(st, feat, k, &m[spvs_slot_source(k, n_plane, order, stride, &pos)], &mx,
+                       &bad);
+        }
     }
-    bad |= fm >= SPVS_MAX_FEATURES ? SPVS_Q_SAT : 0u;
     /* On a bad frame the clamped values are not in range: keep the bound
      * meaningful anyway. */
-    st->cur_max[0] = um > COORD_LIM ? COORD_LIM : um;
-    st->cur_max[1] = vm > COORD_LIM ? COORD_LIM : vm;
-    st->tgt_max[0] = xm > COORD_LIM ? COORD_LIM : xm;
-    st->tgt_max[1] = ym > COORD_LIM ? COORD_LIM : ym;
+    st->cur_max[0] = load_bound(mx.um);
+    st->cur_max[1] = load_bound(mx.vm);
+    st->tgt_max[0] = load_bound(mx.xm);
+    st->tgt_max[1] = load_bound(mx.ym);
     return bad;
 }
 
@@ -291,6 +403,15 @@ static SPVS_Q_INLINE void h_abs(const int32_t *h, int64_t a[9])
     a[8] = h_abs1(h[8]);
 }
 
+/* |x| as uint32 (at most 2^31): its products with the frame's bounds
+ * (below 2^31) are one 32 x 32 -> 64-bit multiply each. */
+static SPVS_Q_INLINE uint64_t h_mag(int32_t x)
+{
+    const uint32_t u = (uint32_t)x;
+    /* Opaque: GCC otherwise widens the negation to 64 bits. */
+    return (uint32_t)spvs_q_opaque32((int32_t)(x < 0 ? 0u - u : u));
+}
+
 /* The exact test of one point (the slow path): residuals exact
  * (q_eps), the Sampson error in spvs_qf_t.  1 for an inlier; *e2 =
  * |eps|^2, scaled units^2. */
@@ -332,17 +453,15 @@ static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs
  * band test: E never exceeds it). */
 static int64_t band_c2(const spvs_q_store_t *st, const int32_t *h, spvs_qf_t t2)
 {
-    const int64_t one26 = (int64_t)1 << 26;
-    const int64_t um = st->cur_max[0], vm = st->cur_max[1];
-    int64_t a[9];
-    h_abs(h, a);
-    /* Each entry's high word rounded up, squared (written out: no
-     * array). */
-    const uint64_t e0 = ((uint64_t)(um * a[6] + a[0] * one26) >> 32) + 1u;
-    const uint64_t e1 = ((uint64_t)(um * a[7] + a[1] * one26) >> 32) + 1u;
-    const uint64_t e2 = ((uint64_t)(vm * a[6]) >> 32) + 1u;
-    const uint64_t e3 = ((uint64_t)(vm * a[7] + ((int64_t)1 << 53)) >> 32) + 1u;
-    const uint64_t b = e0 * e0 + e1 * e1 + e2 * e2 + e3 * e3;
+    const uint64_t um = (uint32_t)st->cur_max[0], vm = (uint32_t)st->cur_max[1];
+    /* Each entry's high word rounded up (<= 2^30), squared (written out:
+     * no array). */
+    const uint32_t e0 = (uint32_t)((um * h_mag(h[6]) + (h_mag(h[0]) << 26)) >> 32) + 1u;
+    const uint32_t e1 = (uint32_t)((um * h_mag(h[7]) + (h_mag(h[1]) << 26)) >> 32) + 1u;
+    const uint32_t e2 = (uint32_t)((vm * h_mag(h[6])) >> 32) + 1u;
+    const uint32_t e3 = (uint32_t)((vm * h_mag(h[7]) + ((uint64_t)1 << 53)) >> 32) + 1u;
+    const uint64_t b = (uint64_t)e0 * e0 + (uint64_t)e1 * e1 + (uint64_t)e2 * e2 +
+                       (uint64_t)e3 * e3;
     /* t2 b in Q42 is t2.m b 2^t2.e, bounded above in integers: b's top
      * 32 bits rounded up (bu 2^sb >= b), their product with the 31-bit
      * mantissa below 2^63, shifted by t2.e + sb (rounded up). */
@@ -519,23 +638,21 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
     const spvs_q_store_t *st = md->st;
     const int64_t wb = md->wb;
     md->sfast = 0;
-    const int64_t one26 = (int64_t)1 << 26;
     const int64_t T = md->T;
-    int64_t a[9];
-    h_abs(h, a);
-    const int64_t um = st->cur_max[0], vm = st->cur_max[1];
-    const int64_t e[4] = {um * a[6] + a[0] * one26, um * a[7] + a[1] * one26, vm * a[6],
-                          vm * a[7] + ((int64_t)1 << 53)};
+    const uint64_t um = (uint32_t)st->cur_max[0], vm = (uint32_t)st->cur_max[1];
+    const uint64_t e[4] = {um * h_mag(h[6]) + (h_mag(h[0]) << 26),
+                           um * h_mag(h[7]) + (h_mag(h[1]) << 26), vm * h_mag(h[6]),
+                           vm * h_mag(h[7]) + ((uint64_t)1 << 53)};
     /* t w and t |P_k| over the frame in Q21: T (< 2^28) times a Q27 bound
      * (< 2^31), each below 2^27; their squares sum below 2^57. */
-    const int64_t tw = (T * (wb >> 26)) >> 32;
-    uint64_t m2 = (uint64_t)(tw * tw);
+    const uint32_t tw = (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(wb >> 26)) >> 32);
+    uint64_t m2 = (uint64_t)tw * tw;
     for (int k = 0; k < 4; k++) {
-        if (e[k] >= ((int64_t)1 << 57)) {
+        if (e[k] >= ((uint64_t)1 << 57)) {
             return;
         }
-        const int64_t tp = (T * (e[k] >> 26)) >> 32;
-        m2 += (uint64_t)(tp * tp);
+        const uint32_t tp = (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(e[k] >> 26)) >> 32);
+        m2 += (uint64_t)tp * tp;
     }
     const int64_t a6 = spvs_q_rshift_rnd64(T * h[6], 26);
     const int64_t a7 = spvs_q_rshift_rnd64(T * h[7], 26);
@@ -543,12 +660,10 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
     if (a6 >= lim31 || a6 < -lim31 || a7 >= lim31 || a7 < -lim31) {
         return;
     }
-    int sh = 0;
-    /* Bound: m2 < 2^57, so at most 14 steps. */
-    while ((m2 >> (2 * sh)) >= ((uint64_t)1 << 30)) {
-        sh++;
-    }
-    md->sh = sh;
+    /* The least sh with m2 2^(-2 sh) < 2^30: m2's bit length at most
+     * 30 + 2 sh. */
+    const int bl = spvs_q_bitlen64(m2);
+    md->sh = bl > 30 ? (bl - 29) / 2 : 0;
     md->a6 = (int32_t)a6;
     md->a7 = (int32_t)a7;
     md->c0 = T * h[0];
@@ -575,8 +690,9 @@ static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
         return UINT32_MAX;
     }
     /* T < 2^28 and wb < 2^57: twb < 2^27. */
-    const uint64_t twb = (((uint64_t)T * (uint64_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
-    const uint64_t X = c2s + twb * twb;
+    const uint32_t twb =
+        (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
+    const uint64_t X = c2s + (uint64_t)twb * twb;
     const int k = (spvs_q_bitlen64(X) + 1) / 2;
     const uint64_t r = (((uint64_t)1 << k) + (X >> k) + 2u) >> 1;
     return r >= ((uint64_t)1 << 31) ? UINT32_MAX : (uint32_t)r + Q_FAST_D;
@@ -591,23 +707,21 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     md.nh1 = -h[1];
     md.nh2c = -((int64_t)h[2] * one26);
     md.h8c = (int64_t)h[8] * one26;
-    int64_t a[9];
-    h_abs(h, a);
-    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
-    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    const uint64_t X = (uint32_t)st->tgt_max[0], Y = (uint32_t)st->tgt_max[1];
+    const uint64_t U = (uint32_t)st->cur_max[0], V = (uint32_t)st->cur_max[1];
     /* Exact Q53 bounds (each < 2^62 + 2^57, as q_eps). */
-    const int64_t wb = a[6] * X + a[7] * Y + a[8] * one26;
-    const int64_t gb = a[0] * X + a[1] * Y + a[2] * one26;
-    const int64_t yb = Y * ((int64_t)1 << 27);
+    const int64_t wb = (int64_t)(h_mag(h[6]) * X + h_mag(h[7]) * Y + (h_mag(h[8]) << 26));
+    const int64_t gb = (int64_t)(h_mag(h[0]) * X + h_mag(h[1]) * Y + (h_mag(h[2]) << 26));
+    const int64_t yb = (int64_t)(Y << 27);
     const int64_t lim57 = (int64_t)1 << 57;
     if (wb >= lim57) {
         return md;
     }
     /* |u w27| <= U (wb 2^-26 + 1) < 2^30 2^31 = 2^61, and gb, yb < 2^62 +
      * 2^57: |ex|, |ey| < 2^62 is tested in pieces that cannot overflow. */
-    const int64_t w27b = (wb >> 26) + 1;
+    const uint64_t w27b = (uint32_t)(wb >> 26) + 1u;
     const int64_t lim62 = (int64_t)1 << 62;
-    if (gb >= lim62 || U * w27b >= lim62 - gb || V * w27b >= lim62 - yb) {
+    if (gb >= lim62 || (int64_t)(U * w27b) >= lim62 - gb || (int64_t)(V * w27b) >= lim62 - yb) {
         return md;
     }
     if (!thr->fast) {
@@ -667,11 +781,14 @@ static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *p, const q_model_t *md, int64_t 
  * the loop over the points keeps none of its values alive. */
 static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_model_t *md)
 {
-    if (md->sfast < 0) {
-        sampson_prep(md, h);
-    }
-    if (!md->sfast) {
-        return Q_EXACT;
+    /* Made at the model's first band point; one test once it is on. */
+    if (md->sfast <= 0) {
+        if (md->sfast < 0) {
+            sampson_prep(md, h);
+        }
+        if (!md->sfast) {
+            return Q_EXACT;
+        }
     }
     const q_hw_t r = q_hw(p, md, q_w(h, p, md));
     const int sh = md->sh;
@@ -698,9 +815,13 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_
     const uint32_t ee = (uint32_t)(e0 * e0) + (uint32_t)(e1 * e1);
     const uint32_t q01 = (uint32_t)(p0 * p0) + (uint32_t)(p1 * p1);
     const uint32_t q23 = (uint32_t)(p2 * p2) + (uint32_t)(p3 * p3);
-    const uint64_t num = (uint64_t)ww * ee + (uint64_t)((int64_t)a0 * a0) +
-                         (uint64_t)((int64_t)a1 * a1);
-    const uint64_t den = (uint64_t)ww * ww + (uint64_t)ww * q01 + (uint64_t)ww * q23 +
+    /* Each sum a chain of 32 x 32 -> 64-bit multiply-accumulates: the
+     * opaque copies keep GCC from factoring ww out into a 64-bit sum. */
+    const uint32_t ww0 = (uint32_t)spvs_q_opaque32((int32_t)ww);
+    const uint32_t ww1 = (uint32_t)spvs_q_opaque32((int32_t)ww);
+    const uint32_t ww2 = (uint32_t)spvs_q_opaque32((int32_t)ww);
+    const uint64_t num = (uint64_t)((int64_t)a0 * a0 + (int64_t)a1 * a1) + (uint64_t)ww0 * ee;
+    const uint64_t den = (uint64_t)ww * ww + (uint64_t)ww1 * q01 + (uint64_t)ww2 * q23 +
                          (uint64_t)((int64_t)dt * dt);
     /* 2 E* = 2 (30 (mo + 1) + 32 + 2048); Gh and Hh rounded up (each
      * halving's floor loses under 1/2). */
@@ -824,19 +945,6 @@ static SPVS_Q_INLINE int score_range(const spvs_q_store_t *st, const int32_t *h,
     return ok_all;
 }
 
-/* The points of the band and the rest of a point's decision, out of the
- * loop below: q_band_sampson, then the exact test. */
-static SPVS_Q_NOINLINE int q_band_or_exact(const int32_t *h, const int32_t *p, q_model_t *md,
-                                           const spvs_qf_t *t2)
-{
-    const int b = q_band_sampson(h, p, md);
-    if (b >= 0) {
-        return b;
-    }
-    spvs_qf_t e;
-    return q_inlier_exact(h, p, *t2, &e);
-}
-
 /* score_range with the model's fast test, or without it (every point to
  * the exact test), chosen once per call. */
 static int score_points(const spvs_q_store_t *st, const int32_t *h, size_t i, size_t end,
@@ -862,7 +970,20 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
     const int32_t h6 = h[6], h7 = h[7], nh0 = md->nh0, nh1 = md->nh1, T = md->T;
     const int64_t h8c = md->h8c, nh2c = md->nh2c;
     const uint64_t c2s = md->c2s;
-    const uint32_t far = md->far;
+    /* The model for the band's calls, read from memory there, so that no
+     * register holds it through the loop. */
+    q_model_t *volatile mdv = md;
+    /* |e| <= far as one unsigned comparison, (uint32_t)e + fo <= 2 fo (e
+     * in -fo..fo): model_prep keeps |ex|, |ey| below 2^62 in Q53, so
+     * |exh|, |eyh| < 2^30 and a far of 2^30 or more bounds nothing (fo =
+     * 2^30 passes every point). */
+    const uint32_t fo = md->far < 0x40000000u ? md->far : 0x40000000u;
+    /* bails() with its factors made once: need, n and m at most
+     * SPVS_MAX_MATCHES <= 4096 (spvs_config.h), so D = need m - inl n is
+     * within +-2^24 in int32 and the right side's factor kb below 2^27. */
+    const int32_t nb = (int32_t)need_b, ni = (int32_t)n;
+    const uint32_t kb = (uint32_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * (uint32_t)nb *
+                        (uint32_t)(ni - nb);
     /* Outliers still allowed: the stop comes at the first point r with
      * (r + 1) - count > max_out. */
     int32_t left = max_out;
@@ -875,34 +996,51 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
         /* Bound: SPVS_SCORE_BLOCK points (at least one: me > m). */
         do {
             int ok = 0;
+            /* fo read here, so that 2 fo is a shifted operand of the
+             * comparisons rather than a second value kept. */
+            const uint32_t fl = (uint32_t)spvs_q_opaque32((int32_t)fo);
             const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
             /* q_hw and q_fast on the locals; a residual beyond far
-             * decides alone (q_far_bound), ey first, the cheaper.  A
-             * point with w27 <= 0 (w below 2^-27, or behind the camera)
-             * goes to the exact test, which decides w <= 0 as well. */
+             * decides alone (q_far_bound), ey first, the cheaper, and
+             * before w's sign: where w > 0 that is q_fast's decision
+             * (which takes w27 = 0 as well), where w <= 0 the point is out
+             * as in the exact test (the high words stay in range for
+             * either sign, model_prep).  A point within far with w27 <= 0
+             * (w below 2^-27, or behind the camera) goes to the exact
+             * test, which decides w <= 0 as well. */
             const int32_t w27 = (int32_t)(w >> 26);
-            const int32_t eyh =
-                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
-            const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
-            if (w27 <= 0) {
-                spvs_qf_t e;
-                ok = q_inlier_exact(h, p, *t2, &e);
-            } else if (ay <= far) {
-                const int32_t exh = (int32_t)((nh2c + (int64_t)p[2] * w27 +
-                                               (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
-                                              32);
-                const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
-                if (ax <= far) {
+            const int32_t eyh = spvs_q_opaque32(
+                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32));
+            if ((uint32_t)eyh + fl <= 2u * fl) {
+                const int32_t exh = spvs_q_opaque32((int32_t)(
+                    (nh2c + (int64_t)p[2] * w27 + (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
+                    32));
+                if ((uint32_t)exh + fl > 2u * fl) {
+                    ok = 0;
+                } else if (w27 <= 0) {
+                    spvs_qf_t e;
+                    ok = q_inlier_exact(h, p, *t2, &e);
+                } else {
                     const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
-                    const uint64_t E13 = (uint64_t)(13 * Q_FAST_D * Q_FAST_D) +
-                                         (uint64_t)ax * ax + (uint64_t)ay * ay;
+                    /* The squares of the signed values are those of the
+                     * magnitudes. */
+                    const uint64_t E13 =
+                        (uint64_t)((int64_t)(13 * Q_FAST_D * Q_FAST_D) + (int64_t)exh * exh +
+                                   (int64_t)eyh * eyh);
                     const int32_t ti = (int32_t)tw - 3 * Q_FAST_D;
-                    const uint32_t to = tw + Q_FAST_D;
                     if (E13 <= (uint64_t)((int64_t)ti * ti)) {
                         ok = 1;
-                    } else if (E13 <= c2s + (uint64_t)to * to +
-                                          (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
-                        ok = q_band_or_exact(h, p, md, t2);
+                    } else {
+                        const uint32_t ax = (uint32_t)(exh < 0 ? -exh : exh);
+                        const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
+                        const uint32_t to = tw + Q_FAST_D;
+                        if (E13 <= c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
+                            ok = q_band_sampson(h, p, mdv);
+                            if (ok < 0) {
+                                spvs_qf_t e;
+                                ok = q_inlier_exact(h, p, *t2, &e);
+                            }
+                        }
                     }
                 }
             }
@@ -912,10 +1050,13 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
             }
             p += 4;
         } while (m != me);
-        const size_t done = (size_t)(m - mask);
-        const int32_t inl = (int32_t)done - (max_out - left);
-        if (done % SPVS_SCORE_BLOCK == 0u && bails(need_b, (int64_t)n, (int64_t)done, inl)) {
-            return (uint16_t)inl;
+        const int32_t done = (int32_t)(m - mask);
+        const int32_t inl = done - (max_out - left);
+        if (done % SPVS_SCORE_BLOCK == 0) {
+            const int32_t d = nb * done - inl * ni;
+            if (d > 0 && (uint64_t)((int64_t)d * d) > (uint64_t)kb * (uint32_t)done) {
+                return (uint16_t)inl;
+            }
         }
     }
     return (uint16_t)((int32_t)n - (max_out - left));
@@ -927,13 +1068,17 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
     /* need > n: the float test's p = 1 (points.c), as need = n here. */
     const int64_t need_b = need <= n ? (int64_t)need : (int64_t)n;
+    q_model_t md = model_prep(st, Hq, thr);
+    if (md.fast && mask) {
+        /* It takes the model's constants into locals itself. */
+        return score_fast_mask(st, Hq, n, &md, &thr->t2, need_b, max_out, mask);
+    }
+    /* H in a local copy for the loops below: the mask's byte stores may
+     * alias any object, so values read through Hq would be read again
+     * after each. */
     int32_t h[9];
     for (int k = 0; k < 9; k++) {
         h[k] = Hq[k];
-    }
-    q_model_t md = model_prep(st, h, thr);
-    if (md.fast && mask) {
-        return score_fast_mask(st, h, n, &md, &thr->t2, need_b, max_out, mask);
     }
     int32_t inl = 0;
     size_t i = 0;
