@@ -381,30 +381,9 @@ static SPVS_Q_INLINE void q_sampson(const spvs_qf_t P[4], spvs_qf_t ww, spvs_qf_
     *den = spvs_qf_add(spvs_qf_mul(ww, spvs_qf_add(ww, pp)), qf_sq(dp));
 }
 
-/* |h[k]| for the bounds over a frame (the magnitude in 32 bits: 2^31 for
- * INT32_MIN, then widened). */
-static SPVS_Q_INLINE int64_t h_abs1(int32_t x)
-{
-    const uint32_t u = (uint32_t)x;
-    return (int64_t)(x < 0 ? 0u - u : u);
-}
-
-/* Written out (no loop), so that the callers' arrays become registers. */
-static SPVS_Q_INLINE void h_abs(const int32_t *h, int64_t a[9])
-{
-    a[0] = h_abs1(h[0]);
-    a[1] = h_abs1(h[1]);
-    a[2] = h_abs1(h[2]);
-    a[3] = h_abs1(h[3]);
-    a[4] = h_abs1(h[4]);
-    a[5] = h_abs1(h[5]);
-    a[6] = h_abs1(h[6]);
-    a[7] = h_abs1(h[7]);
-    a[8] = h_abs1(h[8]);
-}
-
-/* |x| as uint32 (at most 2^31): its products with the frame's bounds
- * (below 2^31) are one 32 x 32 -> 64-bit multiply each. */
+/* |x| for the bounds over a frame, as uint32 (at most 2^31, for
+ * INT32_MIN) then widened: its products with the frame's bounds (below
+ * 2^31) are one 32 x 32 -> 64-bit multiply each. */
 static SPVS_Q_INLINE uint64_t h_mag(int32_t x)
 {
     const uint32_t u = (uint32_t)x;
@@ -625,6 +604,14 @@ static SPVS_Q_INLINE uint32_t q_mag(int32_t x)
     return (uint32_t)(x ^ (x >> 31));
 }
 
+/* The threshold's T (0 <= T < 2^28) times a bound b over the frame (Q53,
+ * 0 <= b < 2^57) taken in Q27: t b in Q21, below 2^27, by one 32 x 32 ->
+ * 64-bit multiply (sampson_prep, q_far_bound). */
+static SPVS_Q_INLINE uint32_t t_hi(int32_t T, int64_t b)
+{
+    return (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(b >> 26)) >> 32);
+}
+
 /* The constants of the band's Sampson test of H on the frame: a6, a7, c0,
  * c1, c3 (q_model_t) and the shift sh that brings t (w^2 + |P|_F^2)^(1/2)
  * over the frame below 2^15 (an estimate from the frame's bounds; a point beyond it
@@ -645,13 +632,13 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
                            vm * h_mag(h[7]) + ((uint64_t)1 << 53)};
     /* t w and t |P_k| over the frame in Q21: T (< 2^28) times a Q27 bound
      * (< 2^31), each below 2^27; their squares sum below 2^57. */
-    const uint32_t tw = (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(wb >> 26)) >> 32);
+    const uint32_t tw = t_hi((int32_t)T, wb);
     uint64_t m2 = (uint64_t)tw * tw;
     for (int k = 0; k < 4; k++) {
         if (e[k] >= ((uint64_t)1 << 57)) {
             return;
         }
-        const uint32_t tp = (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(e[k] >> 26)) >> 32);
+        const uint32_t tp = t_hi((int32_t)T, (int64_t)e[k]);
         m2 += (uint64_t)tp * tp;
     }
     const int64_t a6 = spvs_q_rshift_rnd64(T * h[6], 26);
@@ -690,8 +677,7 @@ static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
         return UINT32_MAX;
     }
     /* T < 2^28 and wb < 2^57: twb < 2^27. */
-    const uint32_t twb =
-        (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(wb >> 26)) >> 32) + 1u + Q_FAST_D;
+    const uint32_t twb = t_hi(T, wb) + 1u + Q_FAST_D;
     const uint64_t X = c2s + (uint64_t)twb * twb;
     const int k = (spvs_q_bitlen64(X) + 1) / 2;
     const uint64_t r = (((uint64_t)1 << k) + (X >> k) + 2u) >> 1;
@@ -913,12 +899,24 @@ static spvs_qf_t q_e2(const int32_t *h, const int32_t *p)
 /* The bail-out test after m points with inl inliers (points.c, bails), in
  * integers: with p = need / n the float test d = p m - inl > 0 and
  * d^2 > SPVS_BAIL_SIGMAS^2 p (1 - p) m becomes, times n^2,
- * D = need m - inl n > 0 and D^2 > SPVS_BAIL_SIGMAS^2 need (n - need) m
- * (need, n, m <= 4096: D^2 < 2^48, the right side < 2^43). */
-static int bails(int64_t need, int64_t n, int64_t m, int64_t inl)
+ * D = need m - inl n > 0 and D^2 > kb m with kb = SPVS_BAIL_SIGMAS^2
+ * need (n - need).  need, n, m and inl are at most SPVS_MAX_MATCHES <=
+ * 4096 (spvs_config.h), so D is within +-2^24 in int32, kb below 2^27
+ * (bail_k) and kb m below 2^39. */
+static SPVS_Q_INLINE uint32_t bail_k(int32_t need, int32_t n)
 {
-    const int64_t d = need * m - inl * n;
-    return d > 0 && d * d > (int64_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * need * (n - need) * m;
+    return (uint32_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * (uint32_t)need * (uint32_t)(n - need);
+}
+
+static SPVS_Q_INLINE int bails_k(uint32_t kb, int32_t need, int32_t n, int32_t m, int32_t inl)
+{
+    const int32_t d = need * m - inl * n;
+    return d > 0 && (uint64_t)((int64_t)d * d) > (uint64_t)kb * (uint32_t)m;
+}
+
+static int bails(int32_t need, int32_t n, int32_t m, int32_t inl)
+{
+    return bails_k(bail_k(need, n), need, n, m, inl);
 }
 
 /* Counts the inliers among points [i, end) into *inl (points.c,
@@ -978,12 +976,9 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
      * |exh|, |eyh| < 2^30 and a far of 2^30 or more bounds nothing (fo =
      * 2^30 passes every point). */
     const uint32_t fo = md->far < 0x40000000u ? md->far : 0x40000000u;
-    /* bails() with its factors made once: need, n and m at most
-     * SPVS_MAX_MATCHES <= 4096 (spvs_config.h), so D = need m - inl n is
-     * within +-2^24 in int32 and the right side's factor kb below 2^27. */
+    /* bails() with its factor made once. */
     const int32_t nb = (int32_t)need_b, ni = (int32_t)n;
-    const uint32_t kb = (uint32_t)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * (uint32_t)nb *
-                        (uint32_t)(ni - nb);
+    const uint32_t kb = bail_k(nb, ni);
     /* Outliers still allowed: the stop comes at the first point r with
      * (r + 1) - count > max_out. */
     int32_t left = max_out;
@@ -1052,11 +1047,8 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
         } while (m != me);
         const int32_t done = (int32_t)(m - mask);
         const int32_t inl = done - (max_out - left);
-        if (done % SPVS_SCORE_BLOCK == 0) {
-            const int32_t d = nb * done - inl * ni;
-            if (d > 0 && (uint64_t)((int64_t)d * d) > (uint64_t)kb * (uint32_t)done) {
-                return (uint16_t)inl;
-            }
+        if (done % SPVS_SCORE_BLOCK == 0 && bails_k(kb, nb, ni, done, inl)) {
+            return (uint16_t)inl;
         }
     }
     return (uint16_t)((int32_t)n - (max_out - left));
@@ -1086,7 +1078,7 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
      * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
         if (!score_points(st, h, i, i + SPVS_SCORE_BLOCK, &md, &thr->t2, max_out, mask, &inl) ||
-            bails(need_b, (int64_t)n, (int64_t)(i + SPVS_SCORE_BLOCK), inl)) {
+            bails((int32_t)need_b, (int32_t)n, (int32_t)(i + SPVS_SCORE_BLOCK), inl)) {
             return (uint16_t)inl;
         }
     }
@@ -1354,8 +1346,8 @@ static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], co
     L.h8c = (int64_t)h[8] * one26;
     L.nh0 = -h[0];
     L.nh1 = -h[1];
-    int64_t a[9];
-    h_abs(h, a);
+    const int64_t a0 = (int64_t)h_mag(h[0]), a1 = (int64_t)h_mag(h[1]);
+    const int64_t a6 = (int64_t)h_mag(h[6]), a7 = (int64_t)h_mag(h[7]);
     const int64_t X = tgt_max[0], Y = tgt_max[1];
     const int64_t U = cur_max[0], V = cur_max[1];
     const int64_t two27 = (int64_t)1 << 27; /* 2 scaled units, Q26 */
@@ -1365,15 +1357,15 @@ static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], co
         return L;
     }
     /* w over the frame, Q53: h33 2^26 -+ (|h31| X + |h32| Y). */
-    const int64_t spread = a[6] * X + a[7] * Y;
+    const int64_t spread = a6 * X + a7 * Y;
     const int64_t w_lo = L.h8c - spread, w_hi = L.h8c + spread;
     if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 55)) {
         return L;
     }
     /* The Jacobian's entries (h_point.inc's p, q, r, s) below 4, Q53. */
     const int64_t four = (int64_t)1 << 55;
-    if (U * a[6] + a[0] * one26 >= four || U * a[7] + a[1] * one26 >= four ||
-        V * a[6] >= four || V * a[7] + ((int64_t)1 << 53) >= four) {
+    if (U * a6 + a0 * one26 >= four || U * a7 + a1 * one26 >= four || V * a6 >= four ||
+        V * a7 + ((int64_t)1 << 53) >= four) {
         return L;
     }
     /* |W| <= 1 / w_lo^2 <= 2^kw, kw in 0..4. */
