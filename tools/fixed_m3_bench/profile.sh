@@ -5,7 +5,10 @@
 # translation-block log (profile.py).  docs/FIXED.md, "The update on the
 # Cortex-M3".
 #
-#   tools/fixed_m3_bench/profile.sh [MEASURE_BUILD_DIR [SIZE_INDEX SHARE_INDEX [TOP]]]
+#   tools/fixed_m3_bench/profile.sh [--spread POSE SEED] [MEASURE_BUILD_DIR [SIZE_INDEX SHARE_INDEX [TOP]]]
+#     --spread POSE SEED one of main_measure.c's 25 spread frames instead
+#                        (POSE 0-4, SEED 0-4, as on its `spread:` lines;
+#                        N = 256 / 20 %, SIZE_INDEX and SHARE_INDEX unused)
 #     MEASURE_BUILD_DIR  the cross build embedded_measure.sh --cpu cortex-m3
 #                        --fixed made (default build/cortex-m3-fixed-measure)
 #     SIZE_INDEX         0, 1, 2 for N = 64, 128, 256 (default 2)
@@ -16,6 +19,15 @@
 # between prof_begin and prof_end.  The total agrees with
 # embedded_measure.sh's update_typ within the markers' few instructions.
 set -eu
+spread=
+if [ "${1:-}" = --spread ]; then
+  [ $# -ge 3 ] || { echo "profile.sh: --spread needs POSE and SEED" >&2; exit 2; }
+  case "$2$3" in
+    [0-4][0-4]) spread="$2 $3" ;;
+    *) echo "profile.sh: --spread POSE SEED, each 0-4" >&2; exit 2 ;;
+  esac
+  shift 3
+fi
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 build=${1:-$root/build/cortex-m3-fixed-measure}
@@ -26,7 +38,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 # The frame generator of main_measure.c: from the core's instance to the
 # measuring helpers.
-/usr/bin/python3 - "$root/target/main_measure.c" "$work/prof_main.c" "$pn" "$pj" <<'PY'
+/usr/bin/python3 - "$root/target/main_measure.c" "$work/prof_main.c" "$pn" "$pj" $spread <<'PY'
 import sys
 src = open(sys.argv[1]).read()
 body = src[src.index("static spvs_t core;"):src.index("/* Keep the compiler")]
@@ -68,6 +80,20 @@ int main(void)
     return 0;
 }
 """ % (pn, pj, pn, pj)
+if len(sys.argv) > 5:
+    # A spread frame: measure_spread's pose and seed (its tables read from
+    # the same file), at N = 256 / 20 %.
+    pose, seed = int(sys.argv[5]), int(sys.argv[6])
+    f5 = src[src.index("fig5[SPREAD_POSES][3] = {"):]
+    f5 = f5[f5.index("{") + 1:f5.index("};")]
+    rows = [r.strip(" {}\n,") for r in f5.split("},")]
+    x, z, phi = [c.strip() for c in rows[pose].split(",")]
+    seeds = int(src[src.index("#define SPREAD_SEEDS") + 21:].split()[0].rstrip("u"))
+    tail = tail.replace("spvs_rng_seed(&gen, 1000u + (uint32_t)(%s * 3 + %s));" % (pn, pj),
+                        "spvs_rng_seed(&gen, %du);" % (2000 + pose * seeds + seed))
+    tail = tail.replace("make_frame(sizes[%s], bad_pct[%s])" % (pn, pj),
+                        "make_frame_at(256u, 20u, %s, %s, %s, 1)" % (x, z, phi))
+    assert "make_frame_at" in tail and "1000u" not in tail
 open(sys.argv[2], "w").write(head + body + tail)
 PY
 cflags="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft -ffunction-sections -fdata-sections -Os -DNDEBUG -std=c11"
