@@ -1086,6 +1086,42 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     return (uint16_t)inl;
 }
 
+/* The cost's term |eps|^2 of one point of a model with model_prep's
+ * bounds (md->fast), in Q52, from its residuals in Q53: w = w27 2^26 + wr
+ * (w27 its floor in Q27, 0 <= wr < 2^26), so u w - h1 . p 2^26 is
+ * (u w27 - h1 . p) 2^26 + u wr, and ex53 = u w27 - h1 . p + floor(u wr
+ * 2^-26) is within one unit of the exact residual in Q53 (ey53 alike;
+ * each sum below 2^63 by model_prep's bounds).  Rounded to Q36 (within
+ * 1/2 + 2^-17 units there), squared and summed in Q72 and rounded to Q52,
+ * the term is within 2^-35 (|ex| + |ey|) + 2^-52 of the exact one: for a
+ * residual of a pixel (2^-9 scaled units), within 2^-26 relative, finer
+ * than a float32 sum's rounding.  Returns 0 where |ex53| or |ey53| is
+ * 2^47 or more (|eps| of 2^-6 scaled units, 8 px, or more), where the
+ * squares would leave their range; q_e2 takes that point. */
+static SPVS_Q_INLINE int cost_fast(const int32_t *h, const int32_t *p, const q_model_t *md,
+                                   uint64_t *t)
+{
+    const int64_t w = q_w(h, p, md);
+    const int32_t w27 = (int32_t)(w >> 26);
+    const int32_t wr = (int32_t)((uint32_t)w & 0x3FFFFFFu);
+    const int64_t ex53 = md->nh2c + (int64_t)p[2] * w27 + (int64_t)md->nh0 * p[0] +
+                         (int64_t)md->nh1 * p[1] + (((int64_t)p[2] * wr) >> 26);
+    const int64_t ey53 = (int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27) +
+                         (((int64_t)p[3] * wr) >> 26);
+    /* |ex53|, |ey53| < 2^47: high words in [-2^15, 2^15), one comparison
+     * for both. */
+    const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
+    if (((uint32_t)(xh + 0x8000) | (uint32_t)(yh + 0x8000)) >= 0x10000u) {
+        return 0;
+    }
+    /* Q36, rounded: |.| <= 2^30, so each square is below 2^61 (exact in
+     * int64) and their sum, rounded to Q52, below 2^43. */
+    const int32_t ex = (int32_t)((ex53 + 0x10000) >> 17);
+    const int32_t ey = (int32_t)((ey53 + 0x10000) >> 17);
+    *t = ((uint64_t)((int64_t)ex * ex + (int64_t)ey * ey) + 0x80000u) >> 20;
+    return 1;
+}
+
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
                          const spvs_q_thr_t *thr, uint32_t *sat)
 {
@@ -1095,8 +1131,14 @@ uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[
     for (uint16_t i = 0; i < n; i++) {
         const int32_t *p = &st->v[4u * i];
         if (q_inlier(Hq, p, &md, &thr->t2, md.fast)) {
-            /* The cost breaks ties only: its term from the exact residuals. */
-            const uint64_t t = (uint64_t)spvs_qf_to_q64(q_e2(Hq, p), SPVS_QCOST, sat);
+            /* The cost breaks ties only: its term in fixed formats where
+             * the model's bounds allow (cost_fast), else from the exact
+             * residuals (q_e2); the two agree to far below the float
+             * core's rounding of the same sum. */
+            uint64_t t;
+            if (!md.fast || !cost_fast(Hq, p, &md, &t)) {
+                t = (uint64_t)spvs_qf_to_q64(q_e2(Hq, p), SPVS_QCOST, sat);
+            }
             /* Saturate on the unsigned sum's carry. */
             const uint64_t s = sum + t;
             if (s < sum) {
