@@ -520,9 +520,18 @@ spvs_q_thr_t spvs_q_thr(spvs_qf_t t2)
  * about 10^4 units, so only points within about 4e-4 of it (relative)
  * reach the exact test through the slack.
  * fast = 0 where a bound does not hold: |w| >= 16, |eps| >= 2^62 in Q53
- * (beyond 2^9 scaled units), or t >= 2 scaled units (1,024 px). */
+ * (beyond 2^9 scaled units), or t >= 2 scaled units (1,024 px).
+ *
+ * Only the last is a bound of the test itself: the first two are bounds of
+ * w and eps over the frame, which spare the count's loop a test per point.
+ * A wild hypothesis breaks them while most of its points are in range (a
+ * large |h31| makes w reach 16 in a corner of the image), so where only
+ * they fail the model is checked (chk = 1): each point takes the same
+ * tests once its own 0 < w < 16 and |ex|, |ey| < 2^62 are tested
+ * (q_checked), and only the points outside those go to the exact test. */
 typedef struct {
     int fast;
+    int chk; /* fast = 0, the point's ranges tested per point (q_checked) */
     int32_t T;
     int32_t nh0, nh1; /* -h11, -h12 (|h| < 2^31: no overflow) */
     int64_t nh2c;     /* -h13 2^26, Q53: ex's constant term */
@@ -533,7 +542,7 @@ typedef struct {
      * then 1 (on) or 0 (off: the band goes to the exact test). */
     int sfast;
     const spvs_q_store_t *st; /* the frame, for sampson_prep */
-    int64_t wb;               /* the bound of w over the frame, Q53 */
+    int64_t wb;               /* the bound of w over the points tested, Q53 */
     int sh;                   /* the values' shift: Q(21 - sh) */
     int32_t a6, a7;     /* t' h31, t' h32 in Q27 (t' = T 2^-26), rounded */
     int64_t c0, c1, c3; /* t' h11, t' h12 and t' in Q53, exact */
@@ -688,28 +697,12 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
 {
     q_model_t md;
     md.fast = 0;
+    md.chk = 0;
     const int64_t one26 = (int64_t)1 << 26;
     md.nh0 = -h[0];
     md.nh1 = -h[1];
     md.nh2c = -((int64_t)h[2] * one26);
     md.h8c = (int64_t)h[8] * one26;
-    const uint64_t X = (uint32_t)st->tgt_max[0], Y = (uint32_t)st->tgt_max[1];
-    const uint64_t U = (uint32_t)st->cur_max[0], V = (uint32_t)st->cur_max[1];
-    /* Exact Q53 bounds (each < 2^62 + 2^57, as q_eps). */
-    const int64_t wb = (int64_t)(h_mag(h[6]) * X + h_mag(h[7]) * Y + (h_mag(h[8]) << 26));
-    const int64_t gb = (int64_t)(h_mag(h[0]) * X + h_mag(h[1]) * Y + (h_mag(h[2]) << 26));
-    const int64_t yb = (int64_t)(Y << 27);
-    const int64_t lim57 = (int64_t)1 << 57;
-    if (wb >= lim57) {
-        return md;
-    }
-    /* |u w27| <= U (wb 2^-26 + 1) < 2^30 2^31 = 2^61, and gb, yb < 2^62 +
-     * 2^57: |ex|, |ey| < 2^62 is tested in pieces that cannot overflow. */
-    const uint64_t w27b = (uint32_t)(wb >> 26) + 1u;
-    const int64_t lim62 = (int64_t)1 << 62;
-    if (gb >= lim62 || (int64_t)(U * w27b) >= lim62 - gb || (int64_t)(V * w27b) >= lim62 - yb) {
-        return md;
-    }
     if (!thr->fast) {
         return md;
     }
@@ -717,13 +710,35 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     /* c2 + 4 D^2 in Q42 (the units of E), plus the 12 D^2 of q_fast's
      * completed squares; 2^62 (beyond any E) means "no band test": every
      * point not inside goes to the exact test.  T rounded down makes TW
-     * fall short of t^2 w^2 only within the slack. */
+     * fall short of t^2 w^2 only within the slack.  A bound of |P| over
+     * the frame: it holds for a checked model's points too. */
     const int64_t c2 = band_c2(st, h, thr->t2);
     md.c2s = (uint64_t)c2 + (c2 < ((int64_t)1 << 62) ? 4u * Q_FAST_D * Q_FAST_D : 0u) +
              12u * Q_FAST_D * Q_FAST_D;
-    md.fast = 1;
     md.sfast = -1;
     md.st = st;
+    const uint64_t X = (uint32_t)st->tgt_max[0], Y = (uint32_t)st->tgt_max[1];
+    const uint64_t U = (uint32_t)st->cur_max[0], V = (uint32_t)st->cur_max[1];
+    /* Exact Q53 bounds (each < 2^62 + 2^57, as q_eps). */
+    const int64_t wb = (int64_t)(h_mag(h[6]) * X + h_mag(h[7]) * Y + (h_mag(h[8]) << 26));
+    const int64_t gb = (int64_t)(h_mag(h[0]) * X + h_mag(h[1]) * Y + (h_mag(h[2]) << 26));
+    const int64_t yb = (int64_t)(Y << 27);
+    const int64_t lim57 = (int64_t)1 << 57;
+    const int64_t lim62 = (int64_t)1 << 62;
+    /* |u w27| <= U (wb 2^-26 + 1) < 2^30 2^31 = 2^61, and gb, yb < 2^62 +
+     * 2^57: |ex|, |ey| < 2^62 is tested in pieces that cannot overflow
+     * (w27b only where wb < 2^57). */
+    const uint64_t w27b = wb < lim57 ? (uint32_t)(wb >> 26) + 1u : 0u;
+    if (wb >= lim57 || gb >= lim62 || (int64_t)(U * w27b) >= lim62 - gb ||
+        (int64_t)(V * w27b) >= lim62 - yb) {
+        /* Checked per point: q_checked passes only w < 2^57, the bound
+         * sampson_prep then takes; no far bound (score_fast_mask's). */
+        md.chk = 1;
+        md.wb = lim57 - 1;
+        md.far = UINT32_MAX;
+        return md;
+    }
+    md.fast = 1;
     md.wb = wb;
     md.far = q_far_bound(md.c2s, md.T, wb);
     return md;
@@ -828,17 +843,13 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_
  * Q_OUT behind the camera or clearly beyond t2 (w^2 + |P|^2) (an outlier),
  * Q_BAND for the rest (the band's Sampson test, then the exact test).
  * Both shortcuts are exact in real arithmetic and are taken only outside
- * the rounding slack, so the decisions are the exact test's. */
-static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
+ * the rounding slack, so the decisions are the exact test's.  q_fast_hw
+ * takes a point with w > 0 from its high words; q_fast makes them. */
+static SPVS_Q_INLINE int q_fast_hw(const q_hw_t *r, const q_model_t *md)
 {
-    const int64_t w = q_w(h, p, md);
-    if (w <= 0) {
-        return Q_OUT;
-    }
-    const q_hw_t r = q_hw(p, md, w);
     /* Squares of magnitudes: unsigned 32 x 32 -> 64 products. */
-    const uint32_t ax = (uint32_t)(r.exh < 0 ? -r.exh : r.exh);
-    const uint32_t ay = (uint32_t)(r.eyh < 0 ? -r.eyh : r.eyh);
+    const uint32_t ax = (uint32_t)(r->exh < 0 ? -r->exh : r->exh);
+    const uint32_t ay = (uint32_t)(r->eyh < 0 ? -r->eyh : r->eyh);
     /* E + 13 D^2: both tests below compare it, so the constants are
      * folded into squares (integers: the same decisions as the plain
      * forms in the comments). */
@@ -848,23 +859,59 @@ static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_mode
      * so slack <= 2 D 3 tw + 4 D^2 (tw < 2^27), and testing
      * E + 6 D tw + 4 D^2 <= tw^2, which is E + 13 D^2 <= (tw - 3 D)^2, is
      * sufficient (tw < 3 D fails both forms: (tw - 3 D)^2 <= 9 D^2). */
-    const int32_t ti = (int32_t)r.tw - 3 * Q_FAST_D;
+    const int32_t ti = (int32_t)r->tw - 3 * Q_FAST_D;
     if (E13 <= (uint64_t)((int64_t)ti * ti)) {
         return Q_IN;
     }
     /* Beyond: E > TW + c2 + 4 D^2 + 2 D (ax + ay + tw), that is
      * E + 13 D^2 > (tw + D)^2 + 2 D (ax + ay) + c2 + 16 D^2 (md->c2s). */
-    const uint32_t to = r.tw + Q_FAST_D;
+    const uint32_t to = r->tw + Q_FAST_D;
     if (E13 > md->c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
         return Q_OUT;
     }
     return Q_BAND;
 }
 
+static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
+{
+    const int64_t w = q_w(h, p, md);
+    if (w <= 0) {
+        return Q_OUT;
+    }
+    const q_hw_t r = q_hw(p, md, w);
+    return q_fast_hw(&r, md);
+}
+
+/* The fast test and the band's Sampson test of one point of a checked
+ * model (q_model_t: chk), or Q_EXACT for a point outside their ranges.
+ * w is exact, so w <= 0 is the exact test's decision (out).  With
+ * 0 < w < 16 (2^57 in Q53) w27 is in int32 and the sums of ex and ey are
+ * exact in int64 (|u w27|, |h11 x|, |h12 y| < 2^61, |h13| 2^26 < 2^57);
+ * |ex|, |ey| < 2^62, the high words in [-2^30, 2^30), is the rest of what
+ * model_prep's bounds give the fast test, and q_band_sampson's bounds are
+ * per point (sampson_prep's bound of w, 16, is the one tested here).  So
+ * the decisions are those of the two tests, which are the exact test's. */
+static SPVS_Q_NOINLINE int q_checked(const int32_t *h, const int32_t *p, q_model_t *md)
+{
+    const int64_t w = q_w(h, p, md);
+    if (w <= 0) {
+        return Q_OUT;
+    }
+    if (w >= ((int64_t)1 << 57)) {
+        return Q_EXACT;
+    }
+    const q_hw_t r = q_hw(p, md, w);
+    if ((((uint32_t)r.exh + 0x40000000u) | ((uint32_t)r.eyh + 0x40000000u)) >= 0x80000000u) {
+        return Q_EXACT;
+    }
+    const int c = q_fast_hw(&r, md);
+    return c == Q_BAND ? q_band_sampson(h, p, md) : c;
+}
+
 /* hp_inlier: 1 for an inlier of H (w > 0, squared Sampson error at most
  * t2): the fast test and the band's Sampson test where the model has them
- * (fast), the exact test for the points they leave and for every point of
- * a model without them. */
+ * (fast) or has them per point (q_checked), the exact test for the points
+ * they leave and for every point of a model without them. */
 static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, q_model_t *md,
                                   const spvs_qf_t *t2, const int fast)
 {
@@ -876,6 +923,11 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, q_model_t 
         const int b = q_band_sampson(h, p, md);
         if (b >= 0) {
             return b;
+        }
+    } else if (md->chk) {
+        const int c = q_checked(h, p, md);
+        if (c >= 0) {
+            return c;
         }
     }
     spvs_qf_t e;
