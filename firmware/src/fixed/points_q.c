@@ -1427,10 +1427,63 @@ typedef struct {
 
 #define LIN_EB 5 /* |eps| < 2^-LIN_EB scaled units on the fast path */
 
-/* The formats for a frame of n points whose largest |x_tgt|, |y_tgt| are
- * tgt_max and largest |x_cur|, |y_cur| cur_max (Q26). */
-static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], const int32_t *h,
-                          uint16_t n)
+/* The bounds over a set of points that the sums' fast paths take their
+ * formats from: the largest |x_tgt|, |y_tgt| (X, Y) and |x_cur|, |y_cur|
+ * (U, V) in Q26, and w's least and largest values (Q53). */
+typedef struct {
+    int64_t X, Y, U, V;
+    int64_t w_lo, w_hi;
+} q_box_t;
+
+/* The box of a frame whose largest coordinates are tgt_max and cur_max,
+ * w bounded through |h31| X + |h32| Y. */
+static q_box_t box_of(const int32_t tgt_max[2], const int32_t cur_max[2], const int32_t *h)
+{
+    q_box_t b;
+    b.X = tgt_max[0];
+    b.Y = tgt_max[1];
+    b.U = cur_max[0];
+    b.V = cur_max[1];
+    const int64_t h8c = (int64_t)h[8] * ((int64_t)1 << 26);
+    const int64_t spread = (int64_t)h_mag(h[6]) * b.X + (int64_t)h_mag(h[7]) * b.Y;
+    b.w_lo = h8c - spread;
+    b.w_hi = h8c + spread;
+    return b;
+}
+
+/* The box of the flagged points among the first n: their own largest
+ * coordinates and w's exact range.  A sum takes it where the frame's box
+ * fails the fast path's bounds (a mismatch far out, or a frame whose
+ * corners see the plane at a grazing w while the flagged points do not),
+ * so that one point outside the range does not send the whole set to the
+ * exact path.  Bound: n points. */
+static q_box_t box_used(const spvs_q_store_t *st, const int32_t *h, const uint8_t *use,
+                        uint16_t n)
+{
+    q_box_t b;
+    b.X = b.Y = b.U = b.V = 0;
+    const int64_t h8c = (int64_t)h[8] * ((int64_t)1 << 26);
+    b.w_lo = b.w_hi = h8c;
+    for (uint16_t i = 0; i < n; i++) {
+        if (!use[i]) {
+            continue;
+        }
+        const int32_t *p = &st->v[4u * i];
+        const int64_t w = h8c + (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1];
+        b.w_lo = w < b.w_lo ? w : b.w_lo;
+        b.w_hi = w > b.w_hi ? w : b.w_hi;
+        const int64_t ax = (int64_t)h_mag(p[0]), ay = (int64_t)h_mag(p[1]);
+        const int64_t au = (int64_t)h_mag(p[2]), av = (int64_t)h_mag(p[3]);
+        b.X = ax > b.X ? ax : b.X;
+        b.Y = ay > b.Y ? ay : b.Y;
+        b.U = au > b.U ? au : b.U;
+        b.V = av > b.V ? av : b.V;
+    }
+    return b;
+}
+
+/* The formats for a set of n points within the box b. */
+static q_lin_t lin_prep_b(const q_box_t *b, const int32_t *h, uint16_t n)
 {
     q_lin_t L;
     L.ok = 0;
@@ -1442,17 +1495,15 @@ static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], co
     L.nh1 = -h[1];
     const int64_t a0 = (int64_t)h_mag(h[0]), a1 = (int64_t)h_mag(h[1]);
     const int64_t a6 = (int64_t)h_mag(h[6]), a7 = (int64_t)h_mag(h[7]);
-    const int64_t X = tgt_max[0], Y = tgt_max[1];
-    const int64_t U = cur_max[0], V = cur_max[1];
+    const int64_t X = b->X, Y = b->Y;
+    const int64_t U = b->U, V = b->V;
     const int64_t two27 = (int64_t)1 << 27; /* 2 scaled units, Q26 */
     const int64_t q_lim = (int64_t)1 << 25; /* 2 in Q24 */
     if (n > 512u || U >= two27 || V >= two27 || ((X * X) >> 28) >= q_lim ||
         ((Y * Y) >> 28) >= q_lim) {
         return L;
     }
-    /* w over the frame, Q53: h33 2^26 -+ (|h31| X + |h32| Y). */
-    const int64_t spread = a6 * X + a7 * Y;
-    const int64_t w_lo = L.h8c - spread, w_hi = L.h8c + spread;
+    const int64_t w_lo = b->w_lo, w_hi = b->w_hi;
     if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 55)) {
         return L;
     }
@@ -1471,7 +1522,17 @@ static q_lin_t lin_prep_b(const int32_t tgt_max[2], const int32_t cur_max[2], co
 
 static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
 {
-    return lin_prep_b(st->tgt_max, st->cur_max, h, n);
+    const q_box_t b = box_of(st->tgt_max, st->cur_max, h);
+    return lin_prep_b(&b, h, n);
+}
+
+/* lin_prep on the flagged points' own box (box_used).  Not inlined: the
+ * box stays out of the sums' frames. */
+static SPVS_Q_NOINLINE q_lin_t lin_prep_used(const spvs_q_store_t *st, const int32_t *h,
+                                             const uint8_t *use, uint16_t n)
+{
+    const q_box_t b = box_used(st, h, use, n);
+    return lin_prep_b(&b, h, n);
 }
 
 /* x 2^k for a 32-bit value and k in -31..31 (floor for k < 0); callers
@@ -1678,7 +1739,7 @@ typedef struct {
     int64_t h8c;      /* h33 2^26, Q53 */
 } q_fit_t;
 
-static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+static q_fit_t fit_prep_b(int kind, const q_box_t *bx_, const int32_t *h, uint16_t n)
 {
     q_fit_t F;
     F.ok = 0;
@@ -1688,16 +1749,13 @@ static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, ui
     F.h8c = (int64_t)h[8] * one26;
     F.h6 = h[6];
     F.h7 = h[7];
-    const int64_t a6 = h[6] < 0 ? -(int64_t)h[6] : h[6];
-    const int64_t a7 = h[7] < 0 ? -(int64_t)h[7] : h[7];
-    const int64_t X = st->tgt_max[0], Y = st->tgt_max[1];
-    const int64_t U = st->cur_max[0], V = st->cur_max[1];
+    const int64_t X = bx_->X, Y = bx_->Y;
+    const int64_t U = bx_->U, V = bx_->V;
     const int64_t two27 = (int64_t)1 << 27;
     if (n > 512u || U >= two27 || V >= two27 || X >= two27 || Y >= two27) {
         return F;
     }
-    const int64_t spread = a6 * X + a7 * Y;
-    const int64_t w_lo = F.h8c - spread, w_hi = F.h8c + spread;
+    const int64_t w_lo = bx_->w_lo, w_hi = bx_->w_hi;
     if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 55)) {
         return F;
     }
@@ -1726,6 +1784,21 @@ static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, ui
     F.srr = sr < 0 ? -sr : 0;
     F.ok = 1;
     return F;
+}
+
+static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+{
+    const q_box_t b = box_of(st->tgt_max, st->cur_max, h);
+    return fit_prep_b(kind, &b, h, n);
+}
+
+/* fit_prep on the flagged points' own box (box_used), out of line as
+ * lin_prep_used. */
+static SPVS_Q_NOINLINE q_fit_t fit_prep_used(int kind, const spvs_q_store_t *st,
+                                             const int32_t *h, const uint8_t *use, uint16_t n)
+{
+    const q_box_t b = box_used(st, h, use, n);
+    return fit_prep_b(kind, &b, h, n);
 }
 
 /* One point's FIT terms on the fast path into G: terms 0-5 in Q(2 qq),
@@ -1932,7 +2005,10 @@ static SPVS_Q_NOINLINE int sampson_exact(const int32_t *h, const int32_t *p, spv
 static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_t *st,
                                            const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
 {
-    const q_lin_t L = lin_prep(st, h, n);
+    q_lin_t L = lin_prep(st, h, n);
+    if (!L.ok) {
+        L = lin_prep_used(st, h, use, n);
+    }
     int64_t F = 0;
     int32_t used = 0, exact = 0;
     /* L.ok tested once (as spvs_q_pts_sum's LIN loop).  Bound: n points. */
@@ -2011,8 +2087,14 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     int32_t used = 0;
     /* SPVS_T_LIN: the points in the fast path's range into F, the others
      * through the exact terms; merged at the end. */
-    const q_lin_t L = lin ? lin_prep(st, Hq, n) : (q_lin_t){0};
-    const q_fit_t FT = lin ? (q_fit_t){0} : fit_prep((int)kind, st, Hq, n);
+    q_lin_t L = lin ? lin_prep(st, Hq, n) : (q_lin_t){0};
+    q_fit_t FT = lin ? (q_fit_t){0} : fit_prep((int)kind, st, Hq, n);
+    /* Where the frame's box fails, the flagged points' own box. */
+    if (lin && !L.ok) {
+        L = lin_prep_used(st, Hq, use, n);
+    } else if (!lin && !FT.ok) {
+        FT = fit_prep_used((int)kind, st, Hq, use, n);
+    }
     if (FT.ok) {
         /* Every point on the fast path (w >= 1/4: none behind the camera). */
         int64_t G[SPVS_NT_FIT] = {0};
@@ -2069,7 +2151,8 @@ static SPVS_Q_NOINLINE int lin_move_fast(const int32_t *h, const int32_t *p, spv
     /* |p| <= 2^30 (the store's range): the negations cannot overflow. */
     const int32_t tm[2] = {p[0] < 0 ? -p[0] : p[0], p[1] < 0 ? -p[1] : p[1]};
     const int32_t cm[2] = {p[2] < 0 ? -p[2] : p[2], p[3] < 0 ? -p[3] : p[3]};
-    const q_lin_t L = lin_prep_b(tm, cm, h, 1);
+    const q_box_t b = box_of(tm, cm, h);
+    const q_lin_t L = lin_prep_b(&b, h, 1);
     int64_t F[SPVS_H_LIN_SUMS] = {0};
     if (!L.ok || !lin_fast(h, p, &L, F)) {
         return 0;

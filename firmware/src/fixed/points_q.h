@@ -191,9 +191,11 @@ int spvs_q_lin_move(const int32_t Hw[9], const int32_t p[4], int add, spvs_q_sum
 
 /* 1 when spvs_q_pts_sum's terms of kind (SPVS_T_LIN, SPVS_T_SAMPSON,
  * SPVS_T_FIT_Y or SPVS_T_FIT_X) of the first n points of st under Hq take
- * the fast path (the set's bounds hold, docs/FIXED.md; for SPVS_T_LIN and
+ * the fast path on the frame's bounds (docs/FIXED.md; for SPVS_T_LIN and
  * SPVS_T_SAMPSON its points with a residual of 16 px or more still take
- * the exact path), 0 when every point takes the exact path. */
+ * the exact path), 0 when they do not: a sum then takes its formats from
+ * the bounds of its flagged points, or the exact path where those fail
+ * too. */
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],
                     uint16_t n);
 
