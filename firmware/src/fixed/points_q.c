@@ -747,11 +747,12 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
 /* The outcomes of the fast test of one point. */
 enum { Q_EXACT = -1, Q_OUT = 0, Q_IN = 1, Q_BAND = 2 };
 
-/* w = h3 . p, exact in Q53 (as q_eps).  The constant first: the sum is
- * one 64-bit load and two multiply-accumulates. */
-static SPVS_Q_INLINE int64_t q_w(const int32_t *h, const int32_t *p, const q_model_t *md)
+/* w = h3 . p of point p, exact in Q53 (as q_eps), from h33 2^26 (h8c)
+ * and h31, h32 (Q27).  The constant first: the sum is one 64-bit load and
+ * two multiply-accumulates. */
+static SPVS_Q_INLINE int64_t q_w(int64_t h8c, int32_t h6, int32_t h7, const int32_t *p)
 {
-    return md->h8c + (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1];
+    return h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
 }
 
 /* The fast test's high words of one point with w > 0 (model_prep's
@@ -791,7 +792,7 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_
             return Q_EXACT;
         }
     }
-    const q_hw_t r = q_hw(p, md, q_w(h, p, md));
+    const q_hw_t r = q_hw(p, md, q_w(md->h8c, h[6], h[7], p));
     const int sh = md->sh;
     const int64_t u = p[2], v = p[3];
     /* Pi in Q21, then Q(21 - sh): high words of sums below 2^62. */
@@ -874,7 +875,7 @@ static SPVS_Q_INLINE int q_fast_hw(const q_hw_t *r, const q_model_t *md)
 
 static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
 {
-    const int64_t w = q_w(h, p, md);
+    const int64_t w = q_w(md->h8c, h[6], h[7], p);
     if (w <= 0) {
         return Q_OUT;
     }
@@ -893,7 +894,7 @@ static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_mode
  * the decisions are those of the two tests, which are the exact test's. */
 static SPVS_Q_NOINLINE int q_checked(const int32_t *h, const int32_t *p, q_model_t *md)
 {
-    const int64_t w = q_w(h, p, md);
+    const int64_t w = q_w(md->h8c, h[6], h[7], p);
     if (w <= 0) {
         return Q_OUT;
     }
@@ -1046,7 +1047,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
             /* fo read here, so that 2 fo is a shifted operand of the
              * comparisons rather than a second value kept. */
             const uint32_t fl = (uint32_t)spvs_q_opaque32((int32_t)fo);
-            const int64_t w = h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
+            const int64_t w = q_w(h8c, h6, h7, p);
             /* q_hw and q_fast on the locals; a residual beyond far
              * decides alone (q_far_bound), ey first, the cheaper, and
              * before w's sign: where w > 0 that is q_fast's decision
@@ -1153,7 +1154,7 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
 static SPVS_Q_INLINE int cost_fast(const int32_t *h, const int32_t *p, const q_model_t *md,
                                    uint64_t *t)
 {
-    const int64_t w = q_w(h, p, md);
+    const int64_t w = q_w(md->h8c, h[6], h[7], p);
     const int32_t w27 = (int32_t)(w >> 26);
     const int32_t wr = (int32_t)((uint32_t)w & 0x3FFFFFFu);
     const int64_t ex53 = md->nh2c + (int64_t)p[2] * w27 + (int64_t)md->nh0 * p[0] +
@@ -1469,7 +1470,7 @@ static q_box_t box_used(const spvs_q_store_t *st, const int32_t *h, const uint8_
             continue;
         }
         const int32_t *p = &st->v[4u * i];
-        const int64_t w = h8c + (int64_t)h[6] * p[0] + (int64_t)h[7] * p[1];
+        const int64_t w = q_w(h8c, h[6], h[7], p);
         b.w_lo = w < b.w_lo ? w : b.w_lo;
         b.w_hi = w > b.w_hi ? w : b.w_hi;
         const int64_t ax = (int64_t)h_mag(p[0]), ay = (int64_t)h_mag(p[1]);
@@ -1520,19 +1521,20 @@ static q_lin_t lin_prep_b(const q_box_t *b, const int32_t *h, uint16_t n)
     return L;
 }
 
-static q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+/* The formats for the flagged points among the first n: from the frame's
+ * box, or where that fails the fast path's bounds and use is not NULL,
+ * from the flagged points' own box (box_used).  Not inlined: the boxes
+ * stay out of the sums' frames. */
+static SPVS_Q_NOINLINE q_lin_t lin_prep(const spvs_q_store_t *st, const int32_t *h,
+                                        const uint8_t *use, uint16_t n)
 {
-    const q_box_t b = box_of(st->tgt_max, st->cur_max, h);
-    return lin_prep_b(&b, h, n);
-}
-
-/* lin_prep on the flagged points' own box (box_used).  Not inlined: the
- * box stays out of the sums' frames. */
-static SPVS_Q_NOINLINE q_lin_t lin_prep_used(const spvs_q_store_t *st, const int32_t *h,
-                                             const uint8_t *use, uint16_t n)
-{
-    const q_box_t b = box_used(st, h, use, n);
-    return lin_prep_b(&b, h, n);
+    q_box_t b = box_of(st->tgt_max, st->cur_max, h);
+    q_lin_t L = lin_prep_b(&b, h, n);
+    if (!L.ok && use != NULL) {
+        b = box_used(st, h, use, n);
+        L = lin_prep_b(&b, h, n);
+    }
+    return L;
 }
 
 /* x 2^k for a 32-bit value and k in -31..31 (floor for k < 0); callers
@@ -1556,7 +1558,7 @@ typedef struct {
 static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_t *L, q_lw_t *o)
 {
     const int32_t x = p[0], y = p[1], u = p[2], v = p[3];
-    const int64_t w = L->h8c + (int64_t)h[6] * x + (int64_t)h[7] * y;
+    const int64_t w = q_w(L->h8c, h[6], h[7], p);
     const int32_t w27 = (int32_t)(w >> 26);
     /* u w27 - h1 . p (exact: every partial sum below 2^63). */
     const int64_t ex53 = L->nh2c + (int64_t)u * w27 + (int64_t)L->nh0 * x + (int64_t)L->nh1 * y;
@@ -1786,19 +1788,18 @@ static q_fit_t fit_prep_b(int kind, const q_box_t *bx_, const int32_t *h, uint16
     return F;
 }
 
-static q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h, uint16_t n)
+/* fit_prep_b's formats for the flagged points, from the frame's box or
+ * their own, as lin_prep. */
+static SPVS_Q_NOINLINE q_fit_t fit_prep(int kind, const spvs_q_store_t *st, const int32_t *h,
+                                        const uint8_t *use, uint16_t n)
 {
-    const q_box_t b = box_of(st->tgt_max, st->cur_max, h);
-    return fit_prep_b(kind, &b, h, n);
-}
-
-/* fit_prep on the flagged points' own box (box_used), out of line as
- * lin_prep_used. */
-static SPVS_Q_NOINLINE q_fit_t fit_prep_used(int kind, const spvs_q_store_t *st,
-                                             const int32_t *h, const uint8_t *use, uint16_t n)
-{
-    const q_box_t b = box_used(st, h, use, n);
-    return fit_prep_b(kind, &b, h, n);
+    q_box_t b = box_of(st->tgt_max, st->cur_max, h);
+    q_fit_t F = fit_prep_b(kind, &b, h, n);
+    if (!F.ok && use != NULL) {
+        b = box_used(st, h, use, n);
+        F = fit_prep_b(kind, &b, h, n);
+    }
+    return F;
 }
 
 /* One point's FIT terms on the fast path into G: terms 0-5 in Q(2 qq),
@@ -1806,7 +1807,7 @@ static SPVS_Q_NOINLINE q_fit_t fit_prep_used(int kind, const spvs_q_store_t *st,
 static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *p, const q_fit_t *F, int64_t G[9])
 {
     const int32_t x = p[0], y = p[1];
-    const int64_t w = F->h8c + (int64_t)F->h6 * x + (int64_t)F->h7 * y;
+    const int64_t w = q_w(F->h8c, F->h6, F->h7, p);
     const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^29) */
     /* 1 / w: w27 2^(n - 1) in [2^30, 2^31), so 1 / w = r 2^(n - 35), and in
      * Q28 r 2^(n - 7) with n in 3..6. */
@@ -1866,9 +1867,10 @@ int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t H
                     uint16_t n)
 {
     if (kind == SPVS_T_LIN || kind == SPVS_T_SAMPSON) {
-        return lin_prep(st, Hq, n).ok;
+        return lin_prep(st, Hq, NULL, n).ok;
     }
-    return kind == SPVS_T_FIT_Y || kind == SPVS_T_FIT_X ? fit_prep((int)kind, st, Hq, n).ok : 0;
+    return kind == SPVS_T_FIT_Y || kind == SPVS_T_FIT_X ? fit_prep((int)kind, st, Hq, NULL, n).ok
+                                                        : 0;
 }
 
 /* Adds a fast path's sums F (s->nt of them, block b's exponent e0, e1 or
@@ -2005,10 +2007,7 @@ static SPVS_Q_NOINLINE int sampson_exact(const int32_t *h, const int32_t *p, spv
 static SPVS_Q_NOINLINE int32_t sampson_sum(const int32_t *h, const spvs_q_store_t *st,
                                            const uint8_t *use, uint16_t n, spvs_q_sums_t *out)
 {
-    q_lin_t L = lin_prep(st, h, n);
-    if (!L.ok) {
-        L = lin_prep_used(st, h, use, n);
-    }
+    const q_lin_t L = lin_prep(st, h, use, n);
     int64_t F = 0;
     int32_t used = 0, exact = 0;
     /* L.ok tested once (as spvs_q_pts_sum's LIN loop).  Bound: n points. */
@@ -2087,14 +2086,8 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
     int32_t used = 0;
     /* SPVS_T_LIN: the points in the fast path's range into F, the others
      * through the exact terms; merged at the end. */
-    q_lin_t L = lin ? lin_prep(st, Hq, n) : (q_lin_t){0};
-    q_fit_t FT = lin ? (q_fit_t){0} : fit_prep((int)kind, st, Hq, n);
-    /* Where the frame's box fails, the flagged points' own box. */
-    if (lin && !L.ok) {
-        L = lin_prep_used(st, Hq, use, n);
-    } else if (!lin && !FT.ok) {
-        FT = fit_prep_used((int)kind, st, Hq, use, n);
-    }
+    const q_lin_t L = lin ? lin_prep(st, Hq, use, n) : (q_lin_t){0};
+    const q_fit_t FT = lin ? (q_fit_t){0} : fit_prep((int)kind, st, Hq, use, n);
     if (FT.ok) {
         /* Every point on the fast path (w >= 1/4: none behind the camera). */
         int64_t G[SPVS_NT_FIT] = {0};
