@@ -537,18 +537,12 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
         }
     }
     assert_int_equal((int)cq, (int)cf + diff);
-    /* The cost over the Q kernel's inliers, against the double sum over
-     * the same set; the float cost over its own set, corrected by the
-     * points the two sets do not share. */
-    const uint64_t cqq = spvs_q_pts_cost(&sc->qst, sc->n, Hq, &thr, &sat);
+    /* The cost over the Q kernel's inliers, against the double sum and
+     * the float cost over the same set. */
+    const uint64_t cqq = spvs_q_pts_cost(&sc->qst, sc->n, Hq, mq, &sat);
     assert_int_equal(sat, 0);
     const double cqd = ldexp((double)cqq, -SPVS_QCOST);
-    double cfd = (double)spvs_pts_cost(&sc->fst, sc->n, H, t2);
-    for (uint16_t i = 0; i < sc->n; i++) {
-        if (mf[i] != mq[i]) {
-            cfd += (mq[i] ? 1 : -1) * ref_e2(&sc->fst, i, H);
-        }
-    }
+    const double cfd = (double)spvs_pts_cost(&sc->fst, sc->n, H, mq);
     if (cq > 0) {
         /* Each error relative to the sum plus t2 per inlier: a model whose
          * few inliers fit it almost exactly (a 3-point model's own sample)
@@ -977,7 +971,7 @@ static void test_q_extremes(void **state)
          * relative plus 2^-50 per inlier (the Q52 rounding), or, beyond
          * its range (2^12), saturated with the flag. */
         sat = 0;
-        const uint64_t cost = spvs_q_pts_cost(&sc.qst, sc.n, Hq, &thr, &sat);
+        const uint64_t cost = spvs_q_pts_cost(&sc.qst, sc.n, Hq, mq, &sat);
         long double cref = 0;
         for (uint16_t i = 0; i < sc.n; i++) {
             cref += mq[i] ? exact_e2_q(&sc.qst, i, Hq) : 0;

@@ -272,11 +272,11 @@ static uint16_t f_score(void *ctx, const spvs_real *model, spvs_real t2, uint16_
     return k;
 }
 
-static spvs_real f_cost(void *ctx, const spvs_real *model, spvs_real t2)
+static spvs_real f_cost(void *ctx, const spvs_real *model, const uint8_t *mask)
 {
     run_ctx_t *c = ctx;
     log_ev(c, EV_COST);
-    return spvs_pts_cost(&c->sc->fst, c->sc->n, model, t2);
+    return spvs_pts_cost(&c->sc->fst, c->sc->n, model, mask);
 }
 
 /* The refine of both instances: the 3-point fit on three of the inliers
@@ -359,12 +359,12 @@ static uint16_t q_score(void *ctx, const int32_t *model, const void *thr, uint16
     return k;
 }
 
-static uint64_t q_cost(void *ctx, const int32_t *model, const void *thr)
+static uint64_t q_cost(void *ctx, const int32_t *model, const uint8_t *mask)
 {
     run_ctx_t *c = ctx;
     uint32_t sat = 0;
     log_ev(c, EV_COST);
-    return spvs_q_pts_cost(&c->sc->qst, c->sc->n, model, thr, &sat);
+    return spvs_q_pts_cost(&c->sc->qst, c->sc->n, model, mask, &sat);
 }
 
 static int q_refine(void *ctx, int32_t *model, const uint8_t *mask)

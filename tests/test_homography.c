@@ -422,7 +422,7 @@ static void test_store_matches_rows(void **state)
                     cost += ex * ex + ey * ey;
                 }
             }
-            const double got = (double)spvs_pts_cost(&store, n, Ha, t3 * t3);
+            const double got = (double)spvs_pts_cost(&store, n, Ha, mask);
             assert_true(fabs(got - cost) <= 1e-3 * cost + 1e-12);
             /* The minimal solver on a sample of the set, read in place,
              * against the solver on a copy. */

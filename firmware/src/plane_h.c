@@ -107,11 +107,11 @@ static uint16_t est_score(void *ctx, const spvs_real *H, spvs_real t2, uint16_t 
     return spvs_pts_score(&e->pts, e->n_plane, H, t2, need, mask);
 }
 
-/* Tie-break cost of H: its inliers' squared algebraic residual. */
-static spvs_real est_cost(void *ctx, const spvs_real *H, spvs_real t2)
+/* Tie-break cost of H: its inliers' (mask) squared algebraic residual. */
+static spvs_real est_cost(void *ctx, const spvs_real *H, const uint8_t *mask)
 {
     const spvs_plane_h_t *e = (const spvs_plane_h_t *)ctx;
-    return spvs_pts_cost(&e->pts, e->n_plane, H, t2);
+    return spvs_pts_cost(&e->pts, e->n_plane, H, mask);
 }
 
 /* LO step: polish a hypothesis with the weighted linear fit on its inliers

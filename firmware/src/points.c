@@ -355,9 +355,8 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
 static SPVS_ALWAYS_INLINE spvs_v4i score_row(const spvs_real *h, const spvs_point_store_t *st,
                                              size_t r, spvs_real t2, spvs_real c2)
 {
-    spvs_v4 e;
     return hp_inlier_v(h, spvs_v4_load(&COL(st, 0)[r]), spvs_v4_load(&COL(st, 1)[r]),
-                       spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2, &e);
+                       spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2);
 }
 
 /* Rows of lanes whose flags are stored together (spvs_v4_store_flags4). */
@@ -436,20 +435,20 @@ static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const sp
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
-                        spvs_real t2)
+                        const uint8_t *mask)
 {
-    const spvs_real c2 = band_c2(st, H, t2);
     spvs_real lane[SUM_LANES] = {SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0)};
-    /* An outlier adds +0, which leaves a lane's sum (never -0) as it was. */
+    /* A point not flagged adds +0, which leaves a lane's sum (never -0) as
+     * it was. */
     spvs_v4 acc = {0};
     uint16_t i0 = 0;
     /* Bound: n / SUM_LANES rows. */
     for (; i0 + SUM_LANES <= n; i0 = (uint16_t)(i0 + SUM_LANES)) {
-        spvs_v4 e;
-        const spvs_v4i in =
-            hp_inlier_v(H, spvs_v4_load(&COL(st, 0)[i0]), spvs_v4_load(&COL(st, 1)[i0]),
-                        spvs_v4_load(&COL(st, 2)[i0]), spvs_v4_load(&COL(st, 3)[i0]), t2, c2,
-                        &e);
+        spvs_v4 w, ex, ey;
+        const spvs_v4 e =
+            hp_e2_v(H, spvs_v4_load(&COL(st, 0)[i0]), spvs_v4_load(&COL(st, 1)[i0]),
+                    spvs_v4_load(&COL(st, 2)[i0]), spvs_v4_load(&COL(st, 3)[i0]), &w, &ex, &ey);
+        const spvs_v4i in = spvs_v4_flags(mask + i0);
         acc += (spvs_v4)((spvs_v4i)e & in);
     }
     for (int j = 0; j < SUM_LANES; j++) {
@@ -458,10 +457,10 @@ spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_rea
     /* The rest of each lane, in point order.  Bound: fewer than SUM_LANES. */
     for (uint16_t j = 0; j < SUM_LANES; j++) {
         for (uint16_t i = (uint16_t)(i0 + j); i < n; i = (uint16_t)(i + SUM_LANES)) {
-            spvs_real e;
-            if (hp_inlier(H, at(st, i, 0), at(st, i, 1), at(st, i, 2), at(st, i, 3), t2, c2,
-                          &e)) {
-                lane[j] += e;
+            if (mask[i]) {
+                spvs_real w, ex, ey;
+                lane[j] += hp_e2(H, at(st, i, 0), at(st, i, 1), at(st, i, 2), at(st, i, 3), &w,
+                                 &ex, &ey);
             }
         }
     }
@@ -543,17 +542,16 @@ static SPVS_ALWAYS_INLINE void score_tail(const spvs_point_store_t *st, const sp
 }
 
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
-                        spvs_real t2)
+                        const uint8_t *mask)
 {
-    const spvs_real c2 = band_c2(st, H, t2);
     spvs_real lane[SUM_LANES] = {SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0), SPVS_R(0.0)};
     /* Each lane in point order.  Bound: n points. */
     for (uint16_t j = 0; j < SUM_LANES; j++) {
         for (uint16_t i = j; i < n; i = (uint16_t)(i + SUM_LANES)) {
-            spvs_real e;
-            const spvs_real *p = ROWS(st)[i];
-            if (hp_inlier(H, p[0], p[1], p[2], p[3], t2, c2, &e)) {
-                lane[j] += e;
+            if (mask[i]) {
+                const spvs_real *p = ROWS(st)[i];
+                spvs_real w, ex, ey;
+                lane[j] += hp_e2(H, p[0], p[1], p[2], p[3], &w, &ex, &ey);
             }
         }
     }
@@ -573,9 +571,8 @@ static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const s
                                            int32_t max_out, uint8_t *mask, int32_t *inl)
 {
     for (size_t r = i; r < end; r++) {
-        spvs_real e;
         const int32_t ok =
-            hp_inlier(h, at(st, r, 0), at(st, r, 1), at(st, r, 2), at(st, r, 3), t2, c2, &e);
+            hp_inlier(h, at(st, r, 0), at(st, r, 1), at(st, r, 2), at(st, r, 3), t2, c2);
         *inl += ok;
         if (mask) {
             mask[r] = (uint8_t)ok;

@@ -129,10 +129,10 @@ SPVS_NODISCARD int spvs_pts_solve3(const spvs_point_store_t *st, const uint16_t 
 uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real H[9],
                         spvs_real t2, uint16_t need, uint8_t *mask);
 
-/* The summed squared algebraic residual |p_cur w - H p_tgt|^2 of H's
- * inliers (spvs_pts_score's test) among the first n points: RANSAC's
- * tie-break.  Bound: n. */
+/* The summed squared algebraic residual |p_cur w - H p_tgt|^2 of the
+ * points flagged in mask[0..n) (H's inliers, as spvs_pts_score marked
+ * them): RANSAC's tie-break.  Bound: n. */
 spvs_real spvs_pts_cost(const spvs_point_store_t *st, uint16_t n, const spvs_real H[9],
-                        spvs_real t2);
+                        const uint8_t *mask);
 
 #endif /* SPVS_POINTS_H */

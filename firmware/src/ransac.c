@@ -49,7 +49,6 @@ uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
 /* The float instance of the loop: ransac.inc, written once for this scalar
  * and for the fixed-point models (fixed/ransac_q.c). */
 #define RT_MODEL spvs_real
-#define RT_THR spvs_real
 #define RT_COST spvs_real
 #define RT_COST_ZERO SPVS_R(0.0)
 #define RT_LOGF spvs_real

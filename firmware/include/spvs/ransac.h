@@ -56,10 +56,11 @@ typedef struct {
     uint16_t (*score)(void *ctx, const spvs_real *model, spvs_real threshold2,
                       uint16_t need, uint8_t *mask);
     /* Optional (may be NULL): the summed squared residual of the model's
-     * inliers, which breaks ties in the count (lower wins).  Called only
-     * when two models tie, so scoring never pays for it.  Without it a tie
-     * keeps the earlier model. */
-    spvs_real (*cost)(void *ctx, const spvs_real *model, spvs_real threshold2);
+     * inliers, `mask` as score() wrote it for this model (full: a count
+     * that ties the best one reached `need`), which breaks ties in the
+     * count (lower wins).  Called only when two models tie, so scoring
+     * never pays for it.  Without it a tie keeps the earlier model. */
+    spvs_real (*cost)(void *ctx, const spvs_real *model, const uint8_t *mask);
     /* Optional (may be NULL): local optimisation of a new best model on its
      * inliers (`mask`, as score() wrote it for this model), in place.
      * Returns SPVS_OK when `model` was replaced.  RANSAC keeps the polished

@@ -99,11 +99,11 @@ static uint16_t q_est_score(void *ctx, const int32_t *H, const void *thr, uint16
 
 /* The tie-break cost; a saturated sum (above 2^12 scaled units^2, far
  * beyond any consensus's) compares as the largest, which it is. */
-static uint64_t q_est_cost(void *ctx, const int32_t *H, const void *thr)
+static uint64_t q_est_cost(void *ctx, const int32_t *H, const uint8_t *mask)
 {
     const spvs_q_plane_h_t *e = (const spvs_q_plane_h_t *)ctx;
     uint32_t sat = 0;
-    return spvs_q_pts_cost(&e->pts, e->n_plane, H, (const spvs_q_thr_t *)thr, &sat);
+    return spvs_q_pts_cost(&e->pts, e->n_plane, H, mask, &sat);
 }
 
 /* plane_h.c's est_refine: two linear fits on the first SPVS_LO_POINTS

@@ -693,16 +693,23 @@ static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
     return r >= ((uint64_t)1 << 31) ? UINT32_MAX : (uint32_t)r + Q_FAST_D;
 }
 
+/* The rows of H as q_w, q_hw and cost_fast read them: -h11, -h12, -h13
+ * 2^26 and h33 2^26 (|h| < 2^31: no overflow). */
+static SPVS_Q_INLINE void model_rows(q_model_t *md, const int32_t *h)
+{
+    const int64_t one26 = (int64_t)1 << 26;
+    md->nh0 = -h[0];
+    md->nh1 = -h[1];
+    md->nh2c = -((int64_t)h[2] * one26);
+    md->h8c = (int64_t)h[8] * one26;
+}
+
 static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const spvs_q_thr_t *thr)
 {
     q_model_t md;
     md.fast = 0;
     md.chk = 0;
-    const int64_t one26 = (int64_t)1 << 26;
-    md.nh0 = -h[0];
-    md.nh1 = -h[1];
-    md.nh2c = -((int64_t)h[2] * one26);
-    md.h8c = (int64_t)h[8] * one26;
+    model_rows(&md, h);
     if (!thr->fast) {
         return md;
     }
@@ -1139,24 +1146,31 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     return (uint16_t)inl;
 }
 
-/* The cost's term |eps|^2 of one point of a model with model_prep's
- * bounds (md->fast), in Q52, from its residuals in Q53: w = w27 2^26 + wr
- * (w27 its floor in Q27, 0 <= wr < 2^26), so u w - h1 . p 2^26 is
- * (u w27 - h1 . p) 2^26 + u wr, and ex53 = u w27 - h1 . p + floor(u wr
- * 2^-26) is within one unit of the exact residual in Q53 (ey53 alike;
- * each sum below 2^63 by model_prep's bounds).  Rounded to Q36 (within
- * 1/2 + 2^-17 units there), squared and summed in Q72 and rounded to Q52,
- * the term is within 2^-35 (|ex| + |ey|) + 2^-52 of the exact one: for a
- * residual of a pixel (2^-9 scaled units), within 2^-26 relative, finer
- * than a float32 sum's rounding.  Returns 0 where |ex53| or |ey53| is
+/* The cost's term |eps|^2 of one point, in Q52, from its residuals in
+ * Q53: w = w27 2^26 + wr (w27 its floor in Q27, 0 <= wr < 2^26), so
+ * u w - h1 . p 2^26 is (u w27 - h1 . p) 2^26 + u wr, and ex53 = u w27 -
+ * h1 . p + floor(u wr 2^-26) is within one unit of the exact residual in
+ * Q53 (ey53 alike).  With |w| < 16 (2^57 in Q53, tested) w27 is in int32,
+ * and as |h| < 2^31 and |p| <= 2^30 each product is below 2^61 and every
+ * partial sum below 2^63: exact in int64 for any H.  Rounded to Q36
+ * (within 1/2 + 2^-17 units there), squared and summed in Q72 and rounded
+ * to Q52, the term is within 2^-35 (|ex| + |ey|) + 2^-52 of the exact one:
+ * for a residual of a pixel (2^-9 scaled units), within 2^-26 relative,
+ * finer than a float32 sum's rounding.  Returns UINT64_MAX (no term is
+ * that large: each is below 2^43) where |w| >= 16 or |ex53| or |ey53| is
  * 2^47 or more (|eps| of 2^-6 scaled units, 8 px, or more), where the
- * squares would leave their range; q_e2 takes that point. */
-static SPVS_Q_INLINE int cost_fast(const int32_t *h, const int32_t *p, const q_model_t *md,
-                                   uint64_t *t)
+ * squares would leave their range; q_e2 takes that point.  Not inlined:
+ * the loop over the points keeps only its own values. */
+static SPVS_Q_NOINLINE uint64_t cost_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
 {
     const int64_t w = q_w(md->h8c, h[6], h[7], p);
-    const int32_t w27 = (int32_t)(w >> 26);
-    const int32_t wr = (int32_t)((uint32_t)w & 0x3FFFFFFu);
+    if ((uint64_t)(w + ((int64_t)1 << 57)) >= ((uint64_t)1 << 58)) {
+        return UINT64_MAX;
+    }
+    /* Opaque: after the test above the compiler would take w27 for w's
+     * 64-bit value and multiply by it in 64 x 64 bits. */
+    const int32_t w27 = spvs_q_opaque32((int32_t)(w >> 26));
+    const int32_t wr = spvs_q_opaque32((int32_t)((uint32_t)w & 0x3FFFFFFu));
     const int64_t ex53 = md->nh2c + (int64_t)p[2] * w27 + (int64_t)md->nh0 * p[0] +
                          (int64_t)md->nh1 * p[1] + (((int64_t)p[2] * wr) >> 26);
     const int64_t ey53 = (int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27) +
@@ -1165,41 +1179,48 @@ static SPVS_Q_INLINE int cost_fast(const int32_t *h, const int32_t *p, const q_m
      * for both. */
     const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
     if (((uint32_t)(xh + 0x8000) | (uint32_t)(yh + 0x8000)) >= 0x10000u) {
-        return 0;
+        return UINT64_MAX;
     }
     /* Q36, rounded: |.| <= 2^30, so each square is below 2^61 (exact in
      * int64) and their sum, rounded to Q52, below 2^43. */
     const int32_t ex = (int32_t)((ex53 + 0x10000) >> 17);
     const int32_t ey = (int32_t)((ey53 + 0x10000) >> 17);
-    *t = ((uint64_t)((int64_t)ex * ex + (int64_t)ey * ey) + 0x80000u) >> 20;
-    return 1;
+    return ((uint64_t)((int64_t)ex * ex + (int64_t)ey * ey) + 0x80000u) >> 20;
+}
+
+/* The cost's term from the exact residuals (q_e2), in Q52.  Not inlined,
+ * as cost_fast. */
+static SPVS_Q_NOINLINE uint64_t cost_exact(const int32_t *h, const int32_t *p, uint32_t *sat)
+{
+    return (uint64_t)spvs_qf_to_q64(q_e2(h, p), SPVS_QCOST, sat);
 }
 
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
-                         const spvs_q_thr_t *thr, uint32_t *sat)
+                         const uint8_t *mask, uint32_t *sat)
 {
-    q_model_t md = model_prep(st, Hq, thr);
+    q_model_t md;
+    model_rows(&md, Hq);
     uint64_t sum = 0;
     /* Bound: n points. */
     for (uint16_t i = 0; i < n; i++) {
-        const int32_t *p = &st->v[4u * i];
-        if (q_inlier(Hq, p, &md, &thr->t2, md.fast)) {
-            /* The cost breaks ties only: its term in fixed formats where
-             * the model's bounds allow (cost_fast), else from the exact
-             * residuals (q_e2); the two agree to far below the float
-             * core's rounding of the same sum. */
-            uint64_t t;
-            if (!md.fast || !cost_fast(Hq, p, &md, &t)) {
-                t = (uint64_t)spvs_qf_to_q64(q_e2(Hq, p), SPVS_QCOST, sat);
-            }
-            /* Saturate on the unsigned sum's carry. */
-            const uint64_t s = sum + t;
-            if (s < sum) {
-                *sat |= SPVS_Q_SAT;
-                return UINT64_MAX;
-            }
-            sum = s;
+        if (!mask[i]) {
+            continue;
         }
+        const int32_t *p = &st->v[4u * i];
+        /* The cost breaks ties only: its term in fixed formats where they
+         * hold (cost_fast), else from the exact residuals (q_e2); the two
+         * agree to far below the float core's rounding of the same sum. */
+        uint64_t t = cost_fast(Hq, p, &md);
+        if (t == UINT64_MAX) {
+            t = cost_exact(Hq, p, sat);
+        }
+        /* Saturate on the unsigned sum's carry. */
+        const uint64_t s = sum + t;
+        if (s < sum) {
+            *sat |= SPVS_Q_SAT;
+            return UINT64_MAX;
+        }
+        sum = s;
     }
     return sum;
 }

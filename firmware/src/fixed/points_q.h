@@ -149,11 +149,11 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
                           const spvs_q_thr_t *thr, uint16_t need, uint8_t *mask);
 
 /* spvs_pts_cost on the Q store: the summed squared algebraic residual
- * |p_cur w - H p_tgt|^2 (scaled units^2) of Hq's inliers among the first
- * n points, uint64 Q52.  A sum above 2^12 saturates and ORs SPVS_Q_SAT
- * into *sat.  Bound: n. */
+ * |p_cur w - H p_tgt|^2 (scaled units^2) of the points flagged in
+ * mask[0..n) (Hq's inliers, as spvs_q_pts_score marked them), uint64 Q52.
+ * A sum above 2^12 saturates and ORs SPVS_Q_SAT into *sat.  Bound: n. */
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
-                         const spvs_q_thr_t *thr, uint32_t *sat);
+                         const uint8_t *mask, uint32_t *sat);
 
 /* spvs_pts_sum for kind SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_LIN or
  * SPVS_T_SAMPSON on the Q store: the terms of the first n points flagged

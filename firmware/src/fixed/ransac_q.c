@@ -155,7 +155,6 @@ uint32_t spvs_q_ransac_needed(uint16_t best_n, uint16_t n, uint16_t s, uint64_t 
 
 /* The fixed-point instance of the loop (ransac.inc). */
 #define RT_MODEL int32_t
-#define RT_THR const void *
 #define RT_COST uint64_t
 #define RT_COST_ZERO 0u
 #define RT_LOGF uint64_t

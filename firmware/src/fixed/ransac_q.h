@@ -54,10 +54,9 @@ typedef struct {
     uint16_t (*score)(void *ctx, const int32_t *model, const void *thr, uint16_t need,
                       uint8_t *mask);
     /* Optional (may be NULL): the summed squared residual of the model's
-     * inliers, which breaks ties in the count (lower wins).  Called only
-     * when two models tie, so scoring never pays for it.  Without it a tie
-     * keeps the earlier model. */
-    uint64_t (*cost)(void *ctx, const int32_t *model, const void *thr);
+     * inliers (`mask`, as score() wrote it for this model, full), which
+     * breaks ties in the count (lower wins), as spvs_estimator_t's. */
+    uint64_t (*cost)(void *ctx, const int32_t *model, const uint8_t *mask);
     /* Optional (may be NULL): local optimisation of a new best model on its
      * inliers (`mask`, as score() wrote it for this model), in place.
      * Returns SPVS_OK when `model` was replaced.  RANSAC keeps the polished
@@ -66,8 +65,8 @@ typedef struct {
 } spvs_q_estimator_t;
 
 typedef struct {
-    const void *thr;         /* the inlier threshold, as score() and cost()
-                                read it (not NULL)                          */
+    const void *thr;         /* the inlier threshold, as score() reads it
+                                (not NULL)                                  */
     uint32_t confidence_q32; /* confidence 2^-32, 1..2^32 - 1: in (0, 1), as
                                 spvs_ransac_opts_t's, e.g. 0.99            */
     uint32_t max_iters;      /* cap, 1..SPVS_RANSAC_MAX_ITERS                */
