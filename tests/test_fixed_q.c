@@ -1121,7 +1121,7 @@ static void test_q_sums_random(void **state)
     static scene_t sc;
     uint64_t rng = 77;
     sum_stats_t st = {0};
-    int fast = 0, fast_fit = 0, scenes = 0;
+    int fast = 0, fast_fit = 0, wide = 0, scenes = 0;
     const spvs_real t = (spvs_real)(INLIER_PX / S);
     for (int c = 0; c < 100; c++) {
         const int n = 8 + (int)(synth_uniform(&rng) * (NMAX - 8));
@@ -1135,6 +1135,24 @@ static void test_q_sums_random(void **state)
         (void)spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, mask);
         check_sums(&sc, sc.Hs, all, &st);
         check_sums(&sc, sc.Hs, mask, &st);
+        /* Row 3 scaled so that w reaches 10 over the points: beyond
+         * SPVS_T_LIN's fast path (w below 4), within the FIT sums' (below
+         * 16). */
+        double w_hi = 0;
+        for (uint16_t i = 0; i < sc.n; i++) {
+            spvs_real r[4];
+            spvs_pts_row(&sc.fst, i, r);
+            w_hi = fmax(w_hi, (double)sc.Hs[6] * r[0] + (double)sc.Hs[7] * r[1] + (double)sc.Hs[8]);
+        }
+        spvs_real H3[9];
+        memcpy(H3, sc.Hs, sizeof H3);
+        for (int k = 6; k < 9; k++) {
+            H3[k] = (spvs_real)((double)H3[k] * 10.0 / w_hi);
+        }
+        check_sums(&sc, H3, all, &st);
+        int32_t H3q[9];
+        assert_int_equal(spvs_q_h_from_real(H3, H3q), 0);
+        wide += spvs_q_sum_fast(SPVS_T_FIT_Y, &sc.qst, H3q, sc.n);
         int32_t Hq[9];
         assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
         fast += spvs_q_sum_fast(SPVS_T_LIN, &sc.qst, Hq, sc.n);
@@ -1148,15 +1166,17 @@ static void test_q_sums_random(void **state)
     print_message("sums: %ld sums; largest error / sum of |terms|: float %.3g (tolerance %.0e), "
                   "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e), term 24 float "
                   "%.3g (%.0e), Q %.3g (%.0e); the fast paths on %d of %d scenes "
-                  "(SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X)\n",
+                  "(SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X), %d of the SPVS_T_FIT_Y fits "
+                  "with w up to 10\n",
                   st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
                   TOL_SUM_Q_RHS, st.worst_f_cost, TOL_SAMPSON_F, st.worst_q_cost, TOL_SAMPSON_Q,
-                  fast, scenes, fast_fit, 2 * scenes);
+                  fast, scenes, fast_fit, 2 * scenes, wide);
     assert_true(st.sums > 3000);
     /* Typical frames take the fast path (the others have |u| or |v| near
      * 2 scaled units, or w below 1/4 somewhere in the frame). */
     assert_true(fast * 4 >= scenes * 3);
     assert_true(fast_fit * 4 >= 2 * scenes * 3);
+    assert_true(wide * 4 >= scenes * 3);
 }
 
 /* The sums near the edges of SPVS_T_LIN's fast path (points_q.c,

@@ -1750,7 +1750,7 @@ static SPVS_Q_NOINLINE int lin_fast(const int32_t *h, const int32_t *p, const q_
  * high words are q0, q1 in Q(qq), q2 = sc in Q(qq), r in Q(qr).  qq and qr
  * are the largest that keep |q| and |r| below 2^26, so each product below
  * 2^52 and a sum of up to 512 of them below 2^61.  ok = 0 where the bounds
- * fail (w outside [1/4, 4) over the frame, |u|, |v| or |x|, |y| of 2 or
+ * fail (w outside [1/4, 16) over the set, |u|, |v| or |x|, |y| of 2 or
  * more, n > 512): every point takes the exact path. */
 typedef struct {
     int ok;
@@ -1779,7 +1779,7 @@ static q_fit_t fit_prep_b(int kind, const q_box_t *bx_, const int32_t *h, uint16
         return F;
     }
     const int64_t w_lo = bx_->w_lo, w_hi = bx_->w_hi;
-    if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 55)) {
+    if (w_lo < ((int64_t)1 << 51) || w_hi >= ((int64_t)1 << 57)) {
         return F;
     }
     /* Bounds as powers of two: 1 / w < 2^(28 - bw), |sc| < 2^lsc,
@@ -1829,9 +1829,10 @@ static SPVS_Q_INLINE void fit_fast(int kind, const int32_t *p, const q_fit_t *F,
 {
     const int32_t x = p[0], y = p[1];
     const int64_t w = q_w(F->h8c, F->h6, F->h7, p);
-    const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^29) */
+    const int32_t w27 = (int32_t)(w >> 26); /* in [2^25, 2^31) */
     /* 1 / w: w27 2^(n - 1) in [2^30, 2^31), so 1 / w = r 2^(n - 35), and in
-     * Q28 r 2^(n - 7) with n in 3..6. */
+     * Q28 r 2^(n - 7) with n in 1..6: 1 / w to 2^-28 absolute, at least 24
+     * bits (w below 16). */
     const int nz = spvs_q_clz32((uint32_t)w27);
     const int32_t r = q_recip_fast((uint32_t)w27 << (nz - 1));
     const int32_t iw = r >> (7 - nz); /* Q28, below 2^30 */
