@@ -614,7 +614,7 @@ static SPVS_Q_INLINE uint32_t q_mag(int32_t x)
 }
 
 /* The threshold's T (0 <= T < 2^28) times a bound b over the frame (Q53,
- * 0 <= b < 2^57) taken in Q27: t b in Q21, below 2^27, by one 32 x 32 ->
+ * 0 <= b < 2^58) taken in Q27: t b in Q21, below 2^28, by one 32 x 32 ->
  * 64-bit multiply (sampson_prep, q_far_bound). */
 static SPVS_Q_INLINE uint32_t t_hi(int32_t T, int64_t b)
 {
@@ -624,9 +624,11 @@ static SPVS_Q_INLINE uint32_t t_hi(int32_t T, int64_t b)
 /* The constants of the band's Sampson test of H on the frame: a6, a7, c0,
  * c1, c3 (q_model_t) and the shift sh that brings t (w^2 + |P|_F^2)^(1/2)
  * over the frame below 2^15 (an estimate from the frame's bounds; a point beyond it
- * goes to the exact test).  Off (sfast = 0) unless each |P_k| < 16 over the
- * frame (its Q53 bound e[k] < 2^57, as band_c2's) and t' |h31|, t' |h32| <
- * 16 (a6, a7 in int32).  T < 2^28 and |h| < 2^31: T h < 2^59, and
+ * goes to the exact test).  Off (sfast = 0) unless each |P_k| < 32 over the
+ * frame (its Q53 bound e[k] < 2^58: a checked model's band points too) and
+ * t' |h31|, t' |h32| < 16 (a6, a7 in int32); the sh estimate is all that
+ * these bounds give, each point's own range is tested (mo below).
+ * T < 2^28 and |h| < 2^31: T h < 2^59, and
  * per point |u a6| < 2^61, |c0|, |c1| < 2^59, c3 = T 2^27 < 2^55, so each
  * Pi's int64 sum is below 2^62. */
 static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
@@ -640,11 +642,12 @@ static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
                            um * h_mag(h[7]) + (h_mag(h[1]) << 26), vm * h_mag(h[6]),
                            vm * h_mag(h[7]) + ((uint64_t)1 << 53)};
     /* t w and t |P_k| over the frame in Q21: T (< 2^28) times a Q27 bound
-     * (< 2^31), each below 2^27; their squares sum below 2^57. */
+     * (w's below 2^31, P_k's below 2^32), each below 2^28; their squares
+     * sum below 5 2^56. */
     const uint32_t tw = t_hi((int32_t)T, wb);
     uint64_t m2 = (uint64_t)tw * tw;
     for (int k = 0; k < 4; k++) {
-        if (e[k] >= ((uint64_t)1 << 57)) {
+        if (e[k] >= ((uint64_t)1 << 58)) {
             return;
         }
         const uint32_t tp = t_hi((int32_t)T, (int64_t)e[k]);
