@@ -10,6 +10,8 @@ MODE
   usage      exit 2; stderr is exactly one line starting "spvs-sim: "
   help       exit 0; stdout describes every option of the contract
   failed     exit 0 (the run took place); status "failed" with a reason
+  timeout    exit 0; status "timeout", the robot never moved, and the reason
+             "too_few_matches" (the last frame's status)
   files      with --trace T --record R in COMMAND: exit 0, and T has one row
              per frame of the JSON result, R one frame per frame, both ending
              on step 4 (converged)
@@ -154,6 +156,15 @@ def main():
                 or not obj["reason"]:
             fail("status %r reason %r, expected failed with a reason" %
                  (obj["status"], obj["reason"]))
+    elif mode == "timeout":
+        if p.returncode != 0:
+            fail("exit %d, expected 0 for a run that timed out" % p.returncode)
+        obj = last_json(p)
+        if obj["status"] != "timeout" or obj["reason"] != "too_few_matches":
+            fail("status %r reason %r, expected timeout with too_few_matches" %
+                 (obj["status"], obj["reason"]))
+        if obj["steps"][0].get("end_s") is not None or obj.get("path_m", 0) != 0:
+            fail("the robot moved without an estimate: %s" % obj)
     elif mode == "usage":
         if p.returncode != 2:
             fail("exit %d, expected 2" % p.returncode)

@@ -56,6 +56,13 @@ add_test(NAME sim_cli_failed_run_exits_0
          COMMAND ${sim_cli_check} failed -- $<TARGET_FILE:spvs-sim> --method 2
                  --normal 0,0,-1 --json --quiet)
 set_tests_properties(sim_cli_failed_run_exits_0 PROPERTIES LABELS "${spvs_variant};cli" TIMEOUT 60)
+# From the paper's start (0, -8, -40 deg) a 640 x 480 camera sees one
+# match: the robot stands still until --max-time, and the timeout names
+# the core's status.
+add_test(NAME sim_cli_timeout_names_status
+         COMMAND ${sim_cli_check} timeout -- $<TARGET_FILE:spvs-sim> --method 1
+                 --pose 0,-8,-40 --clip --max-time 2 --json --quiet)
+set_tests_properties(sim_cli_timeout_names_status PROPERTIES LABELS "${spvs_variant};cli" TIMEOUT 60)
 
 # The same run in process and across LCM (spvs-node) gives the same result.
 # Runs in a private network namespace with only loopback; skipped (77) where

@@ -225,6 +225,13 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
         sim_kin_step(&pose, v, w, c->dt_s, drift);
         res->path_m += hypot(pose.x_m - x0, pose.z_m - z0);
     }
+    /* A run that timed out on an error says which: the last frame's
+     * status, e.g. too_few_matches where the camera sees too little of
+     * the plane (the robot stood still on it, as it must). */
+    if (res->status == SIM_TIMEOUT && res->frames > 0 && res->core_status < 0) {
+        snprintf(res->reason, sizeof(res->reason), "%s",
+                 spvs_status_str(res->core_status));
+    }
     finish(res, &pose);
     return 0;
 }
