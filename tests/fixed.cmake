@@ -54,3 +54,10 @@ spvs_add_test(NAME test_fixed_spvs SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_
 if(TARGET test_fixed_spvs)
   target_include_directories(test_fixed_spvs PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
 endif()
+
+# The per-frame comparison of the fixed-point update with the M4F's
+# (tools/fixed_m3_bench/spread_ratio.py) on made-up runs.
+add_test(NAME fixed_spread_ratio
+         COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/tools/fixed_m3_bench/test_spread_ratio.py
+                 ${CMAKE_CURRENT_BINARY_DIR}/fixed_spread_ratio)
+set_tests_properties(fixed_spread_ratio PROPERTIES LABELS "unit;fixed" TIMEOUT 30)
