@@ -765,6 +765,22 @@ static SPVS_Q_INLINE int64_t q_w(int64_t h8c, int32_t h6, int32_t h7, const int3
     return h8c + (int64_t)h6 * p[0] + (int64_t)h7 * p[1];
 }
 
+/* The residuals of point p in Q53 from w27 = floor(w 2^-26) (Q27): ex =
+ * u w27 - h1 . p 2^26 as one chain of multiply-accumulates on the negated
+ * row (-h11, -h12 and -h13 2^26, model_rows), and ey = v w27 - y 2^27
+ * with y 2^27 as a product, so that its sum is one multiply-accumulate.
+ * Exact for w27 in int32: every partial sum is below 2^63. */
+static SPVS_Q_INLINE int64_t q_ex53(int64_t nh2c, int32_t nh0, int32_t nh1, const int32_t *p,
+                                    int32_t w27)
+{
+    return nh2c + (int64_t)p[2] * w27 + (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1];
+}
+
+static SPVS_Q_INLINE int64_t q_ey53(const int32_t *p, int32_t w27)
+{
+    return (int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27);
+}
+
 /* The fast test's high words of one point with w > 0 (model_prep's
  * comment): exh, eyh and tw, Q21. */
 typedef struct {
@@ -776,12 +792,8 @@ static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *p, const q_model_t *md, int64_t 
 {
     q_hw_t r;
     const int32_t w27 = (int32_t)(w >> 26);
-    /* ex = u w27 - h1 . p as one chain of multiply-accumulates on the
-     * negated row (exact: every partial sum is below 2^63). */
-    r.exh = (int32_t)((md->nh2c + (int64_t)p[2] * w27 + (int64_t)md->nh0 * p[0] +
-                       (int64_t)md->nh1 * p[1]) >> 32);
-    /* y 2^27 as a product, so that the sum is one multiply-accumulate. */
-    r.eyh = (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32);
+    r.exh = (int32_t)(q_ex53(md->nh2c, md->nh0, md->nh1, p, w27) >> 32);
+    r.eyh = (int32_t)(q_ey53(p, w27) >> 32);
     r.tw = (uint32_t)(((int64_t)md->T * w27) >> 32);
     return r;
 }
@@ -1067,12 +1079,10 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
              * (w below 2^-27, or behind the camera) goes to the exact
              * test, which decides w <= 0 as well. */
             const int32_t w27 = (int32_t)(w >> 26);
-            const int32_t eyh = spvs_q_opaque32(
-                (int32_t)(((int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27)) >> 32));
+            const int32_t eyh = spvs_q_opaque32((int32_t)(q_ey53(p, w27) >> 32));
             if ((uint32_t)eyh + fl <= 2u * fl) {
-                const int32_t exh = spvs_q_opaque32((int32_t)(
-                    (nh2c + (int64_t)p[2] * w27 + (int64_t)nh0 * p[0] + (int64_t)nh1 * p[1]) >>
-                    32));
+                const int32_t exh =
+                    spvs_q_opaque32((int32_t)(q_ex53(nh2c, nh0, nh1, p, w27) >> 32));
                 if ((uint32_t)exh + fl > 2u * fl) {
                     ok = 0;
                 } else if (w27 <= 0) {
@@ -1174,10 +1184,9 @@ static SPVS_Q_NOINLINE uint64_t cost_fast(const int32_t *h, const int32_t *p, co
      * 64-bit value and multiply by it in 64 x 64 bits. */
     const int32_t w27 = spvs_q_opaque32((int32_t)(w >> 26));
     const int32_t wr = spvs_q_opaque32((int32_t)((uint32_t)w & 0x3FFFFFFu));
-    const int64_t ex53 = md->nh2c + (int64_t)p[2] * w27 + (int64_t)md->nh0 * p[0] +
-                         (int64_t)md->nh1 * p[1] + (((int64_t)p[2] * wr) >> 26);
-    const int64_t ey53 = (int64_t)p[3] * w27 + (int64_t)p[1] * (int32_t)-(1 << 27) +
-                         (((int64_t)p[3] * wr) >> 26);
+    const int64_t ex53 =
+        q_ex53(md->nh2c, md->nh0, md->nh1, p, w27) + (((int64_t)p[2] * wr) >> 26);
+    const int64_t ey53 = q_ey53(p, w27) + (((int64_t)p[3] * wr) >> 26);
     /* |ex53|, |ey53| < 2^47: high words in [-2^15, 2^15), one comparison
      * for both. */
     const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
@@ -1581,12 +1590,11 @@ typedef struct {
  * (*o is then not set). */
 static SPVS_Q_INLINE int lin_wt(const int32_t *h, const int32_t *p, const q_lin_t *L, q_lw_t *o)
 {
-    const int32_t x = p[0], y = p[1], u = p[2], v = p[3];
+    const int32_t u = p[2], v = p[3];
     const int64_t w = q_w(L->h8c, h[6], h[7], p);
     const int32_t w27 = (int32_t)(w >> 26);
-    /* u w27 - h1 . p (exact: every partial sum below 2^63). */
-    const int64_t ex53 = L->nh2c + (int64_t)u * w27 + (int64_t)L->nh0 * x + (int64_t)L->nh1 * y;
-    const int64_t ey53 = (int64_t)v * w27 + (int64_t)y * (int32_t)-(1 << 27);
+    const int64_t ex53 = q_ex53(L->nh2c, L->nh0, L->nh1, p, w27);
+    const int64_t ey53 = q_ey53(p, w27);
     /* |ex53|, |ey53| < 2^(53 - LIN_EB): their high words in [-2^16,
      * 2^16) (one comparison for both), less the one value that lets
      * through, -2^48 (high word -2^16, low word 0). */
