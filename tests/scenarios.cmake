@@ -13,3 +13,11 @@ if(TARGET spvs_sim)
     target_compile_definitions(test_scenarios_fixed PRIVATE SPVS_TEST_FIXED=1)
   endif()
 endif()
+
+# tools/experiments.py's arrival check (--arrival, --seed0) on a stand-in
+# for spvs-sim with known results: the seeds it runs, the counts of its
+# table and its exit status.
+add_test(NAME experiments_arrival_check
+         COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_experiments_arrival.py
+                 ${PROJECT_SOURCE_DIR}/tools/experiments.py)
+set_tests_properties(experiments_arrival_check PROPERTIES LABELS "unit;cli" TIMEOUT 120)
