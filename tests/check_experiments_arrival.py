@@ -100,8 +100,14 @@ def main():
         check({s for _, s in calls} == {1000}, "default seed 1000 (got %s)"
               % sorted({s for _, s in calls}))
 
+        # The last seed spvs-sim takes, 2^32 - 1, as the last run's.
+        p, calls = run(exp, sim, log, 99, "--arrival", "2", "--seed0", "4294967294")
+        check(p.returncode == 0 and {s for _, s in calls} == {4294967294, 4294967295},
+              "seeds up to 2^32 - 1 (got %d, %s)" % (p.returncode, sorted({s for _, s in calls})))
+
         # Misuse.
         for args, msg in ((["--seed0", "5"], "--seed0 goes with --arrival"),
+                          (["--seed0", "1000"], "--seed0 goes with --arrival"),
                           (["--arrival", "2", "--seed0", "-1"], "--seed0 must be"),
                           (["--arrival", "2", "--seed0", "4294967295"], "--seed0 must be")):
             p, calls = run(exp, sim, log, 99, *args)

@@ -83,7 +83,6 @@ static spvs_real mock_cost(void *ctx, const spvs_real *model, const uint8_t *mas
     return m->cost_down ? SPVS_R(1000.0) - model[0] : model[0];
 }
 
-
 static int mock_refine(void *ctx, spvs_real *model, const uint8_t *mask)
 {
     mock_t *m = (mock_t *)ctx;

@@ -917,7 +917,7 @@ def main(argv):
                     "%d..%d+SEEDS-1, all methods, without and with 20 %%%% mismatches; prints a "
                     "markdown table, writes nothing, exits 1 if a run claims converged outside "
                     "0.25 m / 0.5 deg" % (ARRIVAL_SEED0, ARRIVAL_SEED0))
-    ap.add_argument("--seed0", type=int, metavar="S", default=ARRIVAL_SEED0,
+    ap.add_argument("--seed0", type=int, metavar="S", default=None,
                     help="with --arrival: the first seed (default %d; test_scenarios uses "
                     "0..19), so that the check can be repeated on seeds of your own" % ARRIVAL_SEED0)
     args = ap.parse_args(argv)
@@ -927,11 +927,13 @@ def main(argv):
     if args.jobs < 1:
         sys.stderr.write("experiments.py: --jobs must be at least 1\n")
         return 2
-    if args.seed0 != ARRIVAL_SEED0 and not args.arrival:
+    if args.seed0 is not None and not args.arrival:
         sys.stderr.write("experiments.py: --seed0 goes with --arrival\n")
         return 2
-    if not 0 <= args.seed0 <= 2**32 - 1 - max(args.arrival, 0):
-        sys.stderr.write("experiments.py: --seed0 must be a seed from 0 to 2^32 - 1 - SEEDS\n")
+    seed0 = ARRIVAL_SEED0 if args.seed0 is None else args.seed0
+    # spvs-sim takes seeds 0..2^32 - 1; the last run's is seed0 + SEEDS - 1.
+    if not 0 <= seed0 <= 2**32 - max(args.arrival, 1):
+        sys.stderr.write("experiments.py: --seed0 must be a seed from 0 to 2^32 - SEEDS\n")
         return 2
     if not build_sim(args.sim):
         sys.stderr.write("experiments.py: no spvs-sim at %s (build it: cmake --build build/exp --target spvs-sim)\n" % args.sim)
@@ -939,7 +941,7 @@ def main(argv):
     if args.arrival:
         tmp = tempfile.mkdtemp(prefix="spvs-arrival-")
         try:
-            false_total = arrival_check(Runner(args.sim, args.jobs, tmp), args.arrival, args.seed0)
+            false_total = arrival_check(Runner(args.sim, args.jobs, tmp), args.arrival, seed0)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
         return 1 if false_total else 0
