@@ -13,6 +13,8 @@
 
 #define DEG (SYNTH_PI / 180.0)
 
+
+
 static synth_plane_t default_plane(void)
 {
     synth_plane_t pl;
@@ -482,6 +484,62 @@ static void test_arrival_bound_spent(void **state)
     assert_true(v == 0 && w == 0);
 }
 
+/* Method II's depth re-entry reads the distance from h33 with the first
+ * line's slope of h33 - h11 (reentry_signal).  From the grazing start the
+ * line is driven about 72 deg off the target heading, where h33 alone
+ * carries cos phi and a degree of heading moves it as much as a metre of
+ * the line.  Here the line's heading is disturbed as by wheel slip, a turn
+ * of +-2 deg per metre driven with a 4 m period, which the controller's
+ * rotation law keeps correcting: the slope kept must be n_z / d all the
+ * same.  The test also fits h33 alone along the same line, to show that
+ * the disturbance is there to be rejected. */
+static void test_reentry_slope_slip(void **state)
+{
+    (void)state;
+    synth_plane_t pl = default_plane();
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_II);
+    spvs_control_t c;
+    spvs_control_reset(&c);
+    synth_pose_t pose = {5.0, 2.0, -50.0 * DEG};
+    const double dt = 0.1;
+    const double slip_deg_per_m = 2.0, slip_period_m = 4.0;
+    double n = 0, S = 0, SS = 0, Sh = 0, SSh = 0, phi_line = 0;
+    for (int k = 0; k < 3000 && c.step != SPVS_STEP_ALIGN; k++) {
+        spvs_control_input_t in;
+        make_input(&pose, &pl, k * dt, &in);
+        spvs_real v, w;
+        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        if (c.step == SPVS_STEP_TRANSLATE) {
+            const double s = (double)c.odo_s, h33 = (double)in.H[SPVS_H33];
+            n += 1;
+            S += s;
+            SS += s * s;
+            Sh += h33;
+            SSh += s * h33;
+            phi_line = pose.phi;
+        }
+        double vv = v, ww = w;
+        pose.x += -vv * dt * sin(pose.phi);
+        pose.z += vv * dt * cos(pose.phi);
+        pose.phi += ww * dt;
+        if (c.step == SPVS_STEP_TRANSLATE) {
+            pose.phi += slip_deg_per_m * DEG * cos(2 * SYNTH_PI * (double)c.odo_s / slip_period_m) *
+                        fabs(vv) * dt;
+        }
+    }
+    assert_int_equal(c.step, SPVS_STEP_ALIGN);
+    assert_true(fabs(phi_line) > 65 * DEG);
+    const double nz_d = fabs(pl.n[2]) / pl.d;
+    const double h33_slope = (n * SSh - S * Sh) / (n * SS - S * S);
+    printf("slope of h33 - h11 %.5f, of h33 %.5f, n_z / d %.5f per metre\n",
+           fabs((double)c.slope_ax), fabs(h33_slope), nz_d);
+    assert_true(fabs(fabs((double)c.slope_ax) / nz_d - 1.0) < 0.02);
+    assert_true(fabs(fabs(h33_slope) / nz_d - 1.0) > 0.1);
+    /* The same sign as the step-2 signal's: n_y and n_z are both negative. */
+    assert_true((c.slope_ax > 0) == (c.slope_sig > 0));
+}
+
 static void test_params_check(void **state)
 {
     (void)state;
@@ -511,6 +569,7 @@ int main(void)
         cmocka_unit_test(test_arrival_check),
         cmocka_unit_test(test_arrival_parallax),
         cmocka_unit_test(test_arrival_bound_spent),
+        cmocka_unit_test(test_reentry_slope_slip),
         cmocka_unit_test(test_params_check),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

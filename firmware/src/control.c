@@ -62,7 +62,7 @@ int spvs_control_params_check(const spvs_control_params_t *p)
 static void fit_clear(spvs_control_t *c)
 {
     c->fit_n = c->fit_s = c->fit_ss = c->fit_d = c->fit_sd = SPVS_R(0.0);
-    c->fit_h33 = c->fit_sh33 = SPVS_R(0.0);
+    c->fit_ax = c->fit_sax = SPVS_R(0.0);
 }
 
 void spvs_control_reset(spvs_control_t *c)
@@ -119,7 +119,7 @@ void spvs_control_reset(spvs_control_t *c)
     c->arrive_par_sum = SPVS_R(0.0);
     c->arrive_par_n = 0;
     c->slope_sig = SPVS_R(0.0);
-    c->slope_h33 = SPVS_R(0.0);
+    c->slope_ax = SPVS_R(0.0);
     c->reentry_d0 = SPVS_R(0.0);
 }
 
@@ -327,13 +327,20 @@ static void learn_phit(spvs_control_t *c, const spvs_control_params_t *p,
  * value at the current distance replaces the raw D in v = -k_v D and in the
  * step-end test.  Until the fit has fit_min_frames frames over at least
  * fit_min_span_m metres the raw signal is used, and so it is while the
- * distances driven are too close together to fix a slope. */
+ * distances driven are too close together to fix a slope.
+ *
+ * The same line's slope of ax = h33 - h11 goes to slope_ax for a later
+ * re-entry (reentry_signal): along the optical axis it moves by n_z / d per
+ * metre like h33, but without h33's cos phi, which h11 carries too (eq. 5),
+ * so the heading corrections of the line do not enter it.  From the grazing
+ * start the line is driven about 72 deg off the target heading, where one
+ * degree of heading moves h33 as much as a metre of the line. */
 static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p,
-                               spvs_real D, spvs_real h33)
+                               spvs_real D, spvs_real ax)
 {
     spvs_real s = c->odo_s;
-    c->fit_h33 += h33;
-    c->fit_sh33 += s * h33;
+    c->fit_ax += ax;
+    c->fit_sax += s * ax;
     c->fit_n += SPVS_R(1.0);
     c->fit_s += s;
     c->fit_ss += s * s;
@@ -351,7 +358,7 @@ static spvs_real fitted_signal(spvs_control_t *c, const spvs_control_params_t *p
     spvs_real b = (c->fit_n * c->fit_sd - c->fit_s * c->fit_d) / den;
     spvs_real a = (c->fit_d - b * c->fit_s) / c->fit_n;
     c->slope_sig = b;
-    c->slope_h33 = (c->fit_n * c->fit_sh33 - c->fit_s * c->fit_h33) / den;
+    c->slope_ax = (c->fit_n * c->fit_sax - c->fit_s * c->fit_ax) / den;
     return a + b * s;
 }
 
@@ -588,7 +595,7 @@ static void step_translate(spvs_control_t *c, const spvs_control_params_t *p,
     if (c->trans_sign0 == 0) {
         translate_begin(c, p, in, D);
     }
-    spvs_real Df = fitted_signal(c, p, D, in->H[SPVS_H33]);
+    spvs_real Df = fitted_signal(c, p, D, in->H[SPVS_H33] - in->H[SPVS_H11]);
     /* det H = 1 + n^T c / d whatever the heading and the calibration
      * (eq. 2): a step-2 signal that crossed zero while det H says the robot
      * is still away from the target crossed through a turn. */
@@ -687,17 +694,18 @@ static int reenter(spvs_control_t *c, const spvs_control_input_t *in, spvs_step_
 /* The row-3 part of the method's step-2 signal in the averaged residual r:
  * along the optical axis h11 - h33 moves by -h33 (Methods I, III).  Method
  * II's alpha_y h32 scatters about SPVS_CTL_H32_NOISE_RATIO times as much as
- * h33 from frame to frame, so where the first line's fits say h33 moved
- * at least a third as much it is read from h33, scaled by the ratio of the
- * two slopes (both lines of the same motion). */
+ * h33 from frame to frame, so where the first line's fits say h33 - h11
+ * moved at least a third as much it is read from h33, scaled by the ratio
+ * of the two slopes (both lines of the same motion; facing the target
+ * after step 3, h11 is 1 but for a sideways offset). */
 static spvs_real reentry_signal(const spvs_control_t *c, const spvs_control_params_t *p,
                                 const spvs_real r[6])
 {
     if (p->method != SPVS_METHOD_II) {
         return -r[5];
     }
-    if ((spvs_real)SPVS_CTL_H32_NOISE_RATIO * SPVS_FABS(c->slope_h33) > SPVS_FABS(c->slope_sig)) {
-        return r[5] * (c->slope_sig / c->slope_h33);
+    if ((spvs_real)SPVS_CTL_H32_NOISE_RATIO * SPVS_FABS(c->slope_ax) > SPVS_FABS(c->slope_sig)) {
+        return r[5] * (c->slope_sig / c->slope_ax);
     }
     return p->alpha_y * r[4];
 }

@@ -168,9 +168,9 @@ typedef struct {
                                      off-plane points, -1: none seen       */
     spvs_real arrive_par_sum;     /* sum of the frames' parallax            */
     uint16_t arrive_par_n;        /* frames with a parallax                 */
-    spvs_real fit_h33, fit_sh33; /* step 2: sums of h33 and s h33       */
+    spvs_real fit_ax, fit_sax; /* step 2: sums of h33 - h11 and s (h33 - h11) */
     spvs_real slope_sig;     /* d signal / d metre, the first step 2's fit  */
-    spvs_real slope_h33;     /* d h33 / d metre, the same line              */
+    spvs_real slope_ax;      /* d (h33 - h11) / d metre, the same line      */
     spvs_real reentry_d0;    /* row-3 part of the step-2 signal at the check */
 } spvs_control_t;
 

@@ -345,8 +345,8 @@ int spvs_q_ctl_input_from_real(spvs_q_ctl_input_t *q, const spvs_control_input_t
 static void fit_clear(spvs_q_ctl_t *c)
 {
     c->fit_n = 0u;
-    c->fit_s = c->fit_d = c->fit_h33 = 0;
-    c->fit_ss = c->fit_sd = c->fit_sh33 = qf_of(0, 0);
+    c->fit_s = c->fit_d = c->fit_ax = 0;
+    c->fit_ss = c->fit_sd = c->fit_sax = qf_of(0, 0);
 }
 
 void spvs_q_ctl_reset(spvs_q_ctl_t *c)
@@ -362,7 +362,7 @@ void spvs_q_ctl_reset(spvs_q_ctl_t *c)
     }
     c->last_t = -((int32_t)1 << SPVS_QCTL_T);
     fit_clear(c);
-    c->slope_sig = c->slope_h33 = qf_of(0, 0);
+    c->slope_sig = c->slope_ax = qf_of(0, 0);
 }
 
 static int fail(spvs_q_ctl_t *c, int status)
@@ -692,18 +692,19 @@ static void step_rotate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
     }
 }
 
-/* Step 2's least-squares line D ~ a + b s (control.c's fitted_signal).
- * n, sum s (Q24, s < 2^31, n < 2^32: below 2^63), sum D and sum h33 (Q27)
- * are exact int64 sums; s^2, s D and s h33 (exact int64 products) are
- * summed in spvs_qf_t, 2^-31 per addition.  The value at s is written
- * mean(D) + b (n s - sum s) / n, n s - sum s exact. */
+/* Step 2's least-squares line D ~ a + b s (control.c's fitted_signal), and
+ * the slope of ax = h33 - h11 on it.  n, sum s (Q24, s < 2^31, n < 2^32:
+ * below 2^63), sum D and sum ax (Q27) are exact int64 sums; s^2, s D and
+ * s ax (exact int64 products) are summed in spvs_qf_t, 2^-31 per addition.
+ * The value at s is written mean(D) + b (n s - sum s) / n, n s - sum s
+ * exact. */
 static SPVS_Q_NOINLINE int32_t fitted_signal(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t D,
-                             int32_t h33)
+                             int32_t ax)
 {
     uint32_t *sat = &c->sat;
     const int32_t s = odo_s24(c, sat);
-    c->fit_h33 += h33;
-    c->fit_sh33 = spvs_qf_add(c->fit_sh33, qf_of((int64_t)s * h33, SPVS_QCTL_S + SPVS_QH));
+    c->fit_ax += ax;
+    c->fit_sax = spvs_qf_add(c->fit_sax, qf_of((int64_t)s * ax, SPVS_QCTL_S + SPVS_QH));
     if (c->fit_n < UINT32_MAX) {
         c->fit_n++;
     }
@@ -732,10 +733,10 @@ static SPVS_Q_NOINLINE int32_t fitted_signal(spvs_q_ctl_t *c, const spvs_q_ctl_p
     b = spvs_qf_sub(b, t);
     b = spvs_qf_mul(b, iden);
     c->slope_sig = b;
-    t = spvs_qf_mul(n, c->fit_sh33);
-    den = spvs_qf_mul(S, qf_of(c->fit_h33, SPVS_QH));
+    t = spvs_qf_mul(n, c->fit_sax);
+    den = spvs_qf_mul(S, qf_of(c->fit_ax, SPVS_QH));
     t = spvs_qf_sub(t, den);
-    c->slope_h33 = spvs_qf_mul(t, iden);
+    c->slope_ax = spvs_qf_mul(t, iden);
     t = spvs_qf_mul(b, qf_of((int64_t)c->fit_n * s - c->fit_s, SPVS_QCTL_S));
     t = spvs_qf_add(qf_of(c->fit_d, SPVS_QH), t);
     t = spvs_qf_mul(t, spvs_qf_recip(n, sat));
@@ -823,7 +824,9 @@ static void step_translate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
     if (c->trans_sign0 == 0) {
         translate_begin(c, p, in, D);
     }
-    const int32_t Df = fitted_signal(c, p, D, in->H[SPVS_H33]);
+    /* h33 - h11 saturated as D is for Methods I and III (translate_signal). */
+    const int32_t ax = spvs_q_sat32((int64_t)in->H[SPVS_H33] - in->H[SPVS_H11], &c->sat);
+    const int32_t Df = fitted_signal(c, p, D, ax);
     const int det_ok = under(det_minus_1(in, &c->sat), p->tol_det);
     *vc = -c->sign_v * kx(p->k_v, Df, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
     *wc = rotation(c, p, in);
@@ -959,10 +962,10 @@ static SPVS_Q_NOINLINE spvs_qf_t reentry_signal(const spvs_q_ctl_t *c, const spv
     if (p->method != SPVS_METHOD_II) {
         return spvs_qf_neg(r[5]);
     }
-    const spvs_qf_t h33 =
-        spvs_qf_mul(qf_of(SPVS_CTL_H32_NOISE_RATIO, 0), qf_abs(c->slope_h33));
-    if (!spvs_qf_le(h33, qf_abs(c->slope_sig))) {
-        return spvs_qf_mul(r[5], qf_div(c->slope_sig, c->slope_h33, sat));
+    const spvs_qf_t ax =
+        spvs_qf_mul(qf_of(SPVS_CTL_H32_NOISE_RATIO, 0), qf_abs(c->slope_ax));
+    if (!spvs_qf_le(ax, qf_abs(c->slope_sig))) {
+        return spvs_qf_mul(r[5], qf_div(c->slope_sig, c->slope_ax, sat));
     }
     return spvs_qf_mul(p->c32, r[4]);
 }

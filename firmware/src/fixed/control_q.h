@@ -144,8 +144,8 @@ typedef struct {
     int32_t last_v;           /* m/s, Q24 */
     int32_t last_t;           /* s, Q16; negative: none */
     uint32_t fit_n;
-    int64_t fit_s, fit_d, fit_h33; /* Q24, Q27, Q27 */
-    spvs_qf_t fit_ss, fit_sd, fit_sh33;
+    int64_t fit_s, fit_d, fit_ax; /* Q24, Q27, Q27 (ax = h33 - h11) */
+    spvs_qf_t fit_ss, fit_sd, fit_sax;
     uint8_t arriving, reentries, reentered, backing, arrival_next;
     uint16_t arrive_n;
     int64_t arrive_sum[6];    /* Q27: h11 - 1, h12, h13 (scaled), h31, h32 (scaled), h33 - 1 */
@@ -157,7 +157,7 @@ typedef struct {
     spvs_qf_t arr_r[6];       /* the arrival check's scratch: the averaged */
     spvs_qf_t arr_fig[3];     /*   residual and the corner figures          */
     spvs_qf_t slope_sig;      /* Q27 signal units per metre, as a value */
-    spvs_qf_t slope_h33;
+    spvs_qf_t slope_ax;       /* d (h33 - h11) / d metre, the same line */
     int32_t reentry_d0;       /* Q27 */
     uint32_t sat;             /* sticky q.h flags: a signal was clamped */
 } spvs_q_ctl_t;
