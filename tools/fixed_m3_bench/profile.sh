@@ -5,7 +5,11 @@
 # translation-block log (profile.py).  docs/FIXED.md, "The update on the
 # Cortex-M3".
 #
-#   tools/fixed_m3_bench/profile.sh [--spread POSE SEED] [MEASURE_BUILD_DIR [SIZE_INDEX SHARE_INDEX [TOP]]]
+#   tools/fixed_m3_bench/profile.sh [--m4f] [--spread POSE SEED] [MEASURE_BUILD_DIR [SIZE_INDEX SHARE_INDEX [TOP]]]
+#     --m4f              the float core on the Cortex-M4F instead (the
+#                        build embedded_measure.sh makes by default,
+#                        build/m4f-measure), for the same frame's
+#                        comparison function by function
 #     --spread POSE SEED one of main_measure.c's 25 spread frames instead
 #                        (POSE 0-4, SEED 0-4, as on its `spread:` lines;
 #                        N = 256 / 20 %, SIZE_INDEX and SHARE_INDEX unused)
@@ -19,6 +23,11 @@
 # between prof_begin and prof_end.  The total agrees with
 # embedded_measure.sh's update_typ within the markers' few instructions.
 set -eu
+m4f=0
+if [ "${1:-}" = --m4f ]; then
+  m4f=1
+  shift
+fi
 spread=
 if [ "${1:-}" = --spread ]; then
   [ $# -ge 3 ] || { echo "profile.sh: --spread needs POSE and SEED" >&2; exit 2; }
@@ -30,7 +39,23 @@ if [ "${1:-}" = --spread ]; then
 fi
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-build=${1:-$root/build/cortex-m3-fixed-measure}
+if [ $m4f = 1 ]; then
+  build=${1:-$root/build/m4f-measure}
+  arch="-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16"
+  core="-DSPVS_TARGET_CPU_NAME=\"Cortex-M4F\" -DSPVS_USE_FIXED=0"
+else
+  build=${1:-$root/build/cortex-m3-fixed-measure}
+  arch="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft"
+  core="-DSPVS_TARGET_CPU_NAME=\"Cortex-M3\" -DSPVS_USE_FIXED=1"
+fi
+case "${1:-}" in
+  -*) echo "profile.sh: unknown option $1 (--m4f first, then --spread POSE SEED)" >&2; exit 2 ;;
+esac
+if [ ! -f "$build/firmware/libspvs_core.a" ]; then
+  if [ $m4f = 1 ]; then how="tools/embedded_measure.sh"; else how="tools/embedded_measure.sh --cpu cortex-m3 --fixed"; fi
+  echo "profile.sh: no measuring build in $build (make it with $how)" >&2
+  exit 2
+fi
 pn=${2:-2}
 pj=${3:-1}
 top=${4:-40}
@@ -96,11 +121,13 @@ if len(sys.argv) > 5:
     assert "make_frame_at" in tail and "1000u" not in tail
 open(sys.argv[2], "w").write(head + body + tail)
 PY
-cflags="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft -ffunction-sections -fdata-sections -Os -DNDEBUG -std=c11"
-arm-none-eabi-gcc $cflags -DSPVS_TARGET_CPU_NAME='"Cortex-M3"' -DSPVS_USE_DOUBLE=0 -DSPVS_USE_FIXED=1 \
+cflags="$arch -ffunction-sections -fdata-sections -Os -DNDEBUG -std=c11"
+# shellcheck disable=SC2086 # $core holds several words
+arm-none-eabi-gcc $cflags $core -DSPVS_USE_DOUBLE=0 \
   -I"$root/target" -I"$root/firmware/src/fixed" -I"$root/firmware/include" -I"$build/generated/include" \
   -c "$work/prof_main.c" -o "$work/prof_main.o"
-arm-none-eabi-gcc -mcpu=cortex-m3 -mthumb -mfloat-abi=soft -Wl,--gc-sections -nostartfiles --specs=nano.specs \
+# shellcheck disable=SC2086
+arm-none-eabi-gcc $arch -Wl,--gc-sections -nostartfiles --specs=nano.specs \
   -T "$root/target/mps2_an386.ld" "$work/prof_main.o" \
   -Wl,--whole-archive "$build/target/libspvs_board.a" -Wl,--no-whole-archive "$build/target/libspvs_board_float.a" \
   "$build/firmware/libspvs_core.a" -lm "$build/target/libspvs_board.a" "$build/firmware/libspvs_core.a" -o "$work/prof.elf"
