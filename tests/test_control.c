@@ -13,8 +13,6 @@
 
 #define DEG (SYNTH_PI / 180.0)
 
-
-
 static synth_plane_t default_plane(void)
 {
     synth_plane_t pl;
