@@ -542,6 +542,7 @@ typedef struct {
      * then 1 (on) or 0 (off: the band goes to the exact test). */
     int sfast;
     const spvs_q_store_t *st; /* the frame, for sampson_prep */
+    const int32_t *h;         /* the model (Q27), for sampson_prep */
     int64_t wb;               /* the bound of w over the points tested, Q53 */
     int sh;                   /* the values' shift: Q(21 - sh) */
     int32_t a6, a7;     /* t' h31, t' h32 in Q27 (t' = T 2^-26), rounded */
@@ -712,6 +713,7 @@ static q_model_t model_prep(const spvs_q_store_t *st, const int32_t *h, const sp
     q_model_t md;
     md.fast = 0;
     md.chk = 0;
+    md.h = h;
     model_rows(&md, h);
     if (!thr->fast) {
         return md;
@@ -782,39 +784,48 @@ static SPVS_Q_INLINE int64_t q_ey53(const int32_t *p, int32_t w27)
 }
 
 /* The fast test's high words of one point with w > 0 (model_prep's
- * comment): exh, eyh and tw, Q21. */
+ * comment): exh, eyh and tw, Q21, made from w27 (kept for the band's
+ * test). */
 typedef struct {
     int32_t exh, eyh;
     uint32_t tw;
+    int32_t w27;
 } q_hw_t;
 
-static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *p, const q_model_t *md, int64_t w)
+static SPVS_Q_INLINE q_hw_t q_hw27(const int32_t *p, const q_model_t *md, int32_t w27)
 {
     q_hw_t r;
-    const int32_t w27 = (int32_t)(w >> 26);
+    r.w27 = w27;
     r.exh = (int32_t)(q_ex53(md->nh2c, md->nh0, md->nh1, p, w27) >> 32);
     r.eyh = (int32_t)(q_ey53(p, w27) >> 32);
     r.tw = (uint32_t)(((int64_t)md->T * w27) >> 32);
     return r;
 }
 
+static SPVS_Q_INLINE q_hw_t q_hw(const int32_t *p, const q_model_t *md, int64_t w)
+{
+    return q_hw27(p, md, (int32_t)(w >> 26));
+}
+
 /* The band's Sampson test of one point of the band (q_fast: Q_BAND), with
  * the bounds of sampson_prep's comment above: 1 (an inlier), 0 (not), or
- * Q_EXACT where it cannot decide or the model is outside its range.  Out
- * of line, and its high words made again (about 20 instructions), so that
- * the loop over the points keeps none of its values alive. */
-static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_model_t *md)
+ * Q_EXACT where it cannot decide or the model is outside its range.  w27
+ * is the point's floor(w 2^-26) (q_hw), which every caller has made.  Out
+ * of line, and its high words made again from w27 (about 10
+ * instructions), so that the loop over the points keeps none of them
+ * alive. */
+static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *p, q_model_t *md, int32_t w27)
 {
     /* Made at the model's first band point; one test once it is on. */
     if (md->sfast <= 0) {
         if (md->sfast < 0) {
-            sampson_prep(md, h);
+            sampson_prep(md, md->h);
         }
         if (!md->sfast) {
             return Q_EXACT;
         }
     }
-    const q_hw_t r = q_hw(p, md, q_w(md->h8c, h[6], h[7], p));
+    const q_hw_t r = q_hw27(p, md, w27);
     const int sh = md->sh;
     const int64_t u = p[2], v = p[3];
     /* Pi in Q21, then Q(21 - sh): high words of sums below 2^62. */
@@ -867,7 +878,8 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *h, const int32_t *p, q_
  * Q_BAND for the rest (the band's Sampson test, then the exact test).
  * Both shortcuts are exact in real arithmetic and are taken only outside
  * the rounding slack, so the decisions are the exact test's.  q_fast_hw
- * takes a point with w > 0 from its high words; q_fast makes them. */
+ * takes a point with w > 0 from its high words; q_fast makes them (into
+ * *r, which the band's test reads, where w > 0). */
 static SPVS_Q_INLINE int q_fast_hw(const q_hw_t *r, const q_model_t *md)
 {
     /* Squares of magnitudes: unsigned 32 x 32 -> 64 products. */
@@ -895,14 +907,15 @@ static SPVS_Q_INLINE int q_fast_hw(const q_hw_t *r, const q_model_t *md)
     return Q_BAND;
 }
 
-static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
+static SPVS_Q_INLINE int q_fast(const int32_t *h, const int32_t *p, const q_model_t *md,
+                                q_hw_t *r)
 {
     const int64_t w = q_w(md->h8c, h[6], h[7], p);
     if (w <= 0) {
         return Q_OUT;
     }
-    const q_hw_t r = q_hw(p, md, w);
-    return q_fast_hw(&r, md);
+    *r = q_hw(p, md, w);
+    return q_fast_hw(r, md);
 }
 
 /* The fast test and the band's Sampson test of one point of a checked
@@ -928,7 +941,7 @@ static SPVS_Q_NOINLINE int q_checked(const int32_t *h, const int32_t *p, q_model
         return Q_EXACT;
     }
     const int c = q_fast_hw(&r, md);
-    return c == Q_BAND ? q_band_sampson(h, p, md) : c;
+    return c == Q_BAND ? q_band_sampson(p, md, r.w27) : c;
 }
 
 /* hp_inlier: 1 for an inlier of H (w > 0, squared Sampson error at most
@@ -939,11 +952,12 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, q_model_t 
                                   const spvs_qf_t *t2, const int fast)
 {
     if (fast) {
-        const int c = q_fast(h, p, md);
+        q_hw_t r;
+        const int c = q_fast(h, p, md, &r);
         if (c != Q_BAND) {
             return c;
         }
-        const int b = q_band_sampson(h, p, md);
+        const int b = q_band_sampson(p, md, r.w27);
         if (b >= 0) {
             return b;
         }
@@ -1103,7 +1117,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
                         const uint32_t ay = (uint32_t)(eyh < 0 ? -eyh : eyh);
                         const uint32_t to = tw + Q_FAST_D;
                         if (E13 <= c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
-                            ok = q_band_sampson(h, p, mdv);
+                            ok = q_band_sampson(p, mdv, w27);
                             if (ok < 0) {
                                 spvs_qf_t e;
                                 ok = q_inlier_exact(h, p, *t2, &e);
