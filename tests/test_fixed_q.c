@@ -838,13 +838,14 @@ static void test_q_band(void **state)
                 spvs_qf_t e2;
                 in_x[i] = (uint8_t)q_inlier_exact(Hq, p, thr.t2, &e2);
                 pts++;
-                const int f = q_fast(Hq, p, &md);
+                q_hw_t r;
+                const int f = q_fast(Hq, p, &md, &r);
                 if (f != Q_BAND) {
                     assert_int_equal(f, in_x[i]);
                     continue;
                 }
                 band[ti]++;
-                const int b = q_band_sampson(Hq, p, &md);
+                const int b = q_band_sampson(p, &md, r.w27);
                 if (b < 0) {
                     continue;
                 }
