@@ -697,7 +697,7 @@ static uint32_t q_far_bound(uint64_t c2s, int32_t T, int64_t wb)
     return r >= ((uint64_t)1 << 31) ? UINT32_MAX : (uint32_t)r + Q_FAST_D;
 }
 
-/* The rows of H as q_w, q_hw and cost_fast read them: -h11, -h12, -h13
+/* The rows of H as q_w, q_hw and spvs_q_pts_cost read them: -h11, -h12, -h13
  * 2^26 and h33 2^26 (|h| < 2^31: no overflow). */
 static SPVS_Q_INLINE void model_rows(q_model_t *md, const int32_t *h)
 {
@@ -1173,52 +1173,42 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
     return (uint16_t)inl;
 }
 
-/* The cost's term |eps|^2 of one point, in Q52, from its residuals in
- * Q53: w = w27 2^26 + wr (w27 its floor in Q27, 0 <= wr < 2^26), so
- * u w - h1 . p 2^26 is (u w27 - h1 . p) 2^26 + u wr, and ex53 = u w27 -
- * h1 . p + floor(u wr 2^-26) is within one unit of the exact residual in
- * Q53 (ey53 alike).  With |w| < 16 (2^57 in Q53, tested) w27 is in int32,
- * and as |h| < 2^31 and |p| <= 2^30 each product is below 2^61 and every
- * partial sum below 2^63: exact in int64 for any H.  Rounded to Q36
- * (within 1/2 + 2^-17 units there), squared and summed in Q72 and rounded
- * to Q52, the term is within 2^-35 (|ex| + |ey|) + 2^-52 of the exact one:
- * for a residual of a pixel (2^-9 scaled units), within 2^-26 relative,
- * finer than a float32 sum's rounding.  Returns UINT64_MAX (no term is
- * that large: each is below 2^43) where |w| >= 16 or |ex53| or |ey53| is
- * 2^47 or more (|eps| of 2^-6 scaled units, 8 px, or more), where the
- * squares would leave their range; q_e2 takes that point.  Not inlined:
- * the loop over the points keeps only its own values. */
-static SPVS_Q_NOINLINE uint64_t cost_fast(const int32_t *h, const int32_t *p, const q_model_t *md)
-{
-    const int64_t w = q_w(md->h8c, h[6], h[7], p);
-    if ((uint64_t)(w + ((int64_t)1 << 57)) >= ((uint64_t)1 << 58)) {
-        return UINT64_MAX;
-    }
-    /* Opaque: after the test above the compiler would take w27 for w's
-     * 64-bit value and multiply by it in 64 x 64 bits. */
-    const int32_t w27 = spvs_q_opaque32((int32_t)(w >> 26));
-    const int32_t wr = spvs_q_opaque32((int32_t)((uint32_t)w & 0x3FFFFFFu));
-    const int64_t ex53 =
-        q_ex53(md->nh2c, md->nh0, md->nh1, p, w27) + (((int64_t)p[2] * wr) >> 26);
-    const int64_t ey53 = q_ey53(p, w27) + (((int64_t)p[3] * wr) >> 26);
-    /* |ex53|, |ey53| < 2^47: high words in [-2^15, 2^15), one comparison
-     * for both. */
-    const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
-    if (((uint32_t)(xh + 0x8000) | (uint32_t)(yh + 0x8000)) >= 0x10000u) {
-        return UINT64_MAX;
-    }
-    /* Q36, rounded: |.| <= 2^30, so each square is below 2^61 (exact in
-     * int64) and their sum, rounded to Q52, below 2^43. */
-    const int32_t ex = (int32_t)((ex53 + 0x10000) >> 17);
-    const int32_t ey = (int32_t)((ey53 + 0x10000) >> 17);
-    return ((uint64_t)((int64_t)ex * ex + (int64_t)ey * ey) + 0x80000u) >> 20;
-}
+/* The tie-break cost's fast path, one point at a time in the loop of
+ * spvs_q_pts_cost: w = w27 2^26 + wr (w27 its floor in Q27, 0 <= wr <
+ * 2^26), so u w - h1 . p 2^26 is (u w27 - h1 . p) 2^26 + u wr.  With
+ * |w| < 16 (2^57 in Q53, tested) w27 is in int32, and as |h| < 2^31 and
+ * |p| <= 2^30 each product is below 2^61 and every partial sum of ex53 =
+ * u w27 - h1 . p 2^26 below 2^63: exact in int64 for any H (ey53 alike).
+ * Where |ex53|, |ey53| < 2^47 (tested), the residual in Q34 is
+ * floor(ex53 2^-19) + floor(u wr 2^-45), below 2^28 + 2^11 in magnitude
+ * and within 2 units of the exact residual (|u wr| < 2^56, so the second
+ * floor is of a value below 2^11); their squares, below 2^56.01 each, are
+ * summed unrounded in Q68 over a block of COST_BLOCK points (below 2^63)
+ * and the block's sum rounded to Q52 once.  A term is then within 2^-32
+ * (|ex| + |ey|) + 2^-66 of the exact one (scaled units): for a residual of
+ * a pixel (2^-9 scaled units), 2^-23 relative, finer than a float32 sum's
+ * rounding.  A point beyond either range (|eps| w of 8 px or more, or
+ * |w| >= 16) takes its term from the exact residuals (q_e2,
+ * cost_exact). */
+#define COST_BLOCK 32u
 
-/* The cost's term from the exact residuals (q_e2), in Q52.  Not inlined,
- * as cost_fast. */
+/* The term of a point beyond cost's fast path, in Q52; out of line. */
 static SPVS_Q_NOINLINE uint64_t cost_exact(const int32_t *h, const int32_t *p, uint32_t *sat)
 {
     return (uint64_t)spvs_qf_to_q64(q_e2(h, p), SPVS_QCOST, sat);
+}
+
+/* *sum + t, or the flag and UINT64_MAX on the unsigned sum's carry. */
+static SPVS_Q_INLINE int cost_add(uint64_t *sum, uint64_t t, uint32_t *sat)
+{
+    const uint64_t s = *sum + t;
+    if (s < *sum) {
+        *sat |= SPVS_Q_SAT;
+        *sum = UINT64_MAX;
+        return 0;
+    }
+    *sum = s;
+    return 1;
 }
 
 uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[9],
@@ -1226,27 +1216,52 @@ uint64_t spvs_q_pts_cost(const spvs_q_store_t *st, uint16_t n, const int32_t Hq[
 {
     q_model_t md;
     model_rows(&md, Hq);
+    const int32_t h6 = Hq[6], h7 = Hq[7], nh0 = md.nh0, nh1 = md.nh1;
+    const int64_t h8c = md.h8c, nh2c = md.nh2c;
     uint64_t sum = 0;
-    /* Bound: n points. */
-    for (uint16_t i = 0; i < n; i++) {
-        if (!mask[i]) {
-            continue;
+    const int32_t *p = st->v;
+    const uint8_t *m = mask;
+    const uint8_t *const mend = mask + n;
+    /* Bound: n / COST_BLOCK + 1 blocks of at most COST_BLOCK points. */
+    while (m != mend) {
+        const uint8_t *const me = (size_t)(mend - m) > COST_BLOCK ? m + COST_BLOCK : mend;
+        int64_t acc = 0; /* Q68, below 2^62.1 */
+        /* Bound: COST_BLOCK points. */
+        for (; m != me; m++, p += 4) {
+            if (!*m) {
+                continue;
+            }
+            const int64_t w = q_w(h8c, h6, h7, p);
+            /* |w| < 2^57 on its high word: in [-2^25, 2^25). */
+            if ((uint32_t)((int32_t)(w >> 32) + 0x2000000) < 0x4000000u) {
+                /* Opaque: after the tests the compiler would take these
+                 * for their 64-bit sources and multiply in 64 x 64 bits. */
+                const int32_t w27 = spvs_q_opaque32((int32_t)(w >> 26));
+                const int32_t wr = spvs_q_opaque32((int32_t)((uint32_t)w & 0x3FFFFFFu));
+                const int64_t ex53 = q_ex53(nh2c, nh0, nh1, p, w27);
+                const int64_t ey53 = q_ey53(p, w27);
+                /* |ex53|, |ey53| < 2^47 on their high words, in
+                 * [-2^15, 2^15): one comparison for both. */
+                const int32_t xh = (int32_t)(ex53 >> 32), yh = (int32_t)(ey53 >> 32);
+                if (((uint32_t)(xh + 0x8000) | (uint32_t)(yh + 0x8000)) < 0x10000u) {
+                    /* Q34, with u wr and v wr (below 2^56) as high words
+                     * shifted by a constant. */
+                    const int32_t ex = spvs_q_opaque32(
+                        (int32_t)(ex53 >> 19) + ((int32_t)(((int64_t)p[2] * wr) >> 32) >> 13));
+                    const int32_t ey = spvs_q_opaque32(
+                        (int32_t)(ey53 >> 19) + ((int32_t)(((int64_t)p[3] * wr) >> 32) >> 13));
+                    acc += (int64_t)ex * ex;
+                    acc += (int64_t)ey * ey;
+                    continue;
+                }
+            }
+            if (!cost_add(&sum, cost_exact(Hq, p, sat), sat)) {
+                return UINT64_MAX;
+            }
         }
-        const int32_t *p = &st->v[4u * i];
-        /* The cost breaks ties only: its term in fixed formats where they
-         * hold (cost_fast), else from the exact residuals (q_e2); the two
-         * agree to far below the float core's rounding of the same sum. */
-        uint64_t t = cost_fast(Hq, p, &md);
-        if (t == UINT64_MAX) {
-            t = cost_exact(Hq, p, sat);
-        }
-        /* Saturate on the unsigned sum's carry. */
-        const uint64_t s = sum + t;
-        if (s < sum) {
-            *sat |= SPVS_Q_SAT;
+        if (!cost_add(&sum, ((uint64_t)acc + ((uint64_t)1 << 15)) >> 16, sat)) {
             return UINT64_MAX;
         }
-        sum = s;
     }
     return sum;
 }
