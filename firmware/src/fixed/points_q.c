@@ -622,18 +622,19 @@ static SPVS_Q_INLINE uint32_t t_hi(int32_t T, int64_t b)
     return (uint32_t)(((uint64_t)(uint32_t)T * (uint32_t)(b >> 26)) >> 32);
 }
 
-/* The constants of the band's Sampson test of H on the frame: a6, a7, c0,
- * c1, c3 (q_model_t) and the shift sh that brings t (w^2 + |P|_F^2)^(1/2)
- * over the frame below 2^15 (an estimate from the frame's bounds; a point beyond it
- * goes to the exact test).  Off (sfast = 0) unless each |P_k| < 32 over the
+/* The constants of the band's Sampson test of the model H (md->h) on the
+ * frame: a6, a7, c0, c1, c3 (q_model_t) and the shift sh that brings
+ * t (w^2 + |P|_F^2)^(1/2) over the frame below 2^15 (an estimate from
+ * the frame's bounds; a point beyond it goes to the exact test).  Off (sfast = 0) unless each |P_k| < 32 over the
  * frame (its Q53 bound e[k] < 2^58: a checked model's band points too) and
  * t' |h31|, t' |h32| < 16 (a6, a7 in int32); the sh estimate is all that
  * these bounds give, each point's own range is tested (mo below).
  * T < 2^28 and |h| < 2^31: T h < 2^59, and
  * per point |u a6| < 2^61, |c0|, |c1| < 2^59, c3 = T 2^27 < 2^55, so each
  * Pi's int64 sum is below 2^62. */
-static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md, const int32_t *h)
+static SPVS_Q_NOINLINE void sampson_prep(q_model_t *md)
 {
+    const int32_t *h = md->h;
     const spvs_q_store_t *st = md->st;
     const int64_t wb = md->wb;
     md->sfast = 0;
@@ -819,7 +820,7 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *p, q_model_t *md, int32
     /* Made at the model's first band point; one test once it is on. */
     if (md->sfast <= 0) {
         if (md->sfast < 0) {
-            sampson_prep(md, md->h);
+            sampson_prep(md);
         }
         if (!md->sfast) {
             return Q_EXACT;
@@ -1187,7 +1188,7 @@ uint16_t spvs_q_pts_score(const spvs_q_store_t *st, size_t n, const int32_t Hq[9
  * and the block's sum rounded to Q52 once.  A term is then within 2^-32
  * (|ex| + |ey|) + 2^-66 of the exact one (scaled units): for a residual of
  * a pixel (2^-9 scaled units), 2^-23 relative, finer than a float32 sum's
- * rounding.  A point beyond either range (|eps| w of 8 px or more, or
+ * rounding.  A point beyond either range (|eps| of 8 px or more, or
  * |w| >= 16) takes its term from the exact residuals (q_e2,
  * cost_exact). */
 #define COST_BLOCK 32u
