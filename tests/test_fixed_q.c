@@ -740,6 +740,84 @@ static void test_q_inlier_arith(void **state)
     assert_true(tested > 10000);
 }
 
+/* The integer Sampson test before the exact one (q_sampson30): for points
+ * of random scenes under their true H and under 3-point models, t2 is set
+ * at relative distances from 2^-6 down to 2^-22 above and below each
+ * point's exact squared Sampson error.  Where it decides, its decision is
+ * the exact one and the spvs_qf_t test's, and the point is at least its
+ * margin of 2^-20 from t2.  It decides every point 2^-10 or more from t2,
+ * all but one in a thousand at 2^-14 and all but 2 % at 2^-17: the points
+ * it leaves there are those of wild models (h31, h32 of 2 or more, w of a
+ * few hundredths), whose P is far larger than w, so that v and u are far
+ * below the size of the values they are made of. */
+static void test_q_sampson30(void **state)
+{
+    (void)state;
+    static scene_t sc;
+    static const int dexp[7] = {6, 10, 14, 17, 19, 21, 22};
+    uint64_t rng = 2027;
+    long tested = 0, decided = 0, left[7] = {0};
+    long double closest = 1;
+    for (int c = 0; c < 30; c++) {
+        make_scene(&sc, &rng, 128, 1.0, 0.3);
+        if (sc.n < 8) {
+            continue;
+        }
+        load_both(&sc);
+        for (int k = 0; k < 4; k++) {
+            spvs_real H[9];
+            if (k == 0) {
+                memcpy(H, sc.Hs, sizeof H);
+            } else {
+                const uint16_t idx[3] = {(uint16_t)(k), (uint16_t)(sc.n / 2), (uint16_t)(sc.n - k)};
+                if (spvs_pts_solve3(&sc.fst, idx, H) != SPVS_OK) {
+                    continue;
+                }
+            }
+            int32_t Hq[9];
+            if (spvs_q_h_from_real(H, Hq) != 0) {
+                continue;
+            }
+            for (uint16_t i = 0; i < sc.n; i++) {
+                long double w;
+                const long double s2 = exact_sampson_q(&sc.qst, i, Hq, &w);
+                if (!(w > 0) || !(s2 > 0)) {
+                    continue;
+                }
+                const int32_t *p = &sc.qst.v[4u * i];
+                q_eps_t r;
+                q_eps(Hq, p, &r);
+                for (int j = 0; j < 14; j++) {
+                    const long double d = ldexpl(j % 2 ? -1.0L : 1.0L, -dexp[j / 2]);
+                    const spvs_qf_t t2 = qf_from_ld(s2 * (1 + d));
+                    const long double t2v = qf_val(t2);
+                    const long double rel = fabsl(s2 / t2v - 1);
+                    const int got = q_sampson30(Hq, p, &r, t2);
+                    tested++;
+                    if (got < 0) {
+                        left[j / 2]++;
+                        assert_true(rel < 0x1p-10L);
+                        continue;
+                    }
+                    decided++;
+                    assert_int_equal(got, s2 <= t2v);
+                    assert_int_equal(got, q_inlier_qf(Hq, p, &r, t2));
+                    assert_true(rel >= 0x1p-20L * (1 - 1e-9L));
+                    closest = rel < closest ? rel : closest;
+                }
+            }
+        }
+    }
+    print_message("sampson30: %ld tests, %ld decided, closest decided |s2/t2 - 1| %.3Lg; "
+                  "left at 2^-6 .. 2^-22: %ld %ld %ld %ld %ld %ld %ld\n",
+                  tested, decided, closest, left[0], left[1], left[2], left[3], left[4], left[5],
+                  left[6]);
+    assert_true(tested > 50000);
+    assert_int_equal(left[0] + left[1], 0);
+    assert_true((double)left[2] <= 1e-3 * (double)(tested / 7));
+    assert_true((double)left[3] <= 0.02 * (double)(tested / 7));
+}
+
 /* ---- kernels: the band's Sampson test -------------------------------------- */
 
 /* The band's Sampson test decides a point only where the exact squared
@@ -835,8 +913,7 @@ static void test_q_band(void **state)
             uint8_t in_x[NMAX];
             for (uint16_t i = 0; i < bs.n; i++) {
                 const int32_t *p = &bs.qst.v[4u * i];
-                spvs_qf_t e2;
-                in_x[i] = (uint8_t)q_inlier_exact(Hq, p, thr.t2, &e2);
+                in_x[i] = (uint8_t)q_inlier_exact(Hq, p, thr.t2);
                 pts++;
                 q_hw_t r;
                 const int f = q_fast(Hq, p, &md, &r);
@@ -1770,6 +1847,7 @@ int main(void)
         cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_lin_fast_edges),
         cmocka_unit_test(test_q_sums_behind),
         cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
+        cmocka_unit_test(test_q_sampson30),
         cmocka_unit_test(test_q_band),
         cmocka_unit_test(test_q_extremes),      cmocka_unit_test(test_q_sampson),
         cmocka_unit_test(test_q_lin_move),

@@ -391,28 +391,19 @@ static SPVS_Q_INLINE uint64_t h_mag(int32_t x)
     return (uint32_t)spvs_q_opaque32((int32_t)(x < 0 ? 0u - u : u));
 }
 
-/* The exact test of one point (the slow path): residuals exact
- * (q_eps), the Sampson error in spvs_qf_t.  1 for an inlier; *e2 =
- * |eps|^2, scaled units^2. */
-static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs_qf_t *e2)
+/* The exact test's Sampson error in spvs_qf_t, for a point with w > 0
+ * and its residuals r (q_eps): 1 for an inlier. */
+static int q_inlier_qf(const int32_t *h, const int32_t *p, const q_eps_t *r, spvs_qf_t t2)
 {
-    q_eps_t r;
-    q_eps(h, p, &r);
-    if (r.w <= 0) {
-        e2->m = 0;
-        e2->e = SPVS_QF_ZERO_E;
-        return 0;
-    }
     /* eps rounded to 31 bits together (shift s2): its square sums in
      * int64 (< 2^61). */
-    const int s2 = spvs_q_norm_shift(spvs_q_abs64(r.ex) | spvs_q_abs64(r.ey), 30);
-    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r.ex, s2);
-    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r.ey, s2);
-    const int32_t fe = 79 - r.s1 - s2;
+    const int s2 = spvs_q_norm_shift(spvs_q_abs64(r->ex) | spvs_q_abs64(r->ey), 30);
+    const int32_t ex2 = (int32_t)spvs_q_rshift_rnd64(r->ex, s2);
+    const int32_t ey2 = (int32_t)spvs_q_rshift_rnd64(r->ey, s2);
+    const int32_t fe = 79 - r->s1 - s2;
     const spvs_qf_t ee =
         spvs_qf_from_i64((int64_t)ex2 * ex2 + (int64_t)ey2 * ey2, -2 * fe);
-    *e2 = ee;
-    const spvs_qf_t ww = spvs_qf_from_i64((int64_t)r.w1 * r.w1, -2 * (53 - r.s1));
+    const spvs_qf_t ww = spvs_qf_from_i64((int64_t)r->w1 * r->w1, -2 * (53 - r->s1));
     if (spvs_qf_le(ee, spvs_qf_mul(t2, ww))) {
         return 1;
     }
@@ -420,6 +411,143 @@ static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2, spvs
     q_jac(h, p, P);
     q_sampson(P, ww, ee, spvs_qf_from_i64(ex2, -fe), spvs_qf_from_i64(ey2, -fe), &num, &den);
     return spvs_qf_le(num, spvs_qf_mul(t2, den));
+}
+
+/* x[0..n) (each below 2^62 in magnitude) to 30 bits at one shift: out[k]
+ * = floor(x[k] 2^-s), in [-2^30, 2^30), with s = bitlen(max |x|) - 30 (at
+ * least 0, at most 32) returned. */
+static SPVS_Q_NOINLINE int q_to30(const int64_t *x, int n, int32_t *out)
+{
+    uint64_t m = 0;
+    for (int k = 0; k < n; k++) {
+        m |= spvs_q_abs64(x[k]);
+    }
+    const int s = spvs_q_norm_shift(m, 30);
+    for (int k = 0; k < n; k++) {
+        out[k] = (int32_t)(x[k] >> s);
+    }
+    return s;
+}
+
+/* L <= P 2^k (the integers L, P < 2^64, any k) exactly: ceil(L 2^-k) <= P
+ * for k >= 0, L <= floor(P 2^k) below. */
+static SPVS_Q_INLINE int q_le_scaled(uint64_t L, uint64_t P, int32_t k)
+{
+    if (k >= 64) {
+        return L == 0u || P != 0u;
+    }
+    if (k >= 0) {
+        const uint64_t rem = k == 0 ? 0u : L & ((((uint64_t)1) << k) - 1u);
+        return (L >> k) + (rem != 0u) <= P;
+    }
+    return k > -64 && L <= (P >> -k);
+}
+
+/* The Sampson test of one point in integers at 30 bits, before the
+ * exact test's spvs_qf_t arithmetic (q_inlier_exact): 1 (an inlier), 0
+ * (not), or -1 where it cannot decide.  r holds the point's residuals
+ * (q_eps, w > 0).  With J J^T = w^2 I + P P^T (q_sampson):
+ *   num = |v|^2, v = (w eps, adj(P) eps),
+ *   den = |u|^2, u = (w^2, w P_11, w P_12, w P_21, w P_22, det P),
+ * and the point is an inlier when num <= t2 den.
+ *
+ * The values.  w and P (exact in Q53, q_jac) are taken to 30 bits at one
+ * shift ka, eps (Q(79 - s1)) at another, kb, each by a floor: each is
+ * then within 1 of its exact value in its new unit (eps within 2: q_eps
+ * rounded it by under 1 unit, at most 1 after the shift), and every
+ * magnitude is at most M = 2^30.  From these int32 values v and u are
+ * exact in int64 (each entry at most 2^61); they differ from the exact
+ * ones, in the units 2^(ka + kb) and 2^(2 ka), by
+ *   |v - V| <= ||K|| |de| + ||dK|| |eps| <= 6^(1/2) (M + 1) 2 2^(1/2)
+ *              + 6^(1/2) 2^(1/2) M < 2^34,
+ *   |u - U| <= |w| |dz| + |dw| |z| + |d det| <= 5^(1/2) (2 M + 1)
+ *              + 4 M + 2 < 2^34
+ * (K = (w I; adj(P)), z = (w, P), each d a change of at most 1 an entry,
+ * 2 for eps).  v's entries are then taken to 30 bits at one shift sv,
+ * u's at su, again by floors, which adds under 2 (four entries) and
+ * 6^(1/2) (six) to the norms.  So, in those units, |v'| is within
+ * ev = 2^34 2^-sv + 3 of |V| 2^-sv and |u'| within eu = 2^34 2^-su + 3
+ * of |U| 2^-su.  With |v'| <= 2^31 and |u'| <= 6^(1/2) 2^30 < 2^32:
+ *   inlier   when (num + ev 2^32 + ev^2) (1 + 2^-20) <= (den - eu 2^33) t,
+ *            which bounds (|V| + ...)^2 <= (|U| - ...)^2 t;
+ *   outlier  when num - ev 2^32 > (den + eu 2^33 + eu^2) (1 + 2^-20) t;
+ * t = t2 2^(2 (su - sv + ka - kb + 26 - s1)) bringing t2 to the units of
+ * num / den.  Each decided point's exact squared Sampson error is at least
+ * 2^-20 (relative) from t2, beyond the exact test's own error (below 1e-7,
+ * points_q.h): its decisions are the exact test's.  den t is bounded below
+ * (inlier) or above (outlier) by den's top 32 bits times t2's mantissa.
+ * The test leaves the points within about 2^-20 of the threshold, and
+ * those where sv or su is 20 or less (ev or eu above 2^14: v or u far
+ * below its size, as where w is far below P, which the count's range
+ * does not give). */
+static int q_sampson30(const int32_t *h, const int32_t *p, const q_eps_t *r, spvs_qf_t t2)
+{
+    const int64_t one26 = (int64_t)1 << 26;
+    /* w and P exact in Q53 (q_jac's entries), below 2^62; eps. */
+    const int64_t a[5] = {r->w, (int64_t)p[2] * h[6] - (int64_t)h[0] * one26,
+                          (int64_t)p[2] * h[7] - (int64_t)h[1] * one26, (int64_t)p[3] * h[6],
+                          (int64_t)p[3] * h[7] - ((int64_t)1 << 53)};
+    const int64_t eps[2] = {r->ex, r->ey};
+    int32_t z[5], e[2];
+    const int ka = q_to30(a, 5, z), kb = q_to30(eps, 2, e);
+    const int32_t w = z[0], p0 = z[1], p1 = z[2], p2 = z[3], p3 = z[4];
+    /* v and u, exact from the 30-bit values, then to 30 bits again. */
+    const int64_t v[4] = {(int64_t)w * e[0], (int64_t)w * e[1],
+                          (int64_t)p3 * e[0] - (int64_t)p1 * e[1],
+                          (int64_t)p0 * e[1] - (int64_t)p2 * e[0]};
+    const int64_t u[6] = {(int64_t)w * w,   (int64_t)w * p0, (int64_t)w * p1,
+                          (int64_t)w * p2,  (int64_t)w * p3,
+                          (int64_t)p0 * p3 - (int64_t)p1 * p2};
+    int32_t vs[4], us[6];
+    const int sv = q_to30(v, 4, vs), su = q_to30(u, 6, us);
+    if (sv <= 20 || su <= 20 || t2.m <= 0) {
+        return -1;
+    }
+    uint64_t num = 0, den = 0;
+    for (int k = 0; k < 4; k++) {
+        num += (uint64_t)((int64_t)vs[k] * vs[k]);
+    }
+    for (int k = 0; k < 6; k++) {
+        den += (uint64_t)((int64_t)us[k] * us[k]);
+    }
+    /* sv, su in 21..32: ev, eu <= 2^13 + 3, and every margin below fits
+     * its word (num <= 2^62, den < 6 2^60). */
+    const uint64_t ev = ((uint64_t)1 << (34 - sv)) + 3u;
+    const uint64_t eu = ((uint64_t)1 << (34 - su)) + 3u;
+    const uint64_t tm = (uint64_t)t2.m;
+    /* t = tm 2^(k - 31) (the comment's t): den t is bounded by den's top
+     * bits (den 2^-31, below 2^32, rounded down or up) times tm (below
+     * 2^31), times 2^k. */
+    const int32_t k = t2.e + 2 * (su - sv + ka - kb + 26 - r->s1) + 31;
+    const uint64_t li = num + (ev << 32) + ev * ev;
+    const uint64_t di = den > (eu << 33) ? den - (eu << 33) : 0u;
+    if (di != 0u && q_le_scaled(li + (li >> 20) + 1u, (di >> 31) * tm, k)) {
+        return 1;
+    }
+    const uint64_t lo = num > (ev << 32) ? num - (ev << 32) : 0u;
+    const uint64_t d0 = den + (eu << 33) + eu * eu;
+    const uint64_t dout = d0 + (d0 >> 20) + 1u;
+    if (lo != 0u && !q_le_scaled(lo, ((dout >> 31) + 1u) * tm, k)) {
+        return 0;
+    }
+    return -1;
+}
+
+/* The exact test of one point (the slow path): residuals exact (q_eps),
+ * decided by q_sampson30 where it can, else the Sampson error in
+ * spvs_qf_t.  1 for an inlier. */
+static int q_inlier_exact(const int32_t *h, const int32_t *p, spvs_qf_t t2)
+{
+    q_eps_t r;
+    q_eps(h, p, &r);
+    if (r.w <= 0) {
+        return 0;
+    }
+    const int d = q_sampson30(h, p, &r, t2);
+    if (d >= 0) {
+        return d;
+    }
+    return q_inlier_qf(h, p, &r, t2);
 }
 
 /* c2 of the band test for H on the frame (points.c, band_c2) in Q42, the
@@ -968,8 +1096,7 @@ static SPVS_Q_INLINE int q_inlier(const int32_t *h, const int32_t *p, q_model_t 
             return c;
         }
     }
-    spvs_qf_t e;
-    return q_inlier_exact(h, p, *t2, &e);
+    return q_inlier_exact(h, p, *t2);
 }
 
 /* |eps|^2 of one point, from the exact residuals (q_eps): the cost's term,
@@ -1101,8 +1228,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
                 if ((uint32_t)exh + fl > 2u * fl) {
                     ok = 0;
                 } else if (w27 <= 0) {
-                    spvs_qf_t e;
-                    ok = q_inlier_exact(h, p, *t2, &e);
+                    ok = q_inlier_exact(h, p, *t2);
                 } else {
                     const uint32_t tw = (uint32_t)(((int64_t)T * w27) >> 32);
                     /* The squares of the signed values are those of the
@@ -1120,8 +1246,7 @@ static SPVS_Q_NOINLINE uint16_t score_fast_mask(const spvs_q_store_t *st, const 
                         if (E13 <= c2s + (uint64_t)to * to + (uint64_t)(ax + ay) * (2u * Q_FAST_D)) {
                             ok = q_band_sampson(p, mdv, w27);
                             if (ok < 0) {
-                                spvs_qf_t e;
-                                ok = q_inlier_exact(h, p, *t2, &e);
+                                ok = q_inlier_exact(h, p, *t2);
                             }
                         }
                     }
