@@ -678,6 +678,29 @@ static spvs_qf_t qf_from_ld(long double v)
     return spvs_qf_from_i64((int64_t)llroundl(ldexpl(fr, 62)), e - 62);
 }
 
+/* The models a scene's points are tested under (sc loaded): its true H
+ * and three 3-point models, those representable in Q27, into Hq; their
+ * count. */
+static int scene_models(const scene_t *sc, int32_t Hq[4][9])
+{
+    int nm = 0;
+    for (int k = 0; k < 4; k++) {
+        spvs_real H[9];
+        if (k == 0) {
+            memcpy(H, sc->Hs, sizeof H);
+        } else {
+            const uint16_t idx[3] = {(uint16_t)(k), (uint16_t)(sc->n / 2), (uint16_t)(sc->n - k)};
+            if (spvs_pts_solve3(&sc->fst, idx, H) != SPVS_OK) {
+                continue;
+            }
+        }
+        if (spvs_q_h_from_real(H, Hq[nm]) == 0) {
+            nm++;
+        }
+    }
+    return nm;
+}
+
 /* For points of random scenes under their true H and under 3-point
  * models, t2 is set just above and just below each point's exact squared
  * Sampson error (relative TOL_TEST_ARITH): the Q test must call the point
@@ -696,20 +719,10 @@ static void test_q_inlier_arith(void **state)
             continue;
         }
         load_both(&sc);
-        for (int k = 0; k < 4; k++) {
-            spvs_real H[9];
-            if (k == 0) {
-                memcpy(H, sc.Hs, sizeof H);
-            } else {
-                const uint16_t idx[3] = {(uint16_t)(k), (uint16_t)(sc.n / 2), (uint16_t)(sc.n - k)};
-                if (spvs_pts_solve3(&sc.fst, idx, H) != SPVS_OK) {
-                    continue;
-                }
-            }
-            int32_t Hq[9];
-            if (spvs_q_h_from_real(H, Hq) != 0) {
-                continue;
-            }
+        int32_t models[4][9];
+        const int nm = scene_models(&sc, models);
+        for (int k = 0; k < nm; k++) {
+            const int32_t *Hq = models[k];
             for (uint16_t i = 0; i < sc.n; i++) {
                 long double w;
                 const long double s2 = exact_sampson_q(&sc.qst, i, Hq, &w);
@@ -764,20 +777,10 @@ static void test_q_sampson30(void **state)
             continue;
         }
         load_both(&sc);
-        for (int k = 0; k < 4; k++) {
-            spvs_real H[9];
-            if (k == 0) {
-                memcpy(H, sc.Hs, sizeof H);
-            } else {
-                const uint16_t idx[3] = {(uint16_t)(k), (uint16_t)(sc.n / 2), (uint16_t)(sc.n - k)};
-                if (spvs_pts_solve3(&sc.fst, idx, H) != SPVS_OK) {
-                    continue;
-                }
-            }
-            int32_t Hq[9];
-            if (spvs_q_h_from_real(H, Hq) != 0) {
-                continue;
-            }
+        int32_t models[4][9];
+        const int nm = scene_models(&sc, models);
+        for (int k = 0; k < nm; k++) {
+            const int32_t *Hq = models[k];
             for (uint16_t i = 0; i < sc.n; i++) {
                 long double w;
                 const long double s2 = exact_sampson_q(&sc.qst, i, Hq, &w);
