@@ -691,17 +691,17 @@ typedef struct {
  *         u = (omega^2, omega Pi_11, .., omega Pi_22, det(Pi)),
  * are q_sampson's num and den times t^2 and t^4 (and one power of two), so
  * num <= den is the point's test num <= t2 den.  Its seven values are
- * within D = 2 units of their exact ones:
+ * within D = 17/8 units of their exact ones:
  *   eps   exh, eyh (q_inlier): under 5/4;
  *   omega tw (q_inlier): the floors of w27 and of T move it by under 1/16
  *         and 1/2 (|w| < 16), its own floor by under 1;
  *   Pi    the high word of u a6 - c0 (Pi_11; Pi_12, Pi_21, Pi_22 alike):
  *         this is t' P_11 2^-32 (Q53) plus u times a6's rounding (under
- *         2^29), and t' P_11 is within 2^-26 |P_11| < 2^31 of t P_11
- *         (|P_11| < 16 over the frame, sampson_prep): under 5/8, with the
- *         floor under 13/8;
- * and the shift by sh >= 1 makes that at most 2 / 2 plus under 1 (its
- * floor).  Every value is in [-2^15, 2^15 - 1] (checked per point: the
+ *         2^29), and t' P_11 is within 2^-26 |P_11| < 2^32 of t P_11
+ *         (|P_11| < 32 over the frame, sampson_prep): under 9/8, with the
+ *         floor under 17/8;
+ * and the shift by sh >= 1 makes that at most (17/8) / 2 plus under 1
+ * (the floors of the high word and of the shift are one floor).  Every value is in [-2^15, 2^15 - 1] (checked per point: the
  * OR of their magnitudes, less one for a negative value, is below 2^15),
  * so every product below is exact in its type: a0 = Pi_22 eps_x - Pi_12
  * eps_y, a1 and det(Pi) within +-(2^31 - 2^15) (2^31 would need one
@@ -718,8 +718,8 @@ typedef struct {
  * D); det(pi) - det(pi - delta) = tr(adj(pi) delta) - det(delta), within
  * 2 m 2 D + 2 D^2.  So |v| and |u| are together within
  *   E = (10^(1/2) + 5^(1/2)) D (2 m + D) + 4 m D + 2 D^2 <= 15 D m + 8 D^2
- * of the exact |V| and |U|, which is 30 m + 32 for D = 2.  The test
- * decides with E* = E + 2048:
+ * of the exact |V| and |U|, which is below 32 m + 37 for D = 17/8.  The
+ * test decides with E* = E + 2048:
  *   inlier   when num + E* 2 Gh <= den, Gh = omega^2 + |Pi|_F^2 / 2 (up):
  *            then num <= den, |v| <= |u| <= Gh (AM-GM on den's two factors
  *            omega^2 + sigma_i^2), so |u| - |v| >= E* and
@@ -729,7 +729,7 @@ typedef struct {
  * and sends every other point to the exact test.  |U| < 3 2^30 + 2^21 <
  * 2^32, so a decided point's exact squared Sampson error is at least
  * 2^-21 (relative) from t2: the exact test's own arithmetic (below 1e-7,
- * points_q.h) decides it the same way.  2 E* < 2^21 and Gh, Hh < 2^32:
+ * points_q.h) decides it the same way.  2 E* < 2^22 and Gh, Hh < 2^32:
  * each bound is one 32 x 32 -> 64-bit product.  The test leaves undecided
  * the points within about 10 E* / |u| (relative) of the threshold: at the
  * default threshold (t near 12,400 units of Q21, values near 2^13 to 2^15)
@@ -987,9 +987,9 @@ static SPVS_Q_NOINLINE int q_band_sampson(const int32_t *p, q_model_t *md, int32
     const uint64_t num = (uint64_t)((int64_t)a0 * a0 + (int64_t)a1 * a1) + (uint64_t)ww0 * ee;
     const uint64_t den = (uint64_t)ww * ww + (uint64_t)ww1 * q01 + (uint64_t)ww2 * q23 +
                          (uint64_t)((int64_t)dt * dt);
-    /* 2 E* = 2 (30 (mo + 1) + 32 + 2048); Gh and Hh rounded up (each
-     * halving's floor loses under 1/2). */
-    const uint32_t e2 = 60u * mo + 4220u;
+    /* 2 E* = 2 (32 (mo + 1) + 37 + 2048) rounded up; Gh and Hh rounded
+     * up (each halving's floor loses under 1/2). */
+    const uint32_t e2 = 64u * mo + 4240u;
     const uint32_t ph = (q01 >> 1) + (q23 >> 1) + 1u;
     if (num + (uint64_t)e2 * (ww + ph) <= den) {
         return 1;
