@@ -829,7 +829,7 @@ static void test_q_sampson30(void **state)
 #define BAND_MARGIN 0x1p-21
 /* The share of band points it may leave to the exact test at the default
  * threshold: it leaves those within about 2 E* / |u| of s2 / t2 = 1, with
- * E* near 30 2^15 (the OR of values near 2^13 to 2^15) and |u| near
+ * E* near 32 2^15 (the OR of values near 2^13 to 2^15) and |u| near
  * omega^2 + |Pi|_F^2 / 2 ~ 3e8: +-0.7 %.  The construction below spreads
  * d uniformly over the band, so that s2 / t2 runs over about 1/3 to 3 and
  * about 1.5 % of its points fall in that window (measured 2.2 %). */
