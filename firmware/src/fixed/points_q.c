@@ -349,14 +349,25 @@ static SPVS_Q_INLINE void q_eps(const int32_t *h, const int32_t *p, q_eps_t *r)
 }
 
 /* The Jacobian's block P = [[u h31 - h11, u h32 - h12], [v h31, v h32 - 1]]
- * (h_point.inc), each entry exact in Q53 (< 2^62), as spvs_qf_t. */
-static SPVS_Q_INLINE void q_jac(const int32_t *h, const int32_t *p, spvs_qf_t P[4])
+ * (h_point.inc), each entry exact in Q53 (< 2^62). */
+static SPVS_Q_INLINE void q_jac53(const int32_t *h, const int32_t *p, int64_t P[4])
 {
     const int64_t one26 = (int64_t)1 << 26;
-    P[0] = spvs_qf_from_i64((int64_t)p[2] * h[6] - (int64_t)h[0] * one26, -53);
-    P[1] = spvs_qf_from_i64((int64_t)p[2] * h[7] - (int64_t)h[1] * one26, -53);
-    P[2] = spvs_qf_from_i64((int64_t)p[3] * h[6], -53);
-    P[3] = spvs_qf_from_i64((int64_t)p[3] * h[7] - ((int64_t)1 << 53), -53);
+    P[0] = (int64_t)p[2] * h[6] - (int64_t)h[0] * one26;
+    P[1] = (int64_t)p[2] * h[7] - (int64_t)h[1] * one26;
+    P[2] = (int64_t)p[3] * h[6];
+    P[3] = (int64_t)p[3] * h[7] - ((int64_t)1 << 53);
+}
+
+/* q_jac53's entries as spvs_qf_t. */
+static SPVS_Q_INLINE void q_jac(const int32_t *h, const int32_t *p, spvs_qf_t P[4])
+{
+    int64_t P53[4];
+    q_jac53(h, p, P53);
+    P[0] = spvs_qf_from_i64(P53[0], -53);
+    P[1] = spvs_qf_from_i64(P53[1], -53);
+    P[2] = spvs_qf_from_i64(P53[2], -53);
+    P[3] = spvs_qf_from_i64(P53[3], -53);
 }
 
 static SPVS_Q_INLINE spvs_qf_t qf_sq(spvs_qf_t a)
@@ -437,7 +448,7 @@ static SPVS_Q_INLINE int q_le_scaled(uint64_t L, uint64_t P, int32_t k)
         return L == 0u || P != 0u;
     }
     if (k >= 0) {
-        const uint64_t rem = k == 0 ? 0u : L & ((((uint64_t)1) << k) - 1u);
+        const uint64_t rem = L & ((((uint64_t)1) << k) - 1u);
         return (L >> k) + (rem != 0u) <= P;
     }
     return k > -64 && L <= (P >> -k);
@@ -482,11 +493,10 @@ static SPVS_Q_INLINE int q_le_scaled(uint64_t L, uint64_t P, int32_t k)
  * does not give). */
 static int q_sampson30(const int32_t *h, const int32_t *p, const q_eps_t *r, spvs_qf_t t2)
 {
-    const int64_t one26 = (int64_t)1 << 26;
-    /* w and P exact in Q53 (q_jac's entries), below 2^62; eps. */
-    const int64_t a[5] = {r->w, (int64_t)p[2] * h[6] - (int64_t)h[0] * one26,
-                          (int64_t)p[2] * h[7] - (int64_t)h[1] * one26, (int64_t)p[3] * h[6],
-                          (int64_t)p[3] * h[7] - ((int64_t)1 << 53)};
+    /* w and P exact in Q53 (q_jac53), below 2^62; eps. */
+    int64_t a[5];
+    a[0] = r->w;
+    q_jac53(h, p, a + 1);
     const int64_t eps[2] = {r->ex, r->ey};
     int32_t z[5], e[2];
     const int ka = q_to30(a, 5, z), kb = q_to30(eps, 2, e);
@@ -701,8 +711,9 @@ typedef struct {
  *         (|P_11| < 32 over the frame, sampson_prep): under 9/8, with the
  *         floor under 17/8;
  * and the shift by sh >= 1 makes that at most (17/8) / 2 plus under 1
- * (the floors of the high word and of the shift are one floor).  Every value is in [-2^15, 2^15 - 1] (checked per point: the
- * OR of their magnitudes, less one for a negative value, is below 2^15),
+ * (the floors of the high word and of the shift are one floor).  Every
+ * value is in [-2^15, 2^15 - 1] (checked per point: the OR of their
+ * magnitudes, less one for a negative value, is below 2^15),
  * so every product below is exact in its type: a0 = Pi_22 eps_x - Pi_12
  * eps_y, a1 and det(Pi) within +-(2^31 - 2^15) (2^31 would need one
  * factor to be +2^15); omega^2 < 2^30, |eps|^2 <= 2^31, each half of
