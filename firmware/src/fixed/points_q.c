@@ -348,26 +348,31 @@ static SPVS_Q_INLINE void q_eps(const int32_t *h, const int32_t *p, q_eps_t *r)
             q_to_eps_unit(yy, s1);
 }
 
-/* The Jacobian's block P = [[u h31 - h11, u h32 - h12], [v h31, v h32 - 1]]
- * (h_point.inc), each entry exact in Q53 (< 2^62). */
-static SPVS_Q_INLINE void q_jac53(const int32_t *h, const int32_t *p, int64_t P[4])
+/* Entry k (0..3, row by row) of the Jacobian's block P = [[u h31 - h11,
+ * u h32 - h12], [v h31, v h32 - 1]] (h_point.inc), exact in Q53
+ * (< 2^62).  Inlined with a constant k: no array of the four. */
+static SPVS_Q_INLINE int64_t q_jac53(const int32_t *h, const int32_t *p, int k)
 {
     const int64_t one26 = (int64_t)1 << 26;
-    P[0] = (int64_t)p[2] * h[6] - (int64_t)h[0] * one26;
-    P[1] = (int64_t)p[2] * h[7] - (int64_t)h[1] * one26;
-    P[2] = (int64_t)p[3] * h[6];
-    P[3] = (int64_t)p[3] * h[7] - ((int64_t)1 << 53);
+    switch (k) {
+    case 0:
+        return (int64_t)p[2] * h[6] - (int64_t)h[0] * one26;
+    case 1:
+        return (int64_t)p[2] * h[7] - (int64_t)h[1] * one26;
+    case 2:
+        return (int64_t)p[3] * h[6];
+    default:
+        return (int64_t)p[3] * h[7] - ((int64_t)1 << 53);
+    }
 }
 
-/* q_jac53's entries as spvs_qf_t. */
+/* The four entries of P (q_jac53) as spvs_qf_t. */
 static SPVS_Q_INLINE void q_jac(const int32_t *h, const int32_t *p, spvs_qf_t P[4])
 {
-    int64_t P53[4];
-    q_jac53(h, p, P53);
-    P[0] = spvs_qf_from_i64(P53[0], -53);
-    P[1] = spvs_qf_from_i64(P53[1], -53);
-    P[2] = spvs_qf_from_i64(P53[2], -53);
-    P[3] = spvs_qf_from_i64(P53[3], -53);
+    P[0] = spvs_qf_from_i64(q_jac53(h, p, 0), -53);
+    P[1] = spvs_qf_from_i64(q_jac53(h, p, 1), -53);
+    P[2] = spvs_qf_from_i64(q_jac53(h, p, 2), -53);
+    P[3] = spvs_qf_from_i64(q_jac53(h, p, 3), -53);
 }
 
 static SPVS_Q_INLINE spvs_qf_t qf_sq(spvs_qf_t a)
@@ -448,7 +453,7 @@ static SPVS_Q_INLINE int q_le_scaled(uint64_t L, uint64_t P, int32_t k)
         return L == 0u || P != 0u;
     }
     if (k >= 0) {
-        const uint64_t rem = L & ((((uint64_t)1) << k) - 1u);
+        const uint64_t rem = k == 0 ? 0u : L & ((((uint64_t)1) << k) - 1u);
         return (L >> k) + (rem != 0u) <= P;
     }
     return k > -64 && L <= (P >> -k);
@@ -494,9 +499,8 @@ static SPVS_Q_INLINE int q_le_scaled(uint64_t L, uint64_t P, int32_t k)
 static int q_sampson30(const int32_t *h, const int32_t *p, const q_eps_t *r, spvs_qf_t t2)
 {
     /* w and P exact in Q53 (q_jac53), below 2^62; eps. */
-    int64_t a[5];
-    a[0] = r->w;
-    q_jac53(h, p, a + 1);
+    const int64_t a[5] = {r->w, q_jac53(h, p, 0), q_jac53(h, p, 1), q_jac53(h, p, 2),
+                          q_jac53(h, p, 3)};
     const int64_t eps[2] = {r->ex, r->ey};
     int32_t z[5], e[2];
     const int ka = q_to30(a, 5, z), kb = q_to30(eps, 2, e);
