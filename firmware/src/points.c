@@ -3,7 +3,10 @@
  * (points.h).  SPVS_SIMD_COLUMNS (spvs_config.h) chooses, here and nowhere
  * else, between two implementations of each layout-dependent function:
  * columns on SIMD lanes, or rows one point at a time.  Both make the same
- * operations in the same order.
+ * operations in the same order.  With the columns on x86-64, SPVS_AVX2 adds
+ * eight-lane forms of the sums and of the inlier count, taken at run time
+ * where the processor has AVX2, again with the same operations in the same
+ * order (docs/ESTIMATION.md, "The point layout").
  */
 #include <math.h>
 #include <stddef.h>
@@ -160,6 +163,21 @@ static SPVS_ALWAYS_INLINE int score_points(const spvs_point_store_t *st, const s
 #include "h_point.inc"
 #undef HP_ANY
 _Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
+
+#if SPVS_AVX2
+/* Eight lanes, two rows of four: the same text once more (v8.h).  Each term
+ * is left for the caller, which adds the first row's into the four lanes'
+ * sums before the second's, the order of the four-lane loops. */
+#include "v8.h"
+#define HP_R spvs_v8
+#define HP_M spvs_v8i
+#define HP_SUFFIX _v8
+#define HP_SCALAR 0
+#define HP_ANY(m) spvs_v8_any(m)
+#define HP_ADD(a, t) ((a) = (t))
+#include "h_point.inc"
+#undef HP_ANY
+#endif
 /* The loader reads a match's four coordinates as one vector. */
 _Static_assert(offsetof(spvs_match_t, x_tgt) == 0 &&
                    offsetof(spvs_match_t, y_cur) == 3 * sizeof(spvs_real),
@@ -177,6 +195,96 @@ int spvs_pts_solve3(const spvs_point_store_t *st, const uint16_t idx[3], spvs_re
     const spvs_real *const c[4] = {COL(st, 0), COL(st, 1), COL(st, 2), COL(st, 3)};
     return spvs_h_solve3_strided(c, idx, 1u, H_out);
 }
+
+#if SPVS_AVX2
+/* Rows 0 .. 2 floor(n_rows / 2) of sum_store (below), two at a time on
+ * eight lanes: each point's terms are hp_terms_v's, and the first row's are
+ * added into acc[] before the second's, so that every lane's sums are those
+ * of sum_store's own loop, bit for bit.  *all_ok and *cnt as there.
+ * Returns the rows done. */
+static SPVS_ALWAYS_INLINE uint32_t sum_pairs(int kind, int nt, int count, const spvs_real *h,
+                                             const spvs_real *const c[4], const uint8_t *use,
+                                             uint32_t n_rows, spvs_v4 *acc, spvs_v4i *all_ok,
+                                             spvs_v4i *cnt)
+{
+    /* The sums in locals: nothing the loop reads can alias them. */
+    spvs_v4 a[TERMS_MAX];
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        a[k] = acc[k];
+    }
+    spvs_v8i ok = (spvs_v8i){0} - 1;
+    spvs_v8i used = {0};
+    const spvs_v8 one = (spvs_v8){0} + SPVS_R(1.0);
+    const uint32_t end = n_rows & ~1u;
+    /* Bound: n_rows / 2 pairs of rows. */
+    for (uint32_t r = 0; r < end; r += 2) {
+        const uint32_t i = r * SUM_LANES;
+        const spvs_v8i on = spvs_v8_flags(use + i);
+        spvs_v8 t[TERMS_MAX];
+        ok &= hp_terms_v8(kind, h, spvs_v8_load(c[0] + i), spvs_v8_load(c[1] + i),
+                          spvs_v8_load(c[2] + i), spvs_v8_load(c[3] + i),
+                          (spvs_v8)((spvs_v8i)one & on), t);
+        SPVS_UNROLL
+        for (int k = 0; k < nt; k++) {
+            a[k] += spvs_v8_lo(t[k]);
+            a[k] += spvs_v8_hi(t[k]);
+        }
+        if (count) {
+            used -= on;
+        }
+    }
+    SPVS_UNROLL
+    for (int k = 0; k < nt; k++) {
+        acc[k] = a[k];
+    }
+    *all_ok &= spvs_v8i_lo(ok) & spvs_v8i_hi(ok);
+    *cnt += spvs_v8i_lo(used) + spvs_v8i_hi(used);
+    return end;
+}
+
+/* sum_pairs built for AVX2, one function per kind of terms. */
+#define SUM_PAIRS_AVX2(name, kind, nt, count)                                                     \
+    static SPVS_TARGET_AVX2 uint32_t name(const spvs_real *h, const spvs_real *const c[4],        \
+                                          const uint8_t *use, uint32_t n_rows, spvs_v4 *acc,      \
+                                          spvs_v4i *all_ok, spvs_v4i *cnt)                        \
+    {                                                                                             \
+        return sum_pairs(kind, nt, count, h, c, use, n_rows, acc, all_ok, cnt);                   \
+    }
+SUM_PAIRS_AVX2(pairs_fit_y, SPVS_T_FIT_Y, SPVS_NT_FIT, 1)
+SUM_PAIRS_AVX2(pairs_fit_x, SPVS_T_FIT_X, SPVS_NT_FIT, 0)
+SUM_PAIRS_AVX2(pairs_lin, SPVS_T_LIN, SPVS_H_LIN_SUMS, 1)
+SUM_PAIRS_AVX2(pairs_gn, SPVS_T_GN, SPVS_NT_GN, 0)
+SUM_PAIRS_AVX2(pairs_cost, SPVS_T_COST, SPVS_NT_COST, 0)
+SUM_PAIRS_AVX2(pairs_grad, SPVS_T_GRAD, SPVS_NT_GRAD, 0)
+SUM_PAIRS_AVX2(pairs_sampson, SPVS_T_SAMPSON, SPVS_NT_COST, 0)
+
+/* The pairs function of a kind (a constant where sum_store is inlined);
+ * each takes the kind's term count and counting as spvs_pts_sum passes
+ * them to sum_kind. */
+static SPVS_ALWAYS_INLINE uint32_t sum_pairs_avx2(int kind, const spvs_real *h,
+                                                  const spvs_real *const c[4], const uint8_t *use,
+                                                  uint32_t n_rows, spvs_v4 *acc,
+                                                  spvs_v4i *all_ok, spvs_v4i *cnt)
+{
+    switch (kind) {
+    case SPVS_T_FIT_Y:
+        return pairs_fit_y(h, c, use, n_rows, acc, all_ok, cnt);
+    case SPVS_T_FIT_X:
+        return pairs_fit_x(h, c, use, n_rows, acc, all_ok, cnt);
+    case SPVS_T_LIN:
+        return pairs_lin(h, c, use, n_rows, acc, all_ok, cnt);
+    case SPVS_T_GN:
+        return pairs_gn(h, c, use, n_rows, acc, all_ok, cnt);
+    case SPVS_T_COST:
+        return pairs_cost(h, c, use, n_rows, acc, all_ok, cnt);
+    case SPVS_T_GRAD:
+        return pairs_grad(h, c, use, n_rows, acc, all_ok, cnt);
+    default:
+        return pairs_sampson(h, c, use, n_rows, acc, all_ok, cnt);
+    }
+}
+#endif
 
 /* The sums of sum_rows on the columns c[0..3], SUM_LANES points at a time
  * in one vector (lane j holds points j, j + SUM_LANES, ...), branch free:
@@ -202,8 +310,14 @@ static SPVS_ALWAYS_INLINE int32_t sum_store(int kind, int nt, int count, const s
     }
     const spvs_v4 one = (spvs_v4){0} + SPVS_R(1.0);
     const uint32_t n_rows = (uint32_t)n / SUM_LANES;
+    uint32_t r = 0;
+#if SPVS_AVX2
+    if (spvs_have_avx2()) {
+        r = sum_pairs_avx2(kind, h, c, use, n_rows, acc, &all_ok, &cnt);
+    }
+#endif
     /* Bound: n / SUM_LANES rows of lanes. */
-    for (uint32_t r = 0; r < n_rows; r++) {
+    for (; r < n_rows; r++) {
         const uint32_t i = r * SUM_LANES;
         const spvs_v4i on = spvs_v4_flags(use + i);
         all_ok &= hp_terms_v(kind, h, spvs_v4_load(c[0] + i), spvs_v4_load(c[1] + i),
@@ -398,6 +512,46 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
     return (int32_t)spvs_v4i_sum(cnt);
 }
 
+#if SPVS_AVX2
+/* The inlier flags of H for points r..r + 8 (score_row's, two rows). */
+static SPVS_ALWAYS_INLINE spvs_v8i score_row8(const spvs_real *h, const spvs_point_store_t *st,
+                                              size_t r, spvs_real t2, spvs_real c2)
+{
+    return hp_inlier_v8(h, spvs_v8_load(&COL(st, 0)[r]), spvs_v8_load(&COL(st, 1)[r]),
+                        spvs_v8_load(&COL(st, 2)[r]), spvs_v8_load(&COL(st, 3)[r]), t2, c2);
+}
+
+/* score_block on eight lanes: the same flags (each lane's test is
+ * score_row's) and the same count. */
+static SPVS_ALWAYS_INLINE int32_t score_block8(const spvs_real *h, const spvs_point_store_t *st,
+                                               size_t i, spvs_real t2, spvs_real c2,
+                                               uint8_t *mask, int with_mask)
+{
+    const size_t end = i + SPVS_SCORE_BLOCK;
+    spvs_v4i cnt = {0};
+    size_t r = i;
+    SPVS_UNROLL
+    for (; r + 16u <= end; r += 16u) {
+        const spvs_v8i a = score_row8(h, st, r, t2, c2);
+        const spvs_v8i b = score_row8(h, st, r + 8u, t2, c2);
+        cnt -= (spvs_v8i_lo(a) + spvs_v8i_hi(a)) + (spvs_v8i_lo(b) + spvs_v8i_hi(b));
+        if (with_mask) {
+            spvs_v4_store_flags4(spvs_v8i_lo(a), spvs_v8i_hi(a), spvs_v8i_lo(b), spvs_v8i_hi(b),
+                                 mask + r);
+        }
+    }
+    SPVS_UNROLL
+    for (; r < end; r += SPVS_VLANES) {
+        const spvs_v4i in = score_row(h, st, r, t2, c2);
+        cnt -= in;
+        if (with_mask) {
+            spvs_v4_store_flags(in, mask + r);
+        }
+    }
+    return (int32_t)spvs_v4i_sum(cnt);
+}
+#endif
+
 /* One block of spvs_pts_score, the whole block counted on SIMD lanes;
  * returns 0 when the count stops: `need` can no longer be reached, or the
  * bail-out test fails (both tested once per block).  With need = 0
@@ -406,8 +560,16 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
                                               size_t i, spvs_real t2, spvs_real c2,
                                               const score_stop_t *stop, uint8_t *mask,
-                                              int32_t *inl)
+                                              int32_t *inl, int wide)
 {
+#if SPVS_AVX2
+    if (wide) {
+        *inl += mask ? score_block8(h, st, i, t2, c2, mask, 1)
+                     : score_block8(h, st, i, t2, c2, mask, 0);
+        return stop->need == 0u || keeps_on(stop, i + SPVS_SCORE_BLOCK, *inl);
+    }
+#endif
+    (void)wide;
     *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
                  : score_block(h, st, i, t2, c2, mask, 0);
     return stop->need == 0u || keeps_on(stop, i + SPVS_SCORE_BLOCK, *inl);
@@ -527,8 +689,9 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
 static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, const spvs_real *h,
                                               size_t i, spvs_real t2, spvs_real c2,
                                               const score_stop_t *stop, uint8_t *mask,
-                                              int32_t *inl)
+                                              int32_t *inl, int wide)
 {
+    (void)wide;
     return score_points(st, h, i, i + SPVS_SCORE_BLOCK, t2, c2, stop->max_out, mask, inl) &&
            !bails(stop->p, stop->bail_var, i + SPVS_SCORE_BLOCK, *inl);
 }
@@ -632,15 +795,12 @@ int32_t spvs_pts_load(spvs_point_store_t *st, uint16_t *feat, const spvs_match_t
                       : load(st, feat, m, n, n_plane, order, stride);
 }
 
-uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real H[9],
-                        spvs_real t2, uint16_t need, uint8_t *mask)
+/* spvs_pts_score's count once its stopping rule is made: whole blocks (on
+ * eight lanes where `wide`), each followed by its test, then the rest. */
+static SPVS_ALWAYS_INLINE uint16_t score_run(const spvs_point_store_t *st, size_t n,
+                                             const spvs_real H[9], spvs_real t2, spvs_real c2,
+                                             const score_stop_t *stop, uint8_t *mask, int wide)
 {
-    const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
-    const spvs_real p = need <= n ? (spvs_real)need / (spvs_real)n : SPVS_R(1.0);
-    const spvs_real bail_var =
-        (spvs_real)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * p * (SPVS_R(1.0) - p);
-    const score_stop_t stop = {need, max_out, p, bail_var};
-    const spvs_real c2 = band_c2(st, H, t2);
     /* A local copy: the mask stores cannot then alias the model. */
     spvs_real h[9];
     for (int k = 0; k < 9; k++) {
@@ -651,10 +811,36 @@ uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real 
     /* Bound: n / SPVS_SCORE_BLOCK blocks, then fewer than SPVS_SCORE_BLOCK
      * points. */
     for (; i + SPVS_SCORE_BLOCK <= n; i += SPVS_SCORE_BLOCK) {
-        if (!score_blockwise(st, h, i, t2, c2, &stop, mask, &inl)) {
+        if (!score_blockwise(st, h, i, t2, c2, stop, mask, &inl, wide)) {
             return (uint16_t)inl;
         }
     }
-    score_tail(st, h, i, n, t2, c2, max_out, mask, &inl);
+    score_tail(st, h, i, n, t2, c2, stop->max_out, mask, &inl);
     return (uint16_t)inl;
+}
+
+#if SPVS_AVX2
+static SPVS_TARGET_AVX2 uint16_t score_avx2(const spvs_point_store_t *st, size_t n,
+                                            const spvs_real H[9], spvs_real t2, spvs_real c2,
+                                            const score_stop_t *stop, uint8_t *mask)
+{
+    return score_run(st, n, H, t2, c2, stop, mask, 1);
+}
+#endif
+
+uint16_t spvs_pts_score(const spvs_point_store_t *st, size_t n, const spvs_real H[9],
+                        spvs_real t2, uint16_t need, uint8_t *mask)
+{
+    const int32_t max_out = need <= n ? (int32_t)(n - need) : 0;
+    const spvs_real p = need <= n ? (spvs_real)need / (spvs_real)n : SPVS_R(1.0);
+    const spvs_real bail_var =
+        (spvs_real)(SPVS_BAIL_SIGMAS * SPVS_BAIL_SIGMAS) * p * (SPVS_R(1.0) - p);
+    const score_stop_t stop = {need, max_out, p, bail_var};
+    const spvs_real c2 = band_c2(st, H, t2);
+#if SPVS_AVX2
+    if (spvs_have_avx2()) {
+        return score_avx2(st, n, H, t2, c2, &stop, mask);
+    }
+#endif
+    return score_run(st, n, H, t2, c2, &stop, mask, 0);
 }
