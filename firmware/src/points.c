@@ -473,6 +473,23 @@ static SPVS_ALWAYS_INLINE spvs_v4i score_row(const spvs_real *h, const spvs_poin
                        spvs_v4_load(&COL(st, 2)[r]), spvs_v4_load(&COL(st, 3)[r]), t2, c2);
 }
 
+/* cnt plus the inliers of H among points r..end, a row of lanes at a time
+ * (marked in mask[r..] when with_mask): what a block's groups leave. */
+static SPVS_ALWAYS_INLINE spvs_v4i score_rows(const spvs_real *h, const spvs_point_store_t *st,
+                                              size_t r, size_t end, spvs_real t2, spvs_real c2,
+                                              uint8_t *mask, int with_mask, spvs_v4i cnt)
+{
+    SPVS_UNROLL
+    for (; r < end; r += SPVS_VLANES) {
+        const spvs_v4i in = score_row(h, st, r, t2, c2);
+        cnt -= in;
+        if (with_mask) {
+            spvs_v4_store_flags(in, mask + r);
+        }
+    }
+    return cnt;
+}
+
 /* Rows of lanes whose flags are stored together (spvs_v4_store_flags4). */
 #define FLAG_ROWS 4
 _Static_assert(FLAG_ROWS == 4, "spvs_v4_store_flags4 takes four rows");
@@ -501,15 +518,7 @@ static SPVS_ALWAYS_INLINE int32_t score_block(const spvs_real *h, const spvs_poi
             spvs_v4_store_flags4(in[0], in[1], in[2], in[3], mask + r);
         }
     }
-    SPVS_UNROLL
-    for (; r < end; r += SPVS_VLANES) {
-        const spvs_v4i in = score_row(h, st, r, t2, c2);
-        cnt -= in;
-        if (with_mask) {
-            spvs_v4_store_flags(in, mask + r);
-        }
-    }
-    return (int32_t)spvs_v4i_sum(cnt);
+    return (int32_t)spvs_v4i_sum(score_rows(h, st, r, end, t2, c2, mask, with_mask, cnt));
 }
 
 #if SPVS_AVX2
@@ -540,15 +549,7 @@ static SPVS_ALWAYS_INLINE int32_t score_block8(const spvs_real *h, const spvs_po
                                  mask + r);
         }
     }
-    SPVS_UNROLL
-    for (; r < end; r += SPVS_VLANES) {
-        const spvs_v4i in = score_row(h, st, r, t2, c2);
-        cnt -= in;
-        if (with_mask) {
-            spvs_v4_store_flags(in, mask + r);
-        }
-    }
-    return (int32_t)spvs_v4i_sum(cnt);
+    return (int32_t)spvs_v4i_sum(score_rows(h, st, r, end, t2, c2, mask, with_mask, cnt));
 }
 #endif
 
