@@ -701,6 +701,59 @@ static int scene_models(const scene_t *sc, int32_t Hq[4][9])
     return nm;
 }
 
+/* A point of a scene under one of its models, with its exact squared
+ * Sampson error s2 (w > 0 and s2 > 0). */
+typedef void (*scene_point_fn)(void *ctx, const scene_t *sc, const int32_t *Hq, uint16_t i,
+                               long double s2);
+
+/* fn for every such point of `scenes` random scenes (128 matches, 1 px,
+ * 30 % mismatches; those of fewer than 8 points skipped) drawn from seed,
+ * under each of their models (scene_models). */
+static void each_scene_point(uint64_t seed, int scenes, scene_point_fn fn, void *ctx)
+{
+    static scene_t sc;
+    uint64_t rng = seed;
+    for (int c = 0; c < scenes; c++) {
+        make_scene(&sc, &rng, 128, 1.0, 0.3);
+        if (sc.n < 8) {
+            continue;
+        }
+        load_both(&sc);
+        int32_t models[4][9];
+        const int nm = scene_models(&sc, models);
+        for (int k = 0; k < nm; k++) {
+            for (uint16_t i = 0; i < sc.n; i++) {
+                long double w;
+                const long double s2 = exact_sampson_q(&sc.qst, i, models[k], &w);
+                if (w > 0 && s2 > 0) {
+                    fn(ctx, &sc, models[k], i, s2);
+                }
+            }
+        }
+    }
+}
+
+/* test_q_inlier_arith's test of one point; ctx counts them. */
+static void inlier_arith_point(void *ctx, const scene_t *sc, const int32_t *Hq, uint16_t i,
+                               long double s2)
+{
+    uint8_t m1[NMAX] = {0}, m2[NMAX] = {0};
+    /* Score the one point i through the public kernel: a store of one
+     * row. */
+    static spvs_q_store_t one;
+    spvs_q_pts_row(&sc->qst, i, one.v);
+    one.cur_max[0] = sc->qst.cur_max[0];
+    one.cur_max[1] = sc->qst.cur_max[1];
+    one.tgt_max[0] = sc->qst.tgt_max[0];
+    one.tgt_max[1] = sc->qst.tgt_max[1];
+    const spvs_qf_t hi = qf_from_ld(s2 * (1 + (long double)TOL_TEST_ARITH));
+    const spvs_qf_t lo = qf_from_ld(s2 * (1 - (long double)TOL_TEST_ARITH));
+    const spvs_q_thr_t thr_hi = spvs_q_thr(hi), thr_lo = spvs_q_thr(lo);
+    assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_hi, 0, m1), 1);
+    assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_lo, 0, m2), 0);
+    ++*(long *)ctx;
+}
+
 /* For points of random scenes under their true H and under 3-point
  * models, t2 is set just above and just below each point's exact squared
  * Sampson error (relative TOL_TEST_ARITH): the Q test must call the point
@@ -710,47 +763,49 @@ static int scene_models(const scene_t *sc, int32_t Hq[4][9])
 static void test_q_inlier_arith(void **state)
 {
     (void)state;
-    static scene_t sc;
-    uint64_t rng = 99;
     long tested = 0;
-    for (int c = 0; c < 40; c++) {
-        make_scene(&sc, &rng, 128, 1.0, 0.3);
-        if (sc.n < 8) {
-            continue;
-        }
-        load_both(&sc);
-        int32_t models[4][9];
-        const int nm = scene_models(&sc, models);
-        for (int k = 0; k < nm; k++) {
-            const int32_t *Hq = models[k];
-            for (uint16_t i = 0; i < sc.n; i++) {
-                long double w;
-                const long double s2 = exact_sampson_q(&sc.qst, i, Hq, &w);
-                if (!(w > 0) || !(s2 > 0)) {
-                    continue;
-                }
-                uint8_t m1[NMAX] = {0}, m2[NMAX] = {0};
-                /* Score the one point i through the public kernel: a store
-                 * of one row. */
-                static spvs_q_store_t one;
-                spvs_q_pts_row(&sc.qst, i, one.v);
-                one.cur_max[0] = sc.qst.cur_max[0];
-                one.cur_max[1] = sc.qst.cur_max[1];
-                one.tgt_max[0] = sc.qst.tgt_max[0];
-                one.tgt_max[1] = sc.qst.tgt_max[1];
-                const spvs_qf_t hi = qf_from_ld(s2 * (1 + (long double)TOL_TEST_ARITH));
-                const spvs_qf_t lo = qf_from_ld(s2 * (1 - (long double)TOL_TEST_ARITH));
-                const spvs_q_thr_t thr_hi = spvs_q_thr(hi), thr_lo = spvs_q_thr(lo);
-                assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_hi, 0, m1), 1);
-                assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_lo, 0, m2), 0);
-                tested++;
-            }
-        }
-    }
+    each_scene_point(99, 40, inlier_arith_point, &tested);
     print_message("inlier test arithmetic: %ld points decided as exact arithmetic at t2 = "
                   "s2 (1 +- %.0e)\n",
                   tested, TOL_TEST_ARITH);
     assert_true(tested > 10000);
+}
+
+/* test_q_sampson30's tallies. */
+typedef struct {
+    long tested, decided, left[7];
+    long double closest;
+} sampson30_tally_t;
+
+/* The distances of t2 from s2 that test_q_sampson30 tries: 2^-dexp above
+ * and below. */
+static const int SAMPSON30_DEXP[7] = {6, 10, 14, 17, 19, 21, 22};
+
+static void sampson30_point(void *ctx, const scene_t *sc, const int32_t *Hq, uint16_t i,
+                            long double s2)
+{
+    sampson30_tally_t *t = (sampson30_tally_t *)ctx;
+    const int32_t *p = &sc->qst.v[4u * i];
+    q_eps_t r;
+    q_eps(Hq, p, &r);
+    for (int j = 0; j < 14; j++) {
+        const long double d = ldexpl(j % 2 ? -1.0L : 1.0L, -SAMPSON30_DEXP[j / 2]);
+        const spvs_qf_t t2 = qf_from_ld(s2 * (1 + d));
+        const long double t2v = qf_val(t2);
+        const long double rel = fabsl(s2 / t2v - 1);
+        const int got = q_sampson30(Hq, p, &r, t2);
+        t->tested++;
+        if (got < 0) {
+            t->left[j / 2]++;
+            assert_true(rel < 0x1p-10L);
+            continue;
+        }
+        t->decided++;
+        assert_int_equal(got, s2 <= t2v);
+        assert_int_equal(got, q_inlier_qf(Hq, p, &r, t2));
+        assert_true(rel >= 0x1p-20L * (1 - 1e-9L));
+        t->closest = rel < t->closest ? rel : t->closest;
+    }
 }
 
 /* The integer Sampson test before the exact one (q_sampson30): for points
@@ -766,59 +821,16 @@ static void test_q_inlier_arith(void **state)
 static void test_q_sampson30(void **state)
 {
     (void)state;
-    static scene_t sc;
-    static const int dexp[7] = {6, 10, 14, 17, 19, 21, 22};
-    uint64_t rng = 2027;
-    long tested = 0, decided = 0, left[7] = {0};
-    long double closest = 1;
-    for (int c = 0; c < 30; c++) {
-        make_scene(&sc, &rng, 128, 1.0, 0.3);
-        if (sc.n < 8) {
-            continue;
-        }
-        load_both(&sc);
-        int32_t models[4][9];
-        const int nm = scene_models(&sc, models);
-        for (int k = 0; k < nm; k++) {
-            const int32_t *Hq = models[k];
-            for (uint16_t i = 0; i < sc.n; i++) {
-                long double w;
-                const long double s2 = exact_sampson_q(&sc.qst, i, Hq, &w);
-                if (!(w > 0) || !(s2 > 0)) {
-                    continue;
-                }
-                const int32_t *p = &sc.qst.v[4u * i];
-                q_eps_t r;
-                q_eps(Hq, p, &r);
-                for (int j = 0; j < 14; j++) {
-                    const long double d = ldexpl(j % 2 ? -1.0L : 1.0L, -dexp[j / 2]);
-                    const spvs_qf_t t2 = qf_from_ld(s2 * (1 + d));
-                    const long double t2v = qf_val(t2);
-                    const long double rel = fabsl(s2 / t2v - 1);
-                    const int got = q_sampson30(Hq, p, &r, t2);
-                    tested++;
-                    if (got < 0) {
-                        left[j / 2]++;
-                        assert_true(rel < 0x1p-10L);
-                        continue;
-                    }
-                    decided++;
-                    assert_int_equal(got, s2 <= t2v);
-                    assert_int_equal(got, q_inlier_qf(Hq, p, &r, t2));
-                    assert_true(rel >= 0x1p-20L * (1 - 1e-9L));
-                    closest = rel < closest ? rel : closest;
-                }
-            }
-        }
-    }
+    sampson30_tally_t t = {0, 0, {0}, 1};
+    each_scene_point(2027, 30, sampson30_point, &t);
     print_message("sampson30: %ld tests, %ld decided, closest decided |s2/t2 - 1| %.3Lg; "
                   "left at 2^-6 .. 2^-22: %ld %ld %ld %ld %ld %ld %ld\n",
-                  tested, decided, closest, left[0], left[1], left[2], left[3], left[4], left[5],
-                  left[6]);
-    assert_true(tested > 50000);
-    assert_int_equal(left[0] + left[1], 0);
-    assert_true((double)left[2] <= 1e-3 * (double)(tested / 7));
-    assert_true((double)left[3] <= 0.02 * (double)(tested / 7));
+                  t.tested, t.decided, t.closest, t.left[0], t.left[1], t.left[2], t.left[3],
+                  t.left[4], t.left[5], t.left[6]);
+    assert_true(t.tested > 50000);
+    assert_int_equal(t.left[0] + t.left[1], 0);
+    assert_true((double)t.left[2] <= 1e-3 * (double)(t.tested / 7));
+    assert_true((double)t.left[3] <= 0.02 * (double)(t.tested / 7));
 }
 
 /* ---- kernels: the band's Sampson test -------------------------------------- */
