@@ -563,16 +563,17 @@ static SPVS_ALWAYS_INLINE int score_blockwise(const spvs_point_store_t *st, cons
                                               const score_stop_t *stop, uint8_t *mask,
                                               int32_t *inl, int wide)
 {
+    (void)wide;
 #if SPVS_AVX2
     if (wide) {
         *inl += mask ? score_block8(h, st, i, t2, c2, mask, 1)
                      : score_block8(h, st, i, t2, c2, mask, 0);
-        return stop->need == 0u || keeps_on(stop, i + SPVS_SCORE_BLOCK, *inl);
-    }
+    } else
 #endif
-    (void)wide;
-    *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
-                 : score_block(h, st, i, t2, c2, mask, 0);
+    {
+        *inl += mask ? score_block(h, st, i, t2, c2, mask, 1)
+                     : score_block(h, st, i, t2, c2, mask, 0);
+    }
     return stop->need == 0u || keeps_on(stop, i + SPVS_SCORE_BLOCK, *inl);
 }
 

@@ -22,8 +22,9 @@
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
-/* A function built for AVX2, whatever the translation unit's flags; it may
- * run only where spvs_have_avx2() is true. */
+/* A function built for AVX2, whatever the translation unit's flags, and
+ * never inlined into one that is not; it may run only where
+ * spvs_have_avx2() is true. */
 #define SPVS_TARGET_AVX2 __attribute__((target("avx2"), noinline))
 
 typedef float spvs_v8 __attribute__((vector_size(32)));
