@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds the float and double variants, the rows
+# Installs dependencies, builds the float and double variants, the reference
 # layout, the fixed-point build and the sanitizer build, and runs every
 # test with ctest.  This is the README's test command and what CI runs.
 set -euo pipefail
@@ -27,17 +27,17 @@ cmake --build "$dir" -j "$jobs" --target $core_tests
 echo "=== ctest (double core, core tests) ==="
 ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "^($(echo $core_tests | tr ' ' '|'))\$" || status=1
 
-# Rows: the Cortex-M4F's point layout on the host (SPVS_SIMD_COLUMNS=0,
-# firmware/src/points.c): the core's tests again, and the closed loop must
-# equal the columns build's bit for bit.
-dir=build/test-rows
-echo "=== configure and build (float32 core, rows layout, core tests) ==="
+# The reference path (SPVS_ACCEL=OFF: nothing from firmware/src/accel, the
+# Cortex-M4F's point layout, firmware/src/points.c): the core's tests again,
+# and the closed loop must equal the accelerated build's bit for bit.
+dir=build/test-reference
+echo "=== configure and build (float32 core, reference path, core tests) ==="
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_DOUBLE=OFF \
-  -DCMAKE_C_FLAGS=-DSPVS_SIMD_COLUMNS=0 -DCMAKE_CXX_FLAGS=-DSPVS_SIMD_COLUMNS=0 >/dev/null
+  -DSPVS_ACCEL=OFF >/dev/null
 cmake --build "$dir" -j "$jobs" --target $core_tests spvs-sim
-echo "=== ctest (float32 core, rows layout, core tests) ==="
+echo "=== ctest (float32 core, reference path, core tests) ==="
 ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "^($(echo $core_tests | tr ' ' '|'))\$" || status=1
-echo "=== closed loop: columns build against rows build ==="
+echo "=== closed loop: accelerated build against the reference path ==="
 tests/compare_layouts.sh build/test-float/sim_host/spvs-sim "$dir/sim_host/spvs-sim" || status=1
 
 # Fixed point (SPVS_FIXED=ON): spvs.h's pipeline on the Q stages, no float

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The two point layouts give the same closed loop, bit for bit: spvs-sim from
-# a build with the columns (SIMD lanes) and from one with the rows (the
-# Cortex-M4F's layout, SPVS_SIMD_COLUMNS=0 on the host) must print the same
+# The accelerated build and the reference path give the same closed loop,
+# bit for bit: spvs-sim from a build with the columns (SIMD lanes,
+# firmware/src/accel) and from one with SPVS_ACCEL=OFF (the rows of
+# firmware/src/points.c, the Cortex-M4F's layout) must print the same
 # --json summary and the same per-frame trace for every method, with noise and
 # mismatches, from four start poses.
 #   tests/compare_layouts.sh SIM_COLUMNS SIM_ROWS
@@ -27,4 +28,4 @@ for method in 1 2 3; do
     done
   done
 done
-echo "columns and rows: $runs closed loops identical (summary and every frame)"
+echo "accelerated and reference: $runs closed loops identical (summary and every frame)"

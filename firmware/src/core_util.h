@@ -25,22 +25,6 @@
 #define SPVS_UNROLL
 #endif
 
-/* Asks the data cache for the `bytes` bytes at p, a line (64 bytes) at a
- * time, ahead of reads in an order the hardware cannot guess (SPVS_PREFETCH;
- * nothing where it is 0).  Bound: bytes / 64 + 1 hints. */
-static inline void spvs_prefetch(const void *p, size_t bytes)
-{
-#if SPVS_PREFETCH && (defined(__GNUC__) || defined(__clang__))
-    const char *c = (const char *)p;
-    for (size_t b = 0; b < bytes; b += 64u) {
-        __builtin_prefetch(c + b);
-    }
-#else
-    (void)p;
-    (void)bytes;
-#endif
-}
-
 /* Eight bytes p[0..8) as a word with p[k] in bits 8k..8k+7, whatever the
  * target's byte order (one load where it is little-endian). */
 static inline uint64_t spvs_load_le64(const uint8_t *p)

@@ -74,7 +74,6 @@ int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, uint16_t n,
     if (n_plane > n) {
         return SPVS_E_ARG;
     }
-    spvs_prefetch(m, (size_t)n * sizeof *m);
     /* The copy checks every value without branches; only a bad frame is
      * looked at again, for its status. */
     const uint16_t stride = spvs_pts_spread_stride(n_plane);

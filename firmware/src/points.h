@@ -3,17 +3,18 @@
  * reads many of them (private to the core: not installed, not in the API).
  *
  * The estimator keeps a frame's points in a spvs_point_store_t
- * (plane_h.h).  How they lie in it is chosen by the build in one place,
- * points.c (SPVS_SIMD_COLUMNS in spvs_config.h):
- *   rows     point i is v[4 i .. 4 i + 3] = (x_tgt, y_tgt, x_cur, y_cur),
- *            read one point at a time (the Cortex-M4F);
- *   columns  coordinate k of point i is v[k SPVS_MAX_MATCHES + i], read
- *            SPVS_VLANES points at a time on SIMD lanes (hosts with SSE2 or
- *            NEON).
- * Nothing outside points.c knows which.  Every loop here adds its terms in
- * the same order either way (four interleaved lanes, point i in lane
- * i mod 4, each lane in point order, added as (0 + 1) + (2 + 3)), so both
- * layouts give the same bits on every target.
+ * (plane_h.h).  How they lie in it is the build's choice of one
+ * translation unit (firmware/CMakeLists.txt):
+ *   points.c                 rows, point i is v[4 i .. 4 i + 3] =
+ *                            (x_tgt, y_tgt, x_cur, y_cur), read one point
+ *                            at a time (the reference: the Cortex-M
+ *                            images, and every build with SPVS_ACCEL=OFF);
+ *   accel/points_columns.c   columns, coordinate k of point i is
+ *                            v[k SPVS_MAX_MATCHES + i], read SPVS_VLANES
+ *                            points at a time on SIMD lanes (hosts with
+ *                            SSE2 or NEON).
+ * Nothing else knows which.  Every loop here adds its terms in the same
+ * order either way (points.inc), so both give the same bits.
  *
  * Points are in the core's scaled units (pixels / SPVS_COORD_SCALE).
  */

@@ -11,7 +11,7 @@
  *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
  *   SPVS_MAX_OFFPLANE x (7 scalars + 4 index bytes + 1 flag byte)
  *   SPVS_LO_POINTS    x 1 byte
- * whatever the point layout (SPVS_SIMD_COLUMNS).
+ * whatever the point layout (points.h).
  */
 #ifndef SPVS_CONFIG_H
 #define SPVS_CONFIG_H
@@ -156,28 +156,26 @@
 #define SPVS_MAX_COORD_PX 8192
 #endif
 
-/* The point layout, chosen in points.c and nowhere else.  1: the frame's
- * points in columns, inliers counted a score block at a time and the sums
- * of the fits a row of four points at a time, loops a compiler runs on SIMD
- * lanes.  0: rows, everything point by point.  The results are the same
- * bits either way, and spvs_t is the same size.  The default is 1 where the
- * compiler says the target has SSE2 or NEON, 0 elsewhere (Cortex-M4F). */
-#ifndef SPVS_SIMD_COLUMNS
-#if defined(__SSE2__) || defined(__ARM_NEON)
-#define SPVS_SIMD_COLUMNS 1
-#else
-#define SPVS_SIMD_COLUMNS 0
-#endif
+/* 1: the accelerators are built (src/accel and src/fixed/accel: the
+ * frame's points in columns on SIMD lanes where the target has SSE2 or
+ * NEON, eight lanes on AVX2, the fixed-point core's integer filters); 0:
+ * the reference path alone.  The build option SPVS_ACCEL sets it, and
+ * firmware/CMakeLists.txt chooses the point layout's translation unit
+ * (points.c, or accel/points_columns.c) from it and the target.  The
+ * outputs are the same either way (docs/ESTIMATION.md). */
+#ifndef SPVS_ACCEL
+#define SPVS_ACCEL 1
 #endif
 
 /* 1: where the processor has AVX2 (asked at run time, once per call), the
  * columns' sums and inlier counts take eight points a step instead of four.
  * Each point gets the four-lane operations, and each step's two rows of
  * four go into the four lanes' sums one after the other, so the results are
- * the same bits as with four lanes (and as the rows').  Default: on x86-64
- * with GCC 12 or later or Clang, float32, columns; 0 elsewhere. */
+ * the same bits as with four lanes (and as the rows').  Default: with the
+ * accelerators, on x86-64 with GCC 12 or later or Clang, float32; 0
+ * elsewhere. */
 #ifndef SPVS_AVX2
-#if SPVS_SIMD_COLUMNS && !SPVS_USE_DOUBLE && defined(__x86_64__) && \
+#if SPVS_ACCEL && !SPVS_USE_DOUBLE && defined(__x86_64__) && \
     (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 12))
 #define SPVS_AVX2 1
 #else
@@ -185,26 +183,15 @@
 #endif
 #endif
 
-/* 1: ask the data cache for the frame's matches before they are read in the
- * spread order, a gather the hardware prefetcher cannot follow
- * (docs/ESTIMATION.md).  Default: where SPVS_SIMD_COLUMNS is (a target with
- * a data cache), 0 elsewhere (the Cortex-M4F has none). */
-#ifndef SPVS_PREFETCH
-#define SPVS_PREFETCH SPVS_SIMD_COLUMNS
-#endif
-
 /* ---- range checks ------------------------------------------------------ */
-#if (SPVS_SIMD_COLUMNS != 0) && (SPVS_SIMD_COLUMNS != 1)
-#error "SPVS_SIMD_COLUMNS must be 0 or 1"
+#if (SPVS_ACCEL != 0) && (SPVS_ACCEL != 1)
+#error "SPVS_ACCEL must be 0 or 1"
 #endif
 #if (SPVS_AVX2 != 0) && (SPVS_AVX2 != 1)
 #error "SPVS_AVX2 must be 0 or 1"
 #endif
-#if SPVS_AVX2 && (!SPVS_SIMD_COLUMNS || SPVS_USE_DOUBLE || !defined(__x86_64__))
-#error "SPVS_AVX2 needs SPVS_SIMD_COLUMNS, float32 and x86-64"
-#endif
-#if (SPVS_PREFETCH != 0) && (SPVS_PREFETCH != 1)
-#error "SPVS_PREFETCH must be 0 or 1"
+#if SPVS_AVX2 && (!SPVS_ACCEL || SPVS_USE_DOUBLE || !defined(__x86_64__))
+#error "SPVS_AVX2 needs SPVS_ACCEL, float32 and x86-64"
 #endif
 #if (SPVS_USE_DOUBLE != 0) && (SPVS_USE_DOUBLE != 1)
 #error "SPVS_USE_DOUBLE must be 0 or 1"

@@ -1,7 +1,7 @@
 /*
  * v4.h - four scalars in one SIMD register, GNU C vector extensions that
- * GCC and Clang lower to SSE2 or NEON (private to the core; points.c
- * includes it for its column layout only).
+ * GCC and Clang lower to SSE2 or NEON (private to the core;
+ * accel/points_columns.c includes it for its column layout only).
  */
 #ifndef SPVS_V4_H
 #define SPVS_V4_H

@@ -1,6 +1,6 @@
 /*
  * v8.h - eight float32 lanes in one AVX register, GNU C vector extensions
- * (private to the core; points.c includes it where SPVS_AVX2 is set).
+ * (private to the core; accel/points_columns.c includes it where SPVS_AVX2 is set).
  *
  * Nothing here names an AVX instruction: the helpers are generic vector
  * code, which the compiler lowers to AVX where they are inlined into a
