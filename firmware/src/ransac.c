@@ -54,7 +54,6 @@ uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
 #define RT_LOGF spvs_real
 #define RT_EST spvs_estimator_t
 #define RT_OPTS spvs_ransac_opts_t
-#define RT_RANSAC spvs_ransac
 #define RT_THRESHOLD(o) ((o)->threshold2)
 #define RT_OPTS_OK(o)                                                                          \
     ((o)->confidence > SPVS_R(0.0) && (o)->confidence < SPVS_R(1.0) &&                         \
@@ -64,3 +63,10 @@ uint32_t spvs_ransac_needed(spvs_real w, uint16_t s, spvs_real confidence,
 #define RT_NEEDED(best_n, n, s, log_fail, cap)                                                 \
     needed_for((spvs_real)(best_n) / (spvs_real)(n), (s), (log_fail), (cap))
 #include "ransac.inc"
+
+int spvs_ransac(const spvs_estimator_t *est, const spvs_ransac_opts_t *opts, spvs_rng_t *rng,
+                uint16_t *idx_scratch, spvs_real *model_out, uint8_t *mask_out,
+                uint8_t *mask_scratch, spvs_ransac_stats_t *stats)
+{
+    return ransac_loop(est, opts, rng, idx_scratch, model_out, mask_out, mask_scratch, stats);
+}

@@ -160,7 +160,6 @@ uint32_t spvs_q_ransac_needed(uint16_t best_n, uint16_t n, uint16_t s, uint64_t 
 #define RT_LOGF uint64_t
 #define RT_EST spvs_q_estimator_t
 #define RT_OPTS spvs_q_ransac_opts_t
-#define RT_RANSAC spvs_q_ransac
 #define RT_THRESHOLD(o) ((o)->thr)
 #define RT_OPTS_OK(o) ((o)->thr != 0 && (o)->confidence_q32 > 0u)
 /* -log2(1 - confidence) in Q32. */
@@ -168,3 +167,10 @@ uint32_t spvs_q_ransac_needed(uint16_t best_n, uint16_t n, uint16_t s, uint64_t 
 #define RT_NEEDED(best_n, n, s, log_fail, cap)                                                 \
     spvs_q_ransac_needed((best_n), (n), (s), (log_fail), (cap))
 #include "../ransac.inc"
+
+int spvs_q_ransac(const spvs_q_estimator_t *est, const spvs_q_ransac_opts_t *opts,
+                  spvs_rng_t *rng, uint16_t *idx_scratch, int32_t *model_out, uint8_t *mask_out,
+                  uint8_t *mask_scratch, spvs_q_ransac_stats_t *stats)
+{
+    return ransac_loop(est, opts, rng, idx_scratch, model_out, mask_out, mask_scratch, stats);
+}
