@@ -87,23 +87,18 @@ echo "== core code kept in the linked image (link map: gc-sections applied)"
 import re, subprocess, sys
 text = open(sys.argv[1]).read()
 section = r"^ (\.(?:text|rodata|data|bss)\S*)\s+0x[0-9a-f]+\s+(0x[0-9a-f]+)\s+(\S+)"
+# The map lists the input sections --gc-sections discarded first, under
+# "Discarded input sections", and the linked image after "Memory
+# Configuration": only the latter are counted.
+kept_at = text.find("Memory Configuration")
 flash = ram = 0
-for m in re.finditer(section, text, re.M):
+for m in re.finditer(section, text[kept_at:], re.M):
     if "libspvs_core.a" in m.group(3):
         if m.group(1).startswith((".text", ".rodata")):
             flash += int(m.group(2), 16)
         else:
             ram += int(m.group(2), 16)
-print("core in image: flash %d B, static RAM %d B" % (flash, ram))
-# The sum above runs over the whole map, so it also counts the core's
-# sections that --gc-sections dropped (the map lists them first, under
-# "Discarded input sections"); say how much of it that is.
-kept_at = text.find("Memory Configuration")
-dropped = 0
-for m in re.finditer(section, text[:kept_at], re.M):
-    if "libspvs_core.a" in m.group(3) and m.group(1).startswith((".text", ".rodata")):
-        dropped += int(m.group(2), 16)
-print("  of which in sections --gc-sections discarded: %d B (kept: %d B)" % (dropped, flash - dropped))
+print("core in image (sections the linker kept): flash %d B, static RAM %d B" % (flash, ram))
 want = {"sqrtf", "logf", "memset", "memcpy", "memmove", "__ieee754_logf",
         "__ieee754_sqrtf", "__math_divzerof", "__math_invalidf", "__errno"}
 nm = subprocess.run(["arm-none-eabi-nm", "-S", sys.argv[2]], capture_output=True, text=True).stdout
@@ -155,7 +150,7 @@ tot += intl
 # the public calls spvs_update does not reach, such as spvs_h_refit, are
 # dropped from an image that does not call them), plus the routines it
 # calls.
-print("flash, core kept + library routines + float helpers: %d B" % (flash - dropped + tot + helpers))
+print("flash, core kept + library routines + float helpers: %d B" % (flash + tot + helpers))
 PY
 
 echo
@@ -194,7 +189,8 @@ text = open(sys.argv[1]).read()
 parts = {"core": "libspvs_core.a", "codec": "libspvs_serial.a"}
 for name, lib in parts.items():
     flash = ram = 0
-    for m in re.finditer(r"^ (\.(?:text|rodata|data|bss)\S*)\s+0x[0-9a-f]+\s+(0x[0-9a-f]+)\s+(\S+)", text, re.M):
+    kept = text[text.find("Memory Configuration"):]
+    for m in re.finditer(r"^ (\.(?:text|rodata|data|bss)\S*)\s+0x[0-9a-f]+\s+(0x[0-9a-f]+)\s+(\S+)", kept, re.M):
         if lib in m.group(3):
             if m.group(1).startswith((".text", ".rodata")):
                 flash += int(m.group(2), 16)
