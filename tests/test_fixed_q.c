@@ -18,10 +18,15 @@
 #include <cmocka.h>
 
 #include "core_util.h"
-/* The kernels' source itself, so that test_q_band reaches the count's
- * per-point stages (q_fast, q_band_sampson, q_inlier_exact); every other
- * test calls the same definitions through points_q.h's functions. */
+/* The kernels' source itself, and with the accelerators the count's
+ * filters, so that test_q_sampson30 and test_q_band reach their per-point
+ * stages (q_sampson30, q_fast, q_band_sampson, q_inlier_exact) and hold
+ * them to the reference test; every other test calls the same definitions
+ * through points_q.h's functions. */
 #include "fixed/points_q.c"
+#if SPVS_ACCEL
+#include "fixed/accel/score_fast_q.c"
+#endif
 #include "golden/golden_vectors.h"
 #include "spvs/homography.h"
 #include "synth.h"
@@ -771,6 +776,7 @@ static void test_q_inlier_arith(void **state)
     assert_true(tested > 10000);
 }
 
+#if SPVS_ACCEL
 /* test_q_sampson30's tallies. */
 typedef struct {
     long tested, decided, left[7];
@@ -1002,6 +1008,8 @@ static void rnd_exact_h(uint64_t *s, spvs_real H[9])
         H[8] = (spvs_real)(0.5 + (double)(rng_u64(s) >> 11) * 0x1p-53 * 8);
     }
 }
+
+#endif /* SPVS_ACCEL */
 
 /* Frames with coordinates over the whole accepted range (up to
  * SPVS_MAX_COORD_PX, the limit itself included), H entries over (-16, 16)
@@ -1862,8 +1870,10 @@ int main(void)
         cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_lin_fast_edges),
         cmocka_unit_test(test_q_sums_behind),
         cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
+#if SPVS_ACCEL
         cmocka_unit_test(test_q_sampson30),
         cmocka_unit_test(test_q_band),
+#endif
         cmocka_unit_test(test_q_extremes),      cmocka_unit_test(test_q_sampson),
         cmocka_unit_test(test_q_lin_move),
     };
