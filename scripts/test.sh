@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds the float and double variants, the reference
-# layout, the fixed-point build and the sanitizer build, and runs every
-# test with ctest.  This is the README's test command and what CI runs.
+# Installs dependencies, builds the float and double variants, the
+# reference paths (SPVS_ACCEL=OFF) of the float and fixed-point cores, the
+# fixed-point build and the sanitizer build, and runs every test with ctest.  This is the README's test command and what CI runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -51,6 +51,22 @@ cmake --build "$dir" -j "$jobs" --target $fixed_tests spvs-sim
 echo "=== ctest (fixed-point core, pipeline tests) ==="
 ctest --test-dir "$dir" --output-on-failure -j "$jobs" \
   -R "^($(echo $fixed_tests | tr ' ' '|')|sim_fixed_build_is_q)\$" || status=1
+
+# The fixed-point core's reference path (SPVS_FIXED=ON, SPVS_ACCEL=OFF:
+# nothing from firmware/src/fixed/accel): the same pipeline tests, and the
+# closed loops against the accelerated fixed build's, whose fast sums round
+# otherwise (the same statuses, frames and step times; final errors within
+# 0.1 mm and 0.001 deg).
+dir=build/test-fixed-reference
+echo "=== configure and build (fixed-point core, reference path, pipeline tests) ==="
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_FIXED=ON \
+  -DSPVS_ACCEL=OFF >/dev/null
+cmake --build "$dir" -j "$jobs" --target $fixed_tests spvs-sim
+echo "=== ctest (fixed-point core, reference path, pipeline tests) ==="
+ctest --test-dir "$dir" --output-on-failure -j "$jobs" \
+  -R "^($(echo $fixed_tests | tr ' ' '|')|sim_fixed_build_is_q)\$" || status=1
+echo "=== closed loop: accelerated fixed-point build against its reference path ==="
+tests/compare_layouts.sh build/test-fixed/sim_host/spvs-sim "$dir/sim_host/spvs-sim" 1e-4 1e-3 || status=1
 
 # Sanitizers: the core's tests and the closed loop under ASan and UBSan.
 dir=build/test-sanitize

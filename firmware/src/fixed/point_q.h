@@ -13,6 +13,11 @@
 
 #include "points_q.h"
 
+/* Scaled coordinates are below 2^30 in Q26 (points_q.h). */
+#define COORD_LIM ((int32_t)1 << 30)
+/* SPVS_W_EPS (1e-6) in Q53, rounded down. */
+#define W_EPS_Q53 ((int64_t)9007199254)
+
 /* A point's residuals under H.  w = h3 . p, g = h1 . p and y_tgt are exact
  * in Q53 (|h| < 2^31, |coordinate| <= 2^30: each product < 2^61, each sum
  * < 2^62 + 2^57).  The shift s1 brings the largest of them below 2^30; w
