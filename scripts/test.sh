@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds the float and double variants, the
 # reference paths (SPVS_ACCEL=OFF) of the float and fixed-point cores, the
-# fixed-point build and the sanitizer build, and runs every test with ctest.  This is the README's test command and what CI runs.
+# fixed-point build and the sanitizer build, and runs every test with
+# ctest.  This is the README's test command and what CI runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
