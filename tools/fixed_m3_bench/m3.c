@@ -171,9 +171,9 @@ int main(void)
     t0 = now(); (void)spvs_q_pts_sum(SPVS_T_FIT_Y, hq, &qs, use, N, &qsum); t1 = now();
     putu("fity_q ", t1 - t0);
     uint32_t sat = 0;
-    t0 = now(); (void)spvs_pts_cost(&fs, N, H, t2); t1 = now();
+    t0 = now(); (void)spvs_pts_cost(&fs, N, H, mask); t1 = now();
     putu("cost_f ", t1 - t0);
-    t0 = now(); (void)spvs_q_pts_cost(&qs, N, hq, &thr, &sat); t1 = now();
+    t0 = now(); (void)spvs_q_pts_cost(&qs, N, hq, mask, &sat); t1 = now();
     putu("cost_q ", t1 - t0);
     /* The 3-point solver on the first triple (i, i + N/3, i + 2N/3) that
      * both solvers solve (found untimed), as RANSAC's solvable samples
