@@ -25,6 +25,19 @@ foreach(case q:120 solve3:120 fit:120 ransac:120 plane_h:120 conv:60 epipole:120
   endif()
 endforeach()
 
+# The fixed-point accelerators (firmware/src/fixed/accel) against the
+# reference path compiled into the test: the loader's store and the inlier
+# count bit for bit, the cost and the sums within stated bounds.  Only
+# where the accelerators are built.
+if(SPVS_ACCEL)
+  spvs_add_test(NAME test_fixed_accel
+                SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_fixed_accel.c
+                LIBS spvs::fixed LABELS unit TIMEOUT 120 FLOAT_STAGES)
+  if(TARGET test_fixed_accel)
+    target_include_directories(test_fixed_accel PRIVATE ${PROJECT_SOURCE_DIR}/firmware/src)
+  endif()
+endif()
+
 # The kernels compiled for a Cortex-M3 (no FPU, soft-float ABI) with the
 # core's warnings reference no floating-point helper, in both scalar
 # builds of the core's headers (the loader reads a float's or a double's

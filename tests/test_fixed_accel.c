@@ -1,0 +1,253 @@
+/*
+ * test_fixed_accel.c - the fixed-point core's accelerators
+ * (firmware/src/fixed/accel/) against its reference path, on the same
+ * random scenes: the reference translation units are compiled into this
+ * test under other names (ref_*), the accelerated ones come from the
+ * library.
+ *
+ *   loader  the same store bit for bit (coordinates, bounds, flags), on
+ *           good frames and on frames with NaN, infinite, huge, tiny and
+ *           subnormal coordinates and out-of-range feature indices;
+ *   count   the same inlier masks and counts, under the true H and under
+ *           3-point models, for several `need` values (the early stop and
+ *           the bail-out test at the same points);
+ *   cost    within TOL_COST_PER_POINT a point of the reference's exact
+ *           terms;
+ *   sums    every term of SPVS_T_LIN, SPVS_T_FIT_Y, SPVS_T_FIT_X and
+ *           SPVS_T_SAMPSON within TOL_SUM of the largest term of its block
+ *           (the fast paths' weights keep 2^-20 to 2^-25 of their bound
+ *           over the frame, docs/FIXED.md), and the same return values.
+ */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "fixed/points_q.h"
+#include "fixed/sums_q.h"
+#include "spvs/homography.h"
+#include "synth.h"
+
+/* The reference path's definitions under their own names. */
+#define spvs_q_pts_load ref_q_pts_load
+#include "fixed/load_q.c"
+#undef spvs_q_pts_load
+#define spvs_q_thr ref_q_thr
+#define spvs_q_pts_score ref_q_pts_score
+#include "fixed/score_q.c"
+#undef spvs_q_thr
+#undef spvs_q_pts_score
+#define spvs_q_pts_cost ref_q_pts_cost
+#define spvs_q_pts_sum ref_q_pts_sum
+#define spvs_q_lin_move ref_q_lin_move
+#define spvs_q_sum_fast ref_q_sum_fast
+#include "fixed/sums_q.c"
+#undef spvs_q_pts_cost
+#undef spvs_q_pts_sum
+#undef spvs_q_lin_move
+#undef spvs_q_sum_fast
+
+#include "fixed_scene.h"
+
+/* The cost's fast terms are within 2^-32 (|ex| + |ey|) + 2^-66 of the
+ * exact ones (scaled units^2), and its residuals are below 8 px (2^-6
+ * scaled units; larger ones take the exact term): under 2^-36 a point,
+ * 2^16 units of the cost's Q52 with the rounding of the blocks. */
+#define TOL_COST_PER_POINT 65536.0
+/* A sum's term against the reference's, relative to its block's largest
+ * reference term: the fast paths' weights keep 2^-20 to 2^-25 of their
+ * bound over the frame. */
+#define TOL_SUM 0x1p-20
+
+#define SCENES 60
+
+/* The two loaders on the same matches: the same store, features and
+ * flags. */
+static void check_load(const spvs_match_t *m, uint16_t n, uint16_t stride)
+{
+    static spvs_q_store_t a, b;
+    uint16_t fa[NMAX], fb[NMAX];
+    memset(&a, 0x55, sizeof a);
+    memset(&b, 0x55, sizeof b);
+    const uint32_t ra = spvs_q_pts_load(&a, fa, m, n, n, NULL, stride);
+    const uint32_t rb = ref_q_pts_load(&b, fb, m, n, n, NULL, stride);
+    assert_int_equal(ra, rb);
+    assert_memory_equal(a.v, b.v, 4u * n * sizeof a.v[0]);
+    assert_memory_equal(a.cur_max, b.cur_max, sizeof a.cur_max);
+    assert_memory_equal(a.tgt_max, b.tgt_max, sizeof a.tgt_max);
+    assert_memory_equal(fa, fb, n * sizeof fa[0]);
+}
+
+static void test_accel_load(void **state)
+{
+    (void)state;
+    uint64_t rng = 0x10adu;
+    static scene_t sc;
+    long frames = 0;
+    for (int s = 0; s < SCENES; s++) {
+        make_scene(&sc, &rng, 40 + (int)(synth_uniform(&rng) * 200), 1.0, 0.2);
+        check_load(sc.m, sc.n, 1);
+        frames++;
+        /* Coordinates at every binade the fast path takes or leaves, and
+         * values it must refuse: one match changed at a time. */
+        const spvs_real zero = (spvs_real)(synth_uniform(&rng) * 0.0);
+        const spvs_real odd[] = {zero / zero,
+                                 (spvs_real)1.0 / zero,
+                                 -(spvs_real)1.0 / zero,
+                                 (spvs_real)SPVS_MAX_COORD_PX,
+                                 (spvs_real)SPVS_MAX_COORD_PX * (spvs_real)1.0000001,
+                                 (spvs_real)-5000.5,
+                                 (spvs_real)1e-3,
+                                 (spvs_real)-1e-20,
+                                 (spvs_real)1e-40,
+                                 (spvs_real)0.0,
+                                 (spvs_real)0.03125,
+                                 (spvs_real)4095.99};
+        for (size_t k = 0; k < sizeof odd / sizeof odd[0]; k++) {
+            const uint16_t i = (uint16_t)(synth_uniform(&rng) * sc.n);
+            const spvs_match_t keep = sc.m[i];
+            spvs_real *c = &sc.m[i].x_tgt;
+            c[k % 4] = odd[k];
+            check_load(sc.m, sc.n, 1);
+            sc.m[i] = keep;
+            frames++;
+        }
+        const uint16_t i = (uint16_t)(synth_uniform(&rng) * sc.n);
+        sc.m[i].feature = SPVS_MAX_FEATURES;
+        check_load(sc.m, sc.n, 1);
+        frames++;
+    }
+    print_message("loader: %ld frames, accelerated = reference bit for bit\n", frames);
+    assert_int_equal(frames, SCENES * 14);
+}
+
+/* A 3-point model of the scene from random points (Q27), or the true H
+ * when none of a few tries solves. */
+static void some_model(const scene_t *sc, uint64_t *rng, int32_t Hq[9])
+{
+    for (int t = 0; t < 20; t++) {
+        uint16_t idx[3];
+        for (int k = 0; k < 3; k++) {
+            idx[k] = (uint16_t)(synth_uniform(rng) * sc->n);
+        }
+        if (spvs_q_solve3(&sc->qst, idx, Hq) == SPVS_OK) {
+            return;
+        }
+    }
+    assert_int_equal(spvs_q_h_from_real(sc->Hs, Hq), 0);
+}
+
+static void test_accel_score(void **state)
+{
+    (void)state;
+    uint64_t rng = 0x5c0eu;
+    static scene_t sc;
+    long counts = 0, models = 0;
+    const double t = INLIER_PX / S;
+    uint32_t sat = 0;
+    const spvs_qf_t t2 = spvs_q_t2_from_real((spvs_real)(t * t), &sat);
+    assert_int_equal(sat, 0);
+    const spvs_q_thr_t thr_a = spvs_q_thr(t2);
+    const spvs_q_thr_t thr_r = ref_q_thr(t2);
+    for (int s = 0; s < SCENES; s++) {
+        make_scene(&sc, &rng, 40 + (int)(synth_uniform(&rng) * 200), 1.0, 0.3);
+        load_both(&sc);
+        for (int m = 0; m < 12; m++) {
+            int32_t Hq[9];
+            if (m == 0) {
+                assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+            } else {
+                some_model(&sc, &rng, Hq);
+            }
+            models++;
+            const uint16_t needs[] = {0, 3, (uint16_t)(sc.n / 2), (uint16_t)(sc.n * 3 / 4),
+                                      sc.n, (uint16_t)(sc.n + 5)};
+            for (size_t k = 0; k < sizeof needs / sizeof needs[0]; k++) {
+                uint8_t ma[NMAX], mr[NMAX];
+                memset(ma, 7, sizeof ma);
+                memset(mr, 7, sizeof mr);
+                const uint16_t ca = spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr_a, needs[k], ma);
+                const uint16_t cr = ref_q_pts_score(&sc.qst, sc.n, Hq, &thr_r, needs[k], mr);
+                assert_int_equal(ca, cr);
+                /* The masks agree wherever both counts wrote them: the
+                 * reference writes every point up to its stop, as the
+                 * filters do. */
+                assert_memory_equal(ma, mr, sc.n);
+                const uint16_t na = spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr_a, needs[k], NULL);
+                assert_int_equal(na, cr);
+                counts += 2;
+            }
+        }
+    }
+    print_message("inlier counts: %ld counts of %ld models, accelerated = reference\n", counts,
+                  models);
+    assert_int_equal(models, SCENES * 12);
+}
+
+static void test_accel_cost_sums(void **state)
+{
+    (void)state;
+    uint64_t rng = 0xc057u;
+    static scene_t sc;
+    double worst_cost = 0, worst_sum = 0;
+    long sums = 0;
+    const spvs_terms_t kinds[] = {SPVS_T_LIN, SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_SAMPSON};
+    for (int s = 0; s < SCENES; s++) {
+        make_scene(&sc, &rng, 40 + (int)(synth_uniform(&rng) * 200), 1.0, 0.2);
+        load_both(&sc);
+        int32_t Hq[9];
+        assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+        uint8_t use[NMAX];
+        for (uint16_t i = 0; i < sc.n; i++) {
+            use[i] = (uint8_t)(synth_uniform(&rng) < 0.8);
+        }
+        uint32_t sa = 0, sr = 0;
+        const uint64_t ca = spvs_q_pts_cost(&sc.qst, sc.n, Hq, use, &sa);
+        const uint64_t cr = ref_q_pts_cost(&sc.qst, sc.n, Hq, use, &sr);
+        assert_int_equal(sa, sr);
+        const double dc = fabs((double)ca - (double)cr);
+        worst_cost = dc > worst_cost ? dc : worst_cost;
+        assert_true(dc <= TOL_COST_PER_POINT * sc.n);
+        for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+            spvs_q_sums_t a, r;
+            const int32_t na = spvs_q_pts_sum(kinds[k], Hq, &sc.qst, use, sc.n, &a);
+            const int32_t nr = ref_q_pts_sum(kinds[k], Hq, &sc.qst, use, sc.n, &r);
+            assert_int_equal(na, nr);
+            assert_int_equal(a.nt, r.nt);
+            /* Each term against its block's largest reference term. */
+            double big[3] = {0, 0, 0};
+            for (int j = 0; j < r.nt; j++) {
+                const spvs_qf_t v = spvs_q_sums_term(&r, j);
+                const double x = fabs(ldexp((double)v.m, v.e));
+                big[blk_of(&r, j)] = x > big[blk_of(&r, j)] ? x : big[blk_of(&r, j)];
+            }
+            for (int j = 0; j < r.nt; j++) {
+                const spvs_qf_t va = spvs_q_sums_term(&a, j), vr = spvs_q_sums_term(&r, j);
+                const double d = fabs(ldexp((double)va.m, va.e) - ldexp((double)vr.m, vr.e)) /
+                                 big[blk_of(&r, j)];
+                worst_sum = d > worst_sum ? d : worst_sum;
+                assert_true(d <= TOL_SUM);
+            }
+            sums++;
+        }
+    }
+    print_message("cost: worst difference %.0f units of Q52 (tolerance %.0f a point); sums: %ld, "
+                  "worst %.3g of the block's largest term (tolerance %.3g)\n",
+                  worst_cost, TOL_COST_PER_POINT, sums, worst_sum, TOL_SUM);
+    assert_int_equal(sums, SCENES * 4);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_accel_load),
+        cmocka_unit_test(test_accel_score),
+        cmocka_unit_test(test_accel_cost_sums),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
