@@ -7,8 +7,11 @@ stand-in for spvs-sim whose results are known:
   --seed0 (default 1000) chooses seed0;
 - a run that says "converged" outside 0.25 m / 0.5 deg is counted in its
   method's row and makes the exit status 1; with none the status is 0;
-- --seed0 without --arrival, or out of spvs-sim's range, is misuse: exit 2
-  and a one-line message.
+- --latency and --accel-limit reach every run, and none is given without
+  them;
+- --seed0 without --arrival, or out of spvs-sim's range, and a negative
+  latency or a malformed acceleration limit, are misuse: exit 2 and a
+  one-line message.
 
 The stand-in logs its --method and --seed and reports Method II on the
 second seed as converged 0.5 m from the target, every other run as
@@ -27,7 +30,8 @@ FAKE_SIM = r'''#!/usr/bin/env python3
 import json, os, sys
 opts = dict(a[2:].split("=", 1) for a in sys.argv[1:] if a.startswith("--") and "=" in a)
 with open(os.environ["ARRIVAL_LOG"], "a") as f:
-    f.write("%s %s\n" % (opts["method"], opts["seed"]))
+    f.write("%s %s %s %s\n" % (opts["method"], opts["seed"], opts.get("latency", "-"),
+                               opts.get("accel-limit", "-")))
 far = opts["method"] == "2" and int(opts["seed"]) == int(os.environ["ARRIVAL_FAR_SEED"])
 x = 0.5 if far else 0.001
 print(json.dumps({"method": int(opts["method"]), "status": "converged", "reason": None,
@@ -52,8 +56,16 @@ def run(exp, sim, log, far_seed, *args):
     calls = []
     if os.path.exists(log):
         with open(log) as f:
-            calls = [tuple(int(v) for v in line.split()) for line in f]
+            lines = [line.split() for line in f]
+        calls = [(int(w[0]), int(w[1])) for w in lines]
+        robots.clear()
+        robots.extend((w[2], w[3]) for w in lines)
     return p, calls
+
+
+# The robot options each run of the last call got: (latency, accel-limit),
+# "-" where none was given.
+robots = []
 
 
 def rows(stdout):
@@ -100,6 +112,15 @@ def main():
         check({s for _, s in calls} == {1000}, "default seed 1000 (got %s)"
               % sorted({s for _, s in calls}))
 
+        # No robot options by default; --latency and --accel-limit reach
+        # every run.
+        check(set(robots) == {("-", "-")}, "no robot options by default (got %s)" % set(robots))
+        p, calls = run(exp, sim, log, 99, "--arrival", "1", "--latency", "0.2",
+                       "--accel-limit", "0.5,1")
+        check(p.returncode == 0 and len(calls) == 36 and set(robots) == {("0.2", "0.5,1")},
+              "--latency 0.2 --accel-limit 0.5,1 in all 36 runs (got %d, %d, %s)"
+              % (p.returncode, len(calls), set(robots)))
+
         # The last seed spvs-sim takes, 2^32 - 1, as the last run's.
         p, calls = run(exp, sim, log, 99, "--arrival", "2", "--seed0", "4294967294")
         check(p.returncode == 0 and {s for _, s in calls} == {4294967294, 4294967295},
@@ -109,7 +130,10 @@ def main():
         for args, msg in ((["--seed0", "5"], "--seed0 goes with --arrival"),
                           (["--seed0", "1000"], "--seed0 goes with --arrival"),
                           (["--arrival", "2", "--seed0", "-1"], "--seed0 must be"),
-                          (["--arrival", "2", "--seed0", "4294967295"], "--seed0 must be")):
+                          (["--arrival", "2", "--seed0", "4294967295"], "--seed0 must be"),
+                          (["--arrival", "1", "--latency", "-0.1"], "--latency must be"),
+                          (["--arrival", "1", "--accel-limit", "0.5"], "--accel-limit must be"),
+                          (["--arrival", "1", "--accel-limit", "0.5,0"], "--accel-limit must be")):
             p, calls = run(exp, sim, log, 99, *args)
             check(p.returncode == 2 and msg in p.stderr and not calls,
                   "%s: exit 2, '%s', no run (got %d: %s)"

@@ -75,6 +75,9 @@ static const char *const usage_text =
     "  --pp-offset PX        TRUE principal point x offset, pixels (0)\n"
     "  --seed S              seed of scene, noise and RANSAC, 0..4294967295 (0)\n"
     "  --dt S                control period, seconds (0.1)\n"
+    "  --latency S           each command acts S s after its frame was taken (0)\n"
+    "  --accel-limit A,ALPHA the robot's v and w follow the command within A m/s^2\n"
+    "                        and ALPHA rad/s^2 (none)\n"
     "  --max-time S          stop with status timeout after this, seconds (300)\n"
     "  --clip                match only points inside the 640x480 frame\n"
     "  --trace FILE.csv      write one CSV row per frame\n"
@@ -106,6 +109,21 @@ static const char *const usage_text =
 
 /* Seeds and frame counts: 32 bits. */
 #define U32_MAX_LL 4294967295LL
+
+/* --accel-limit A,ALPHA: two numbers > 0 into the robot's limits. */
+static void parse_accel_limit(const char *val, sim_actuator_spec_t *robot)
+{
+    char a[64];
+    const char *comma = strchr(val, ',');
+    if (comma == NULL || (size_t)(comma - val) >= sizeof(a) || strchr(comma + 1, ',') != NULL) {
+        sim_cli_fail("--accel-limit: '%.80s' is not A,ALPHA (m/s^2, rad/s^2)", val);
+    }
+    memcpy(a, val, (size_t)(comma - val));
+    a[comma - val] = '\0';
+    robot->accel_mps2 = sim_cli_real("--accel-limit", a, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+    robot->alpha_radps2 =
+        sim_cli_real("--accel-limit", comma + 1, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+}
 
 static void parse_options(int argc, char **argv, options_t *o)
 {
@@ -172,7 +190,7 @@ static void parse_options(int argc, char **argv, options_t *o)
         static const char *const valued[] = {
             "--method", "--pose", "--normal", "--distance", "--noise",
             "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
-            "--dt", "--max-time", "--trace", "--record", "--transport",
+            "--dt", "--latency", "--accel-limit", "--max-time", "--trace", "--record", "--transport",
             "--lcm-url", "--zenoh-endpoint", "--timeout",
             "--lcm-matches-channel", "--keep-last", "--frontend",
             "--save-frames", "--save-every", "--save-matches", "--mcu-image" };
@@ -230,6 +248,10 @@ static void parse_options(int argc, char **argv, options_t *o)
             c->seed = o->seed32;
         } else if (strcmp(name, "--dt") == 0) {
             c->dt_s = sim_cli_real(name, val, 0.0, 10.0, SIM_CLI_OPEN_LO);
+        } else if (strcmp(name, "--latency") == 0) {
+            c->robot.latency_s = sim_cli_real(name, val, 0.0, 60.0, SIM_CLI_OPEN_HI);
+        } else if (strcmp(name, "--accel-limit") == 0) {
+            parse_accel_limit(val, &c->robot);
         } else if (strcmp(name, "--max-time") == 0) {
             c->max_time_s = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
                                          SIM_CLI_OPEN);
@@ -417,6 +439,13 @@ static void print_json(const options_t *o, const sim_result_t *r, const sinks_t 
     printf("],\"seed\":%u,\"start\":{\"x_m\":%.9g,\"z_m\":%.9g,\"phi_deg\":%.9g}",
            (unsigned)o->seed32, c->start.x_m, c->start.z_m,
            c->start.phi_rad * 180.0 / PI);
+    printf(",\"latency_s\":%.9g,\"accel_limit\":", c->robot.latency_s);
+    if (c->robot.accel_mps2 > 0.0) {
+        printf("{\"accel_mps2\":%.9g,\"alpha_radps2\":%.9g}", c->robot.accel_mps2,
+               c->robot.alpha_radps2);
+    } else {
+        fputs("null", stdout);
+    }
     printf(",\"noise_px\":%.9g,\"outliers\":%.9g,\"drift_deg_per_m\":%.9g"
            ",\"focal_mm\":%.9g,\"pp_offset_px\":%.9g,\"dt_s\":%.9g"
            ",\"path_m\":%.9g,\"frontend\":\"%s\",\"transport\":",

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "sim/clock.h"
+#include "sim/actuator.h"
 #include "sim/kinematics.h"
 
 #define SIM_PI 3.14159265358979323846
@@ -83,6 +84,13 @@ int sim_config_check(const sim_config_t *c, char *err, unsigned err_len)
                c->max_time_s / c->dt_s > 1e7) {
         snprintf(err, err_len,
                  "max time must be > 0 s and at most 1e7 control periods");
+    } else if (!isfinite(c->robot.latency_s) || c->robot.latency_s < 0.0 ||
+               c->robot.latency_s >= (SIM_ACT_QUEUE - 1) * c->dt_s) {
+        snprintf(err, err_len, "latency must be in [0, %d control periods), got %g s",
+                 SIM_ACT_QUEUE - 1, c->robot.latency_s);
+    } else if (!isfinite(c->robot.accel_mps2) || c->robot.accel_mps2 < 0.0 ||
+               !isfinite(c->robot.alpha_radps2) || c->robot.alpha_radps2 < 0.0) {
+        snprintf(err, err_len, "acceleration limits must be finite and > 0 (0: none)");
     } else {
         return 0;
     }
@@ -138,6 +146,8 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
 
     sim_pose_t pose = c->start;
     pose.phi_rad = sim_wrap_pi(pose.phi_rad);
+    sim_actuator_t robot;
+    sim_actuator_init(&robot, &c->robot);
     const double drift = c->drift_deg_per_m * DEG;
     const uint32_t max_frames = (uint32_t)floor(c->max_time_s / c->dt_s) + 1u;
     const uint16_t cap = SIM_MAX_POINTS < SPVS_MAX_MATCHES
@@ -222,7 +232,7 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
             break;
         }
         double x0 = pose.x_m, z0 = pose.z_m;
-        sim_kin_step(&pose, v, w, c->dt_s, drift);
+        sim_actuator_step(&robot, &pose, t, v, w, c->dt_s, drift);
         res->path_m += hypot(pose.x_m - x0, pose.z_m - z0);
     }
     /* A run that timed out on an error says which: the last frame's

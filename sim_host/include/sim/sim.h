@@ -15,6 +15,7 @@
 
 #include <stdint.h>
 
+#include "sim/actuator.h"
 #include "sim/geometry.h"
 #include "sim/link.h"
 #include "sim/scene.h"
@@ -54,6 +55,7 @@ typedef struct {
     double pp_offset_px;      /* true principal point minus assumed, x, px   */
     uint64_t seed;            /* scene, noise and the controller's RANSAC    */
     double dt_s;              /* control period (0.1 s)                      */
+    sim_actuator_spec_t robot; /* latency and acceleration limits (none)     */
     double max_time_s;        /* give up after this (300 s)                  */
     int clip;                 /* 1: match only points inside the 640x480 frame */
     int realtime;             /* 1: pace frames at dt in wall-clock time     */
