@@ -32,7 +32,6 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
                                        const spvs_match_t *m, uint16_t n, uint16_t n_plane,
                                        const uint16_t *order, uint16_t stride)
 {
-    const spvs_real lim = (spvs_real)SPVS_MAX_COORD_PX;
     const spvs_real inv = SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE;
     spvs_real(*const rows)[4] = (spvs_real(*)[4])st->v;
     uint16_t pos = 0;
@@ -42,16 +41,7 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     /* Bound: n slots. */
     for (uint16_t k = 0; k < n; k++) {
         const uint16_t i = spvs_slot_source(k, n_plane, order, stride, &pos);
-        const uint16_t f = m[i].feature;
-        bad |= f >= SPVS_MAX_FEATURES;
-        feat[k] = f;
-        const spvs_real c[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
-        for (int j = 0; j < 4; j++) {
-            bad |= !(SPVS_FABS(c[j]) <= lim);
-            rows[k][j] = c[j] * inv;
-        }
-        um = SPVS_FABS(c[2]) > um ? SPVS_FABS(c[2]) : um;
-        vm = SPVS_FABS(c[3]) > vm ? SPVS_FABS(c[3]) : vm;
+        bad |= load_one(&m[i], &feat[k], rows[k], &um, &vm);
     }
     st->cur_max[0] = um * inv;
     st->cur_max[1] = vm * inv;

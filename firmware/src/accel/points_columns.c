@@ -321,16 +321,11 @@ static SPVS_ALWAYS_INLINE int32_t load(spvs_point_store_t *st, uint16_t *feat,
     /* The rest one slot at a time.  Bound: fewer than SPVS_VLANES slots. */
     for (; k < n; k++) {
         const spvs_match_t *const mi = slot_match(m, k, n_plane, order, stride, &pos, &off);
-        const uint16_t f = mi->feature;
-        bad |= f >= SPVS_MAX_FEATURES;
-        feat[k] = f;
-        const spvs_real c[4] = {mi->x_tgt, mi->y_tgt, mi->x_cur, mi->y_cur};
+        spvs_real c[4];
+        bad |= load_one(mi, &feat[k], c, &um, &vm);
         for (int j = 0; j < 4; j++) {
-            bad |= !(SPVS_FABS(c[j]) <= lim);
-            COL(st, j)[k] = c[j] * inv;
+            COL(st, j)[k] = c[j];
         }
-        um = SPVS_FABS(c[2]) > um ? SPVS_FABS(c[2]) : um;
-        vm = SPVS_FABS(c[3]) > vm ? SPVS_FABS(c[3]) : vm;
     }
     st->cur_max[0] = um * inv;
     st->cur_max[1] = vm * inv;
