@@ -26,6 +26,9 @@
 #ifdef SPVS_HAVE_ZENOH
 #include "sim/link_zenoh.h"
 #endif
+#ifdef SPVS_HAVE_DDS
+#include "sim/link_dds.h"
+#endif
 #ifdef SPVS_HAVE_FRONTEND
 #include "sim/frontend.h"
 #endif
@@ -79,7 +82,8 @@ static const char *const usage_text =
     "  --clip                match only points inside the 640x480 frame\n"
     "  --trace FILE.csv      write one CSV row per frame\n"
     "  --record FILE         write a binary recording (docs/RECORDING.md)\n"
-    "  --transport T         inproc (default), lcm, zenoh or mcu (QEMU,\n"
+    "  --transport T         inproc (default), lcm, zenoh, dds (ROS 2 names,\n"
+    "                        $ROS_DOMAIN_ID, docs/ROS2.md) or mcu (QEMU,\n"
     "                        docs/SERIAL.md)\n"
     "  --mcu-image FILE      mcu: the application image (the build's)\n"
     "  --quantize-serial     round frames as the serial link does (1/16 px,\n"
@@ -240,8 +244,8 @@ static void parse_options(int argc, char **argv, options_t *o)
         } else if (strcmp(name, "--transport") == 0) {
             if (strcmp(val, "inproc") != 0 && strcmp(val, "fixed") != 0 &&
                 strcmp(val, "lcm") != 0 && strcmp(val, "zenoh") != 0 &&
-                strcmp(val, "mcu") != 0) {
-                sim_cli_fail("--transport: '%s' is not inproc, fixed, lcm, zenoh or mcu", val);
+                strcmp(val, "mcu") != 0 && strcmp(val, "dds") != 0) {
+                sim_cli_fail("--transport: '%s' is not inproc, fixed, lcm, zenoh, dds or mcu", val);
             }
             o->transport = val;
         } else if (strcmp(name, "--lcm-url") == 0) {
@@ -560,6 +564,13 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
                                       err, err_len);
 #else
         sim_cli_fail("--transport lcm: this build has no LCM support");
+#endif
+    }
+    if (strcmp(o->transport, "dds") == 0) {
+#ifdef SPVS_HAVE_DDS
+        return sim_link_dds_open(o->timeout_s, link, err, err_len);
+#else
+        sim_cli_fail("--transport dds: this build has no DDS support");
 #endif
     }
 #ifdef SPVS_HAVE_ZENOH
