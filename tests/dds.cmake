@@ -1,0 +1,52 @@
+# ROS 2 on DDS (docs/ROS2.md): spvs_msgs' IDL held equal to its .msg files,
+# spvs-node --dds against spvs-sim --transport dds compared with the
+# in-process run, faults, domains, the same /cmd_vel heard by Fast DDS, and
+# the rosbag2 of a run read by rosbags.  Every DDS process runs in a
+# loopback-only network namespace (tests/dds/netns.sh), each test on a
+# ROS_DOMAIN_ID of its own.
+add_test(NAME spvs_msgs_idl_matches_msg
+         COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/spvs_msgs/msg2idl.py --check
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/msg/Matches.msg
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/msg/Matches.idl
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/msg/State.msg
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/msg/State.idl
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/external/geometry_msgs/msg/Vector3.msg
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/external/geometry_msgs/msg/Vector3.idl
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/external/geometry_msgs/msg/Twist.msg
+                 ${PROJECT_SOURCE_DIR}/spvs_msgs/external/geometry_msgs/msg/Twist.idl)
+set_tests_properties(spvs_msgs_idl_matches_msg PROPERTIES LABELS "${spvs_variant};dds" TIMEOUT 30)
+
+if(NOT TARGET spvs_dds_link OR NOT TARGET spvs-node)
+  # No Cyclone DDS in this build: in CI that is a failure, elsewhere a skip.
+  add_test(NAME dds_available
+           COMMAND sh -c "echo 'Cyclone DDS not found: run scripts/install_deps.sh (cyclonedds-dev)'; [ \"$CI\" = true ] && exit 1; exit 77")
+  set_tests_properties(dds_available PROPERTIES LABELS "${spvs_variant};dds"
+                       SKIP_RETURN_CODE 77)
+  return()
+endif()
+if(SPVS_DOUBLE)
+  # Matches travel as float32: a double core's runs are compared by the LCM
+  # tests' tolerances there; the DDS tests run in the float and fixed builds.
+  return()
+endif()
+
+add_executable(dds_probe dds/dds_probe.c)
+target_link_libraries(dds_probe PRIVATE spvs_ros_dds)
+
+# Closed loops, one domain id each (41..43).
+foreach(method 1 2 3)
+  math(EXPR domain "40 + ${method}")
+  add_test(NAME dds_closed_loop_m${method}
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/dds/closed_loop.sh
+                   $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim> ${domain}
+                   --method ${method} --seed 0)
+  set_tests_properties(dds_closed_loop_m${method} PROPERTIES
+                       LABELS "${spvs_variant};dds;process;scenario" TIMEOUT 180)
+endforeach()
+
+# Malformed frames, the node killed mid-run, and a node on another domain.
+add_test(NAME dds_faults
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/dds/faults.sh
+                 $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
+                 $<TARGET_FILE:dds_probe> 44)
+set_tests_properties(dds_faults PROPERTIES LABELS "${spvs_variant};dds;process" TIMEOUT 180)
