@@ -50,3 +50,37 @@ add_test(NAME dds_faults
                  $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
                  $<TARGET_FILE:dds_probe> 44)
 set_tests_properties(dds_faults PROPERTIES LABELS "${spvs_variant};dds;process" TIMEOUT 180)
+
+# An independent DDS implementation hears /cmd_vel: Fast DDS (Debian's
+# libfastrtps-dev), its Twist made by fastddsgen from the same IDL.
+find_package(fastrtps CONFIG QUIET)
+find_package(fastcdr CONFIG QUIET)
+find_program(FASTDDSGEN fastddsgen)
+if(fastrtps_FOUND AND fastcdr_FOUND AND FASTDDSGEN)
+  enable_language(CXX)
+  set(fdg_out ${CMAKE_CURRENT_BINARY_DIR}/fastddsgen)
+  set(fdg_idl ${PROJECT_SOURCE_DIR}/spvs_msgs/external/geometry_msgs/msg)
+  set(fdg_src ${fdg_out}/Twist.cxx ${fdg_out}/TwistPubSubTypes.cxx
+              ${fdg_out}/Vector3.cxx ${fdg_out}/Vector3PubSubTypes.cxx)
+  add_custom_command(
+    OUTPUT ${fdg_src}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${fdg_out}
+    COMMAND ${FASTDDSGEN} -replace -d ${fdg_out}
+            -I ${PROJECT_SOURCE_DIR}/spvs_msgs/external
+            ${fdg_idl}/Vector3.idl ${fdg_idl}/Twist.idl
+    DEPENDS ${fdg_idl}/Vector3.idl ${fdg_idl}/Twist.idl
+    COMMENT "fastddsgen: geometry_msgs Twist for Fast DDS")
+  add_executable(fastdds_cmd_vel dds/fastdds_cmd_vel.cpp ${fdg_src})
+  target_include_directories(fastdds_cmd_vel PRIVATE ${fdg_out})
+  target_link_libraries(fastdds_cmd_vel PRIVATE fastrtps fastcdr)
+  set_target_properties(fastdds_cmd_vel PROPERTIES CXX_STANDARD 14)
+  set(fastdds_sub $<TARGET_FILE:fastdds_cmd_vel>)
+else()
+  set(fastdds_sub "")
+endif()
+add_test(NAME dds_fastdds_hears_cmd_vel
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/dds/fastdds.sh
+                 $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim> 45 "${fastdds_sub}")
+set_tests_properties(dds_fastdds_hears_cmd_vel PROPERTIES
+                     LABELS "${spvs_variant};dds;process" TIMEOUT 180
+                     SKIP_RETURN_CODE 77)
