@@ -84,3 +84,16 @@ add_test(NAME dds_fastdds_hears_cmd_vel
 set_tests_properties(dds_fastdds_hears_cmd_vel PROPERTIES
                      LABELS "${spvs_variant};dds;process" TIMEOUT 180
                      SKIP_RETURN_CODE 77)
+
+# rosbag2: spvs-sim --rosbag read by mcap-ros2-support and rosbags from the
+# project's venv (scripts/setup_venv.sh, tools/rosbag/requirements.txt).
+add_test(NAME dds_venv COMMAND ${PROJECT_SOURCE_DIR}/scripts/setup_venv.sh)
+set_tests_properties(dds_venv PROPERTIES FIXTURES_SETUP dds_venv
+                     LABELS "${spvs_variant};dds" TIMEOUT 600)
+add_test(NAME dds_rosbag_readers
+         COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/dds/rosbag.sh
+                 $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim> 46
+                 ${PROJECT_SOURCE_DIR}/.venv/bin/python)
+set_tests_properties(dds_rosbag_readers PROPERTIES FIXTURES_REQUIRED dds_venv
+                     LABELS "${spvs_variant};dds;process" TIMEOUT 180
+                     SKIP_RETURN_CODE 77)

@@ -29,6 +29,9 @@
 #ifdef SPVS_HAVE_DDS
 #include "sim/link_dds.h"
 #endif
+#ifdef SPVS_HAVE_ROSBAG
+#include "sim/rosbag.h"
+#endif
 #ifdef SPVS_HAVE_FRONTEND
 #include "sim/frontend.h"
 #endif
@@ -46,6 +49,7 @@ typedef struct {
     int quiet;
     const char *trace_path;
     const char *record_path;
+    const char *rosbag_dir;     /* --rosbag (NULL: none)                  */
     const char *transport;
     const char *lcm_url;
     const char *zenoh_endpoint;
@@ -82,6 +86,8 @@ static const char *const usage_text =
     "  --clip                match only points inside the 640x480 frame\n"
     "  --trace FILE.csv      write one CSV row per frame\n"
     "  --record FILE         write a binary recording (docs/RECORDING.md)\n"
+    "  --rosbag DIR          write a rosbag2 (MCAP) of the run into the new\n"
+    "                        folder DIR: /spvs/matches, /cmd_vel, /spvs/state\n"
     "  --transport T         inproc (default), lcm, zenoh, dds (ROS 2 names,\n"
     "                        $ROS_DOMAIN_ID, docs/ROS2.md) or mcu (QEMU,\n"
     "                        docs/SERIAL.md)\n"
@@ -176,7 +182,7 @@ static void parse_options(int argc, char **argv, options_t *o)
         static const char *const valued[] = {
             "--method", "--pose", "--normal", "--distance", "--noise",
             "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
-            "--dt", "--max-time", "--trace", "--record", "--transport",
+            "--dt", "--max-time", "--trace", "--record", "--rosbag", "--transport",
             "--lcm-url", "--zenoh-endpoint", "--timeout",
             "--lcm-matches-channel", "--keep-last", "--frontend",
             "--save-frames", "--save-every", "--save-matches", "--mcu-image" };
@@ -241,6 +247,11 @@ static void parse_options(int argc, char **argv, options_t *o)
             o->trace_path = val;
         } else if (strcmp(name, "--record") == 0) {
             o->record_path = val;
+        } else if (strcmp(name, "--rosbag") == 0) {
+#ifndef SPVS_HAVE_ROSBAG
+            sim_cli_fail("--rosbag: this build has no rosbag2 writer");
+#endif
+            o->rosbag_dir = val;
         } else if (strcmp(name, "--transport") == 0) {
             if (strcmp(val, "inproc") != 0 && strcmp(val, "fixed") != 0 &&
                 strcmp(val, "lcm") != 0 && strcmp(val, "zenoh") != 0 &&
@@ -314,6 +325,7 @@ static void parse_options(int argc, char **argv, options_t *o)
 typedef struct {
     FILE *trace;
     FILE *record;
+    struct sim_rosbag *rosbag;
     char err[160];
     /* The last answered frame's arrival check figures, for --json. */
     spvs_output_t last;
@@ -343,6 +355,12 @@ static int on_frame(const sim_frame_t *f, void *user)
             return -1;
         }
     }
+#ifdef SPVS_HAVE_ROSBAG
+    if (s->rosbag && sim_rosbag_frame(s->rosbag, f->seq, f->t_s, f->m, f->n,
+                                      o, s->err, sizeof(s->err)) != 0) {
+        return -1;
+    }
+#endif
     if (s->record) {
         if (sim_record_write_frame(s->record, f->seq, f->t_s, f->m, f->n,
                                    (double)o->v, (double)o->w, o->status,
@@ -623,6 +641,16 @@ int main(int argc, char **argv)
         }
     }
 
+#ifdef SPVS_HAVE_ROSBAG
+    if (o.rosbag_dir) {
+        char berr[200];
+        sinks.rosbag = sim_rosbag_open(o.rosbag_dir, berr, sizeof(berr));
+        if (!sinks.rosbag) {
+            sim_cli_fail("%s", berr);
+        }
+    }
+#endif
+
 #ifdef SPVS_HAVE_FRONTEND
     images_t images;
     memset(&images, 0, sizeof(images));
@@ -670,6 +698,12 @@ int main(int argc, char **argv)
     if (sinks.record && fclose(sinks.record) != 0) {
         out_bad = 1;
     }
+#ifdef SPVS_HAVE_ROSBAG
+    if (sinks.rosbag && sim_rosbag_close(sinks.rosbag, sinks.err,
+                                         sizeof(sinks.err)) != 0) {
+        out_bad = 1;
+    }
+#endif
     if (rc != 0) {
         /* The scene could not be built from these settings. */
         fprintf(stderr, "spvs-sim: %s\n", err);
