@@ -97,3 +97,15 @@ add_test(NAME dds_rosbag_readers
 set_tests_properties(dds_rosbag_readers PROPERTIES FIXTURES_REQUIRED dds_venv
                      LABELS "${spvs_variant};dds;process" TIMEOUT 180
                      SKIP_RETURN_CODE 77)
+# (lcm_types/ is added after tests/: its Python types, target
+# spvs_lcm_python, are built with ALL.)
+if(EXISTS ${PROJECT_SOURCE_DIR}/lcm_types/CMakeLists.txt)
+  add_test(NAME rosbag_from_lcm_log
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/dds/lcm_rosbag.sh
+                   $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
+                   ${PROJECT_BINARY_DIR}/lcm_types/python
+                   ${PROJECT_SOURCE_DIR}/.venv/bin/python)
+  set_tests_properties(rosbag_from_lcm_log PROPERTIES FIXTURES_REQUIRED dds_venv
+                       LABELS "${spvs_variant};lcm;process" TIMEOUT 180
+                       SKIP_RETURN_CODE 77)
+endif()

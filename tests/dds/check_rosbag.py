@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""check_rosbag.py BAG_DIR RECORDING [BAG_DIR2]
+"""check_rosbag.py [--log-stamps] BAG_DIR RECORDING [BAG_DIR2]
 
 A rosbag2 written by spvs-sim --rosbag, read by two readers that are not
 spvs's own, each decoding from the definitions the bag embeds:
@@ -9,7 +9,9 @@ Every frame of the run's recording (spvs-sim --record, docs/RECORDING.md)
 must be in the bag: one /cmd_vel Twist with linear.x = v and angular.z = w
 (the recording's float32 values) and the rest zero; one /spvs/state with
 the same v, w, step and status and seq = the frame's; one /spvs/matches
-with the frame's matches.  With BAG_DIR2 (the same run over another
+with the frame's matches, all three stamped with the frame time (with
+--log-stamps, a bag converted from an LCM log: increasing log times
+instead).  With BAG_DIR2 (the same run over another
 transport) the two MCAP files must be equal byte for byte.
 """
 import os
@@ -64,7 +66,7 @@ def by_rosbags(bag):
     return topics
 
 
-def check(name, topics, rec, bad):
+def check(name, topics, rec, bad, log_stamps=False):
     for topic in topics:
         if len(topics[topic]) != len(rec):
             bad.append("%s: %d messages on %s for %d frames"
@@ -91,31 +93,39 @@ def check(name, topics, rec, bad):
             bad.append("%s: frame %d: /spvs/matches differ from the run's %d matches"
                        % (name, k, n))
             return
-        if not (tt == ts == tm == t_ns):
+        if log_stamps:
+            if not (tm <= tt <= ts) or (k and tm < topics["/spvs/state"][k - 1][0]):
+                bad.append("%s: frame %d: log stamps out of order" % (name, k))
+                return
+        elif not (tt == ts == tm == t_ns):
             bad.append("%s: frame %d: stamps %d %d %d, frame time %d ns"
                        % (name, k, tt, ts, tm, t_ns))
             return
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
+    args = sys.argv[1:]
+    log_stamps = bool(args) and args[0] == "--log-stamps"
+    if log_stamps:
+        args = args[1:]
+    if len(args) not in (2, 3):
         print(__doc__)
         return 2
-    bag, rec = sys.argv[1], recording(sys.argv[2])
+    bag, rec = args[0], recording(args[1])
     bad = []
     topics, summary = by_mcap(bag)
     print("mcap: %d messages, %d chunks, per channel %s; the run: %d frames"
           % (summary.statistics.message_count, len(summary.chunk_indexes),
              dict(summary.statistics.channel_message_counts), len(rec)))
-    check("mcap-ros2-support", topics, rec, bad)
-    check("rosbags", by_rosbags(bag), rec, bad)
+    check("mcap-ros2-support", topics, rec, bad, log_stamps)
+    check("rosbags", by_rosbags(bag), rec, bad, log_stamps)
     left = sum(1 for fr in rec if fr["w"] > 0)
     print("/cmd_vel: %d Twists equal to the run's (v, w) in both readers "
           "(%d turning left, angular.z > 0)" % (len(rec), left))
-    if len(sys.argv) == 4:
+    if len(args) == 3:
         mc = lambda d: open(os.path.join(d, [f for f in os.listdir(d)
                                              if f.endswith(".mcap")][0]), "rb").read()
-        a, b = mc(bag), mc(sys.argv[3])
+        a, b = mc(bag), mc(args[2])
         print("the other transport's bag: %d bytes, this one %d bytes" % (len(b), len(a)))
         if a != b:
             bad.append("the bag of the other transport's run differs")
