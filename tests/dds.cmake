@@ -109,3 +109,15 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/lcm_types/CMakeLists.txt)
                        LABELS "${spvs_variant};lcm;process" TIMEOUT 180
                        SKIP_RETURN_CODE 77)
 endif()
+
+# /cmd_vel on Zenoh with rmw_zenoh's key, liveliness tokens and attachment
+# (spvs-zenoh-bridge --ros2-cmd-vel), decoded by rosbags' ROS 2 types.
+if(TARGET spvs_zenoh_link)
+  add_test(NAME zenoh_ros2_cmd_vel
+           COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/netns.sh ${PROJECT_SOURCE_DIR} 200
+                   ${PROJECT_SOURCE_DIR}/.venv/bin/python
+                   ${CMAKE_CURRENT_SOURCE_DIR}/dds/check_zenoh_ros2.py
+                   ${CMAKE_BINARY_DIR} ${PROJECT_SOURCE_DIR} 47)
+  set_tests_properties(zenoh_ros2_cmd_vel PROPERTIES FIXTURES_REQUIRED dds_venv
+                       LABELS "${spvs_variant};zenoh;dds" TIMEOUT 200)
+endif()
