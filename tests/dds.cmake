@@ -121,3 +121,13 @@ if(TARGET spvs_zenoh_link)
   set_tests_properties(zenoh_ros2_cmd_vel PROPERTIES FIXTURES_REQUIRED dds_venv
                        LABELS "${spvs_variant};zenoh;dds" TIMEOUT 200)
 endif()
+
+# Bad settings: one line on stderr, exit status 2.
+add_test(NAME sim_cli_bad_rosbag_exists
+         COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_sim_cli.py usage --
+                 $<TARGET_FILE:spvs-sim> --rosbag ${CMAKE_CURRENT_SOURCE_DIR})
+add_test(NAME dds_node_bad_domain
+         COMMAND sh -c "out=$(ROS_DOMAIN_ID=233 \"$0\" --dds 2>&1 >/dev/null); rc=$?; echo \"$out\"; [ $rc -eq 2 ] && [ $(printf '%s\\n' \"$out\" | wc -l) -eq 1 ] && echo \"$out\" | grep -q '^spvs-node: ROS_DOMAIN_ID'"
+                 $<TARGET_FILE:spvs-node>)
+set_tests_properties(sim_cli_bad_rosbag_exists dds_node_bad_domain PROPERTIES
+                     LABELS "${spvs_variant};dds;cli" TIMEOUT 30)
