@@ -9,9 +9,11 @@
  *       seconds or on SIGTERM.
  *   dds_probe faults
  *       Write malformed frames on /spvs/matches (count 300 above the
- *       capacity 256; a NaN coordinate) and check that each is answered by
- *       one zero Twist and a State of its seq with status SPVS_E_CAPACITY
- *       (-5) or SPVS_E_NONFINITE (-3).  Exit 0 when every answer is right.
+ *       capacity 256, a NaN and an infinite coordinate, count -1) and a
+ *       stale one (an older seq after a good frame), and check that each is
+ *       answered by one zero Twist and a State of its seq with status
+ *       SPVS_E_CAPACITY (-5), SPVS_E_NONFINITE (-3) or SPVS_E_STALE (-8).
+ *       Exit 0 when every answer is right.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -127,15 +129,23 @@ static int listen_main(const char *out_path, double max_s)
     return 0;
 }
 
-/* Send one frame and check its answer: a zero Twist, then the State of its
- * seq with the status wanted. */
-static int fault_case(probe_t *p, spvs_dds_matches_t *m, int want_status,
-                      const char *what)
+/* Send one frame and check its answer: one Twist per send, zero unless
+ * any_answer, then the State of its seq with the status wanted (any with
+ * any_answer).  The frame goes out again every second while unanswered: the
+ * node's reader may not have matched this writer yet, and a volatile reader
+ * gets nothing written before that (the simulator's link does the same). */
+static int answer_case(probe_t *p, spvs_dds_matches_t *m, int want_status,
+                       int any_answer, const char *what)
 {
+    double t0 = now_s(), t_sent = t0;
+    int sends = 1, twists = 0, nonzero = 0;
     dds_write(p->wr_matches, m);
-    double t0 = now_s();
-    int twists = 0, nonzero = 0;
     while (now_s() - t0 < 5.0) {
+        if (now_s() - t_sent > 1.0) {
+            dds_write(p->wr_matches, m);
+            t_sent = now_s();
+            sends++;
+        }
         dds_waitset_wait(p->ws, NULL, 0, DDS_MSECS(50));
         spvs_dds_twist_t tw;
         spvs_dds_state_t st;
@@ -148,15 +158,26 @@ static int fault_case(probe_t *p, spvs_dds_matches_t *m, int want_status,
         while (take_state(p, &st)) {
             if (st.seq != m->seq)
                 continue;
+            /* The Twist of each answer is written before its State. */
             printf("%s: frame %lld answered with status %d, %d Twist (%d not "
-                   "zero), v %g w %g\n", what, (long long)st.seq,
-                   (int)st.status, twists, nonzero, st.v, st.w);
-            return (st.status == want_status && twists == 1 && nonzero == 0 &&
-                    st.v == 0.0 && st.w == 0.0) ? 0 : 1;
+                   "zero) for %d send(s), v %g w %g\n", what,
+                   (long long)st.seq, (int)st.status, twists, nonzero, sends,
+                   st.v, st.w);
+            if (any_answer)
+                return twists >= 1 ? 0 : 1;
+            return (st.status == want_status && twists >= 1 &&
+                    twists <= sends && nonzero == 0 && st.v == 0.0 &&
+                    st.w == 0.0) ? 0 : 1;
         }
     }
     printf("%s: no State for frame %lld within 5 s\n", what, (long long)m->seq);
     return 1;
+}
+
+static int fault_case(probe_t *p, spvs_dds_matches_t *m, int want_status,
+                      const char *what)
+{
+    return answer_case(p, m, want_status, 0, what);
 }
 
 static int faults_main(void)
@@ -207,6 +228,15 @@ static int faults_main(void)
     m.utime = 400000;
     m.count = -1;
     bad += fault_case(&p, &m, SPVS_E_CAPACITY, "count -1");
+    /* A good frame, then one older than it: stale. */
+    m.y_tgt[12] = 1.0f;
+    m.count = 40;
+    m.seq = 10;
+    m.utime = 1000000;
+    bad += answer_case(&p, &m, 0, 1, "a good frame");
+    m.seq = 9;
+    m.utime = 900000;
+    bad += fault_case(&p, &m, SPVS_E_STALE, "frame 9 after frame 10");
     dds_delete(p.pp);
     if (bad)
         printf("FAIL: %d malformed frames not answered as they must be\n", bad);

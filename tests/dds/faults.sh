@@ -7,9 +7,9 @@
 #  2. a second node on ROS_DOMAIN_ID DOMAIN+50 while a run goes on DOMAIN:
 #     it runs no frame, and a listener there hears no Twist and no State,
 #     while a listener on DOMAIN hears every frame's State;
-#  3. the node stopped (SIGTERM) mid-run: its last Twist is a zero Twist,
-#     sent after the moving ones, and nothing follows it while the simulator
-#     keeps sending frames.
+#  3. the node stopped (SIGTERM) mid-run (the simulator held meanwhile):
+#     its last Twist is a zero Twist, sent after the moving ones, and
+#     nothing follows it while the simulator keeps sending its frame.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/netns.sh"
@@ -47,12 +47,21 @@ spvs_dds_in_netns '
   echo "== 3. node stopped mid-run"
   ROS_DOMAIN_ID=$D1 "$PROBE" listen "$WORK/c.txt" 60 & lc=$!
   wait_file "$WORK/c.txt.ready"
-  ROS_DOMAIN_ID=$D1 timeout 60 "$SIM" --method 1 --transport dds --timeout 2 --json --quiet \
+  # Not under timeout(1): the signals below must reach spvs-sim itself (its
+  # --timeout bounds it once the node is gone).
+  ROS_DOMAIN_ID=$D1 "$SIM" --method 1 --transport dds --timeout 2 --json --quiet \
       --trace "$WORK/c.csv" >"$WORK/sim3.out" 2>"$WORK/sim3.err" & s3=$!
   rows() { if [ -e "$WORK/c.csv" ]; then wc -l <"$WORK/c.csv"; else echo 0; fi; }
-  i=0; while [ "$(rows)" -lt 100 ] && [ $i -lt 400 ]; do sleep 0.02; i=$((i+1)); done
-  kill -TERM $n1; wait $n1 || true
-  date +%s.%N >"$WORK/node1.exited"
+  i=0; while [ "$(rows)" -lt 50 ] && [ $i -lt 400 ]; do sleep 0.01; i=$((i+1)); done
+  # Mid-run for sure: the simulator is held while the node stops, then
+  # resumes and waits for an answer that never comes.
+  kill -STOP $s3
+  kill -TERM $n1
+  # The node leaves within its writer linger (1 s); 10 s is a hang.
+  i=0; while kill -0 $n1 2>/dev/null && [ $i -lt 200 ]; do sleep 0.05; i=$((i+1)); done
+  if kill -0 $n1 2>/dev/null; then echo hang >"$WORK/node1.hung"; kill -KILL $n1; fi
+  wait $n1 || true
+  kill -CONT $s3
   wait $s3 && echo 0 >"$WORK/sim3.rc" || echo $? >"$WORK/sim3.rc"
   stop $lc
 '
@@ -101,8 +110,14 @@ if not st or int(st[-1][2]) != -1 or int(st[-1][3]) != -8:
     bad.append("3: the last State is not the node's stop (seq -1, status -8): %s" % st[-1:])
 if len(tw) != len(st):
     bad.append("3: %d Twists but %d States (one of each per answer)" % (len(tw), len(st)))
-if len(st) != frames + 1:
-    bad.append("3: %d States for %d frames and the stop" % (len(st), frames))
+# The answers are frames 0, 1, ... in order: those the simulator recorded,
+# perhaps the one in flight when it was held, then the node's stop.
+answers = [int(l[2]) for l in st[:-1]]
+if answers != list(range(len(answers))) or len(answers) not in (frames, frames + 1):
+    bad.append("3: the States answer frames %s..%s (%d) for %d frames recorded"
+               % (answers[:1], answers[-1:], len(answers), frames))
+if os.path.exists(w + "/node1.hung"):
+    bad.append("3: spvs-node did not exit within 10 s of SIGTERM")
 if int(open(w + "/sim3.rc").read()) != 1:
     bad.append("3: spvs-sim did not end with a link error")
 if bad:
