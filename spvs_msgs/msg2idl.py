@@ -167,6 +167,9 @@ def c_defs(out_path, msgs):
 
 
 def main(argv):
+    if len(argv) == 2 and argv[1] in ("--help", "-h"):
+        sys.stdout.write(__doc__)
+        return 0
     try:
         if len(argv) == 2 and not argv[1].startswith("--"):
             sys.stdout.write(msg_to_idl(argv[1]))
@@ -195,8 +198,8 @@ def main(argv):
     except (MsgError, OSError) as e:
         print("msg2idl.py: %s" % e, file=sys.stderr)
         return 1
-    print("usage: msg2idl.py MSG | --write MSG... | --check MSG IDL [MSG IDL...]",
-          file=sys.stderr)
+    print("usage: msg2idl.py MSG | --write MSG... | --check MSG IDL [MSG IDL...] "
+          "| --c-defs OUT.h MSG... (see --help)", file=sys.stderr)
     return 2
 
 
