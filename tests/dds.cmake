@@ -131,3 +131,10 @@ add_test(NAME dds_node_bad_domain
                  $<TARGET_FILE:spvs-node>)
 set_tests_properties(sim_cli_bad_rosbag_exists dds_node_bad_domain PROPERTIES
                      LABELS "${spvs_variant};dds;cli" TIMEOUT 30)
+# CYCLONEDDS_URI is read: an interface that does not exist stops the node
+# with exit status 1 and its reason.
+add_test(NAME dds_node_reads_cyclonedds_uri
+         COMMAND sh -c "out=$(CYCLONEDDS_URI='<CycloneDDS><Domain><General><Interfaces><NetworkInterface name=\"nosuchif0\"/></Interfaces></General></Domain></CycloneDDS>' ROS_DOMAIN_ID=49 timeout 20 \"$0\" --dds 2>&1 >/dev/null); rc=$?; echo \"$out\"; [ $rc -eq 1 ] && echo \"$out\" | grep -q 'nosuchif0' && echo \"$out\" | grep -q '^spvs-node: error: cannot join DDS domain 49'"
+                 $<TARGET_FILE:spvs-node>)
+set_tests_properties(dds_node_reads_cyclonedds_uri PROPERTIES
+                     LABELS "${spvs_variant};dds;cli" TIMEOUT 30)
