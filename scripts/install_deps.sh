@@ -9,7 +9,8 @@ PKGS=(cmake ninja-build gcc g++ make pkg-config libcmocka-dev
       libopencv-dev
       gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
       valgrind clang libclang-rt-14-dev
-      liblcm-java libjchart2d-java default-jdk-headless default-jre xvfb imagemagick)
+      liblcm-java libjchart2d-java default-jdk-headless default-jre xvfb imagemagick
+      cyclonedds-dev cyclonedds-tools libfastrtps-dev fastddsgen)
 
 missing=()
 for p in "${PKGS[@]}"; do

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Creates .venv/ at the top of the repository with the Python packages of the
-# Zenoh side (sim_host/zenoh/requirements.txt) and checks that they import.
+# Zenoh side (sim_host/zenoh/requirements.txt) and of the rosbag2 tools
+# (tools/rosbag/requirements.txt) and checks that they import.
 # Idempotent: when the venv already holds what the requirements file asks for
 # (a stamp file records its hash), it only re-checks the imports and exits.
 # Needs /usr/bin/python3 with venv (Debian: python3-venv) and, the first time,
@@ -10,6 +11,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 venv="$root/.venv"
 req="$root/sim_host/zenoh/requirements.txt"
+req_rosbag="$root/tools/rosbag/requirements.txt"
 stamp="$venv/.spvs-requirements.sha256"
 py="$venv/bin/python"
 
@@ -20,8 +22,8 @@ elif [ $# -gt 0 ]; then
   exit 2
 fi
 
-want="$(sha256sum "$req" | cut -d' ' -f1)"
-check='import zenoh, lcm; print(zenoh.__version__ if hasattr(zenoh, "__version__") else "zenoh")'
+want="$(cat "$req" "$req_rosbag" | sha256sum | cut -d' ' -f1)"
+check='import zenoh, lcm, mcap, mcap_ros2, rosbags; print(zenoh.__version__ if hasattr(zenoh, "__version__") else "zenoh")'
 
 # Parallel test jobs may call this at the same time: one installs, the others
 # wait for it (bounded by flock's timeout).
@@ -44,8 +46,8 @@ if [ ! -x "$py" ]; then
     exit 1
   fi
 fi
-echo "[venv] installing $(grep -v '^#' "$req" | tr '\n' ' ')"
-if ! "$py" -m pip install --quiet --disable-pip-version-check -r "$req"; then
+echo "[venv] installing $(grep -hv '^#' "$req" "$req_rosbag" | tr '\n' ' ')"
+if ! "$py" -m pip install --quiet --disable-pip-version-check -r "$req" -r "$req_rosbag"; then
   echo "setup_venv.sh: pip install failed (is PyPI reachable?)" >&2
   exit 1
 fi

@@ -26,6 +26,12 @@
 #ifdef SPVS_HAVE_ZENOH
 #include "sim/link_zenoh.h"
 #endif
+#ifdef SPVS_HAVE_DDS
+#include "sim/link_dds.h"
+#endif
+#ifdef SPVS_HAVE_ROSBAG
+#include "sim/rosbag.h"
+#endif
 #ifdef SPVS_HAVE_FRONTEND
 #include "sim/frontend.h"
 #endif
@@ -43,6 +49,7 @@ typedef struct {
     int quiet;
     const char *trace_path;
     const char *record_path;
+    const char *rosbag_dir;     /* --rosbag (NULL: none)                  */
     const char *transport;
     const char *lcm_url;
     const char *zenoh_endpoint;
@@ -82,7 +89,10 @@ static const char *const usage_text =
     "  --clip                match only points inside the 640x480 frame\n"
     "  --trace FILE.csv      write one CSV row per frame\n"
     "  --record FILE         write a binary recording (docs/RECORDING.md)\n"
-    "  --transport T         inproc (default), lcm, zenoh or mcu (QEMU,\n"
+    "  --rosbag DIR          write a rosbag2 (MCAP) of the run into the new\n"
+    "                        folder DIR: /spvs/matches, /cmd_vel, /spvs/state\n"
+    "  --transport T         inproc (default), lcm, zenoh, dds (ROS 2 names,\n"
+    "                        $ROS_DOMAIN_ID, docs/ROS2.md) or mcu (QEMU,\n"
     "                        docs/SERIAL.md)\n"
     "  --mcu-image FILE      mcu: the application image (the build's)\n"
     "  --quantize-serial     round frames as the serial link does (1/16 px,\n"
@@ -190,7 +200,8 @@ static void parse_options(int argc, char **argv, options_t *o)
         static const char *const valued[] = {
             "--method", "--pose", "--normal", "--distance", "--noise",
             "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
-            "--dt", "--latency", "--accel-limit", "--max-time", "--trace", "--record", "--transport",
+            "--dt", "--latency", "--accel-limit", "--max-time", "--trace", "--record",
+            "--rosbag", "--transport",
             "--lcm-url", "--zenoh-endpoint", "--timeout",
             "--lcm-matches-channel", "--keep-last", "--frontend",
             "--save-frames", "--save-every", "--save-matches", "--mcu-image" };
@@ -259,11 +270,16 @@ static void parse_options(int argc, char **argv, options_t *o)
             o->trace_path = val;
         } else if (strcmp(name, "--record") == 0) {
             o->record_path = val;
+        } else if (strcmp(name, "--rosbag") == 0) {
+#ifndef SPVS_HAVE_ROSBAG
+            sim_cli_fail("--rosbag: this build has no rosbag2 writer");
+#endif
+            o->rosbag_dir = val;
         } else if (strcmp(name, "--transport") == 0) {
             if (strcmp(val, "inproc") != 0 && strcmp(val, "fixed") != 0 &&
                 strcmp(val, "lcm") != 0 && strcmp(val, "zenoh") != 0 &&
-                strcmp(val, "mcu") != 0) {
-                sim_cli_fail("--transport: '%s' is not inproc, fixed, lcm, zenoh or mcu", val);
+                strcmp(val, "mcu") != 0 && strcmp(val, "dds") != 0) {
+                sim_cli_fail("--transport: '%s' is not inproc, fixed, lcm, zenoh, dds or mcu", val);
             }
             o->transport = val;
         } else if (strcmp(name, "--lcm-url") == 0) {
@@ -332,6 +348,7 @@ static void parse_options(int argc, char **argv, options_t *o)
 typedef struct {
     FILE *trace;
     FILE *record;
+    struct sim_rosbag *rosbag;
     char err[160];
     /* The last answered frame's arrival check figures, for --json. */
     spvs_output_t last;
@@ -361,6 +378,12 @@ static int on_frame(const sim_frame_t *f, void *user)
             return -1;
         }
     }
+#ifdef SPVS_HAVE_ROSBAG
+    if (s->rosbag && sim_rosbag_frame(s->rosbag, f->seq, f->t_s, f->m, f->n,
+                                      o, s->err, sizeof(s->err)) != 0) {
+        return -1;
+    }
+#endif
     if (s->record) {
         if (sim_record_write_frame(s->record, f->seq, f->t_s, f->m, f->n,
                                    (double)o->v, (double)o->w, o->status,
@@ -591,6 +614,13 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
         sim_cli_fail("--transport lcm: this build has no LCM support");
 #endif
     }
+    if (strcmp(o->transport, "dds") == 0) {
+#ifdef SPVS_HAVE_DDS
+        return sim_link_dds_open(o->timeout_s, link, err, err_len);
+#else
+        sim_cli_fail("--transport dds: this build has no DDS support");
+#endif
+    }
 #ifdef SPVS_HAVE_ZENOH
     return sim_link_zenoh_open(o->zenoh_endpoint, o->timeout_s, link, err,
                                err_len);
@@ -641,6 +671,16 @@ int main(int argc, char **argv)
         }
     }
 
+#ifdef SPVS_HAVE_ROSBAG
+    if (o.rosbag_dir) {
+        char berr[200];
+        sinks.rosbag = sim_rosbag_open(o.rosbag_dir, berr, sizeof(berr));
+        if (!sinks.rosbag) {
+            sim_cli_fail("%s", berr);
+        }
+    }
+#endif
+
 #ifdef SPVS_HAVE_FRONTEND
     images_t images;
     memset(&images, 0, sizeof(images));
@@ -688,6 +728,12 @@ int main(int argc, char **argv)
     if (sinks.record && fclose(sinks.record) != 0) {
         out_bad = 1;
     }
+#ifdef SPVS_HAVE_ROSBAG
+    if (sinks.rosbag && sim_rosbag_close(sinks.rosbag, sinks.err,
+                                         sizeof(sinks.err)) != 0) {
+        out_bad = 1;
+    }
+#endif
     if (rc != 0) {
         /* The scene could not be built from these settings. */
         fprintf(stderr, "spvs-sim: %s\n", err);

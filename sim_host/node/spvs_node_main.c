@@ -1,5 +1,6 @@
 /*
- * spvs_node_main.c - spvs-node: the controller as an LCM node.
+ * spvs_node_main.c - spvs-node: the controller as an LCM node, or with
+ * --dds on DDS with ROS 2's names (node_dds.h).
  *
  * Subscribes to SPVS_MATCHES, runs the core (spvs_update) on each frame and
  * publishes SPVS_STATE and SPVS_CMD; a watchdog publishes stops while frames
@@ -14,6 +15,9 @@
 #include <string.h>
 
 #include "node.h"
+#ifdef SPVS_HAVE_DDS
+#include "node_dds.h"
+#endif
 #include "sim/cli.h"
 #include "sim/clock.h"
 
@@ -39,6 +43,9 @@ static void usage(FILE *f)
         "  --alpha PX         assumed focal length, pixels (default 800)\n"
         "  --seed S           RANSAC seed (default 0)\n"
         "  --param NAME=VALUE any parameter by name (see below)\n"
+        "  --dds              serve on DDS with ROS 2's names instead of LCM:\n"
+        "                     /spvs/matches in, /cmd_vel and /spvs/state out,\n"
+        "                     domain $ROS_DOMAIN_ID (docs/ROS2.md)\n"
         "  --lcm-url URL      LCM provider (default $LCM_DEFAULT_URL or\n"
         "                     " DEFAULT_URL ")\n"
         "  --watchdog S       publish stops after S s without valid\n"
@@ -61,6 +68,7 @@ int main(int argc, char **argv)
     double watchdog_s = 0.5;
     long long log_level = 1;
     long long progress = 0;
+    int dds = 0;
     char err[256];
 
     if (!url || !*url)
@@ -78,6 +86,14 @@ int main(int argc, char **argv)
         }
         if (strncmp(a, "--", 2) != 0)
             sim_cli_fail("unexpected argument: %s", a);
+        if (strcmp(a, "--dds") == 0) {
+#ifndef SPVS_HAVE_DDS
+            sim_cli_fail("--dds: this build has no DDS support "
+                         "(cyclonedds-dev)");
+#endif
+            dds = 1;
+            continue;
+        }
         if (i + 1 >= argc)
             sim_cli_fail("missing value for: %s", a);
         const char *v = argv[++i];
@@ -110,6 +126,10 @@ int main(int argc, char **argv)
     /* Pass 2: the parameter flags, in order, over the file. */
     for (int i = 1; i + 1 < argc; i += 2) {
         const char *a = argv[i];
+        if (strcmp(a, "--dds") == 0) {
+            i--; /* a flag: the next argument is an option */
+            continue;
+        }
         const char *v = argv[i + 1];
         char name[64];
         const char *value = v;
@@ -145,6 +165,16 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
+
+#ifdef SPVS_HAVE_DDS
+    if (dds) {
+        spvs_node_dds_opts_t dopt = { watchdog_s, (int)log_level,
+                                      (unsigned)progress };
+        return spvs_node_dds_run(&p, &dopt, &g_stop);
+    }
+#else
+    (void)dds;
+#endif
 
     lcm_t *lcm = lcm_create(url);
     if (!lcm) {

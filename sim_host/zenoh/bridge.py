@@ -26,6 +26,7 @@ import sys
 import threading
 import time
 
+import ros2_keys
 import spvs_zenoh_common as common
 
 PROG = "spvs-zenoh-bridge"
@@ -73,6 +74,10 @@ def parse_args(argv):
                    help="folder with the generated Python package spvs/ "
                    "(a build's lcm_types/python); default: generate it with "
                    "lcm-gen from lcm_types/*.lcm")
+    p.add_argument("--ros2-cmd-vel", action="store_true",
+                   help="also put every command as a geometry_msgs/Twist on "
+                   "/cmd_vel as ROS 2's rmw_zenoh names it, in the domain "
+                   "$ROS_DOMAIN_ID (docs/ROS2.md)")
     p.add_argument("--log-level", type=int, choices=(0, 1, 2, 3), default=1,
                    help="0 quiet, 1 errors (default), 2 info, 3 every message")
     p.add_argument("--max-log-rate", type=float, default=20.0, metavar="N",
@@ -97,6 +102,12 @@ def parse_args(argv):
         raise UsageError("--max-log-rate must be positive")
     if a.lcm_url is None:
         a.lcm_url = os.environ.get("LCM_DEFAULT_URL") or DEFAULT_LCM_URL
+    a.ros2_domain = None
+    if a.ros2_cmd_vel:
+        try:
+            a.ros2_domain = ros2_keys.domain_from_env(os.environ)
+        except ValueError as e:
+            raise UsageError("--ros2-cmd-vel: %s" % e)
     return a
 
 
@@ -179,6 +190,11 @@ class Bridge:
             self.key_state, allowed_destination=remote)
         self.sub_matches = self.session.declare_subscriber(
             self.key_matches, self.on_zenoh_matches, allowed_origin=remote)
+        self.ros2 = None
+        if a.ros2_domain is not None:
+            self.ros2 = ros2_keys.CmdVelPublisher(self.zenoh, self.session,
+                                                  a.ros2_domain)
+            self.log.info("ROS 2 /cmd_vel on %s" % self.ros2.key)
 
     def open_lcm(self):
         # One direction per channel: SPVS_MATCHES is only ever published
@@ -231,6 +247,16 @@ class Bridge:
     def on_lcm_cmd(self, channel, data):
         self.relay_lcm("cmd", self.check_cmd, self.pub_cmd, self.key_cmd,
                        data)
+        if getattr(self, "ros2", None) is not None:
+            _, why = self.check_cmd.check(data)
+            if not why:
+                try:
+                    cmd = self.check_cmd.cls.decode(data)
+                    self.ros2.put(cmd.v, cmd.w)
+                except Exception as e:
+                    self.counts["failed_ros2"] += 1
+                    self.log.error("putting /cmd_vel on %s failed: %s"
+                                   % (self.ros2.key, common.short_error(e)))
 
     def on_lcm_state(self, channel, data):
         self.relay_lcm("state", self.check_state, self.pub_state,
@@ -272,6 +298,8 @@ class Bridge:
         # Undeclare first so no callback runs into a half-closed bridge,
         # then close the session: a session left open keeps Zenoh's threads
         # alive and the process would hang at exit.
+        if getattr(self, "ros2", None) is not None:
+            self.ros2.close()
         for name in ("sub_matches", "pub_cmd", "pub_state"):
             ent = getattr(self, name, None)
             if ent is not None:
