@@ -3,26 +3,47 @@
 right, z forward, metres; the target pose is the origin).  One panel per
 LABEL; several traces joined with '+' share a panel.
 
-usage: plot_trajectories.py OUT.png LABEL=TRACE.csv[+TRACE.csv ...] [...]
+Exit status: 0, 1 when a trace cannot be read, 2 on bad arguments.
 """
+import argparse
 import csv
 import sys
 
-import matplotlib
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+PROG = "plot_trajectories"
 
 
-def main(argv):
-    if len(argv) < 3:
-        sys.stderr.write(__doc__)
-        return 2
+class UsageError(Exception):
+    pass
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with the project's one-line usage error and exit status 2."""
+
+    def error(self, message):
+        raise UsageError(message)
+
+
+def parse_args(argv):
+    p = Parser(prog="plot_trajectories.py",
+               description=__doc__.split("\n\n")[0].replace("\n", " "),
+               epilog=__doc__.split("\n\n")[1].strip())
+    p.add_argument("out", metavar="OUT.png", help="the figure to write")
+    p.add_argument("panels", nargs="+",
+                   metavar="LABEL=TRACE.csv[+TRACE.csv ...]",
+                   help="one panel: its title and the spvs-sim --trace "
+                   "files drawn in it")
+    return p.parse_args(argv)
+
+
+def read_panels(panels):
+    """[(label, [(xs, zs) per trace])] from LABEL=TRACE[+TRACE] arguments,
+    or the exit status after an error line."""
     runs = []
-    for arg in argv[2:]:
+    for arg in panels:
         label, sep, paths = arg.partition("=")
         if not sep:
-            sys.stderr.write("plot_trajectories: '%s' is not LABEL=FILE\n" % arg)
+            sys.stderr.write("%s: '%s' is not LABEL=FILE\n" % (PROG, arg))
             return 2
         paths_xz = []
         for path in paths.split("+"):
@@ -32,11 +53,20 @@ def main(argv):
                 xs = [float(r["x"]) for r in rows]
                 zs = [float(r["z"]) for r in rows]
             except (OSError, KeyError, ValueError) as e:
-                sys.stderr.write("plot_trajectories: cannot read '%s': %s\n"
-                                 % (path, e))
+                sys.stderr.write("%s: cannot read '%s': %s\n"
+                                 % (PROG, path, e))
                 return 1
             paths_xz.append((xs, zs))
         runs.append((label, paths_xz))
+    return runs
+
+
+def draw(out, runs):
+    # Imported here: --help and the argument errors need no matplotlib.
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, len(runs), figsize=(3.2 * len(runs), 3.4),
                              sharex=True, sharey=True)
     if len(runs) == 1:
@@ -54,7 +84,19 @@ def main(argv):
     axes[0].set_ylabel("z (m)")
     axes[0].legend(fontsize=7, loc="best")
     fig.tight_layout()
-    fig.savefig(argv[1], dpi=80)
+    fig.savefig(out, dpi=80)
+
+
+def main(argv):
+    try:
+        a = parse_args(argv[1:])
+    except UsageError as e:
+        sys.stderr.write("%s: %s (see --help)\n" % (PROG, e))
+        return 2
+    runs = read_panels(a.panels)
+    if isinstance(runs, int):
+        return runs
+    draw(a.out, runs)
     return 0
 
 

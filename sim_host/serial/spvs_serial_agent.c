@@ -601,7 +601,7 @@ static void read_device(agent_t *a)
     }
 }
 
-/* ---- main ---------------------------------------------------------------------- */
+/* ---- the summary ------------------------------------------------------------- */
 
 static void write_summary(const agent_t *a)
 {
@@ -640,37 +640,9 @@ static void write_summary(const agent_t *a)
     }
 }
 
-static void usage(FILE *f)
-{
-    fputs("usage: spvs-serial-agent --device DEV [options]\n"
-          "Bridges the controller on a microcontroller (serial link,\n"
-          "docs/SERIAL.md) to LCM: SPVS_MATCHES in, SPVS_CMD and SPVS_STATE out.\n"
-          "  --device DEV       /dev/ttyUSB0, a pty path, tcp:HOST:PORT or\n"
-          "                     unix:PATH (QEMU's -serial tcp:...,server)\n"
-          "  --baud N           serial ports: 9600 .. 4000000 (921600)\n"
-          "  --method 1|2|3     controller method sent to the MCU (3)\n"
-          "  --seed S           RANSAC seed, 0..4294967295 (0)\n"
-          "  --alpha PX         assumed focal length, pixels (800)\n"
-          "  --watchdog-ms MS   the MCU stops the robot after MS ms without\n"
-          "                     a valid frame, 50..10000 (300)\n"
-          "  --lcm-url URL      LCM provider ($LCM_DEFAULT_URL or\n"
-          "                     " DEFAULT_URL ")\n"
-          "  --reconnect S      keep trying to (re)open the device for S s (10)\n"
-          "  --summary FILE     write the counters as JSON at exit\n"
-          "  --ready-file FILE  create FILE once the MCU runs with the set-up\n"
-          "  --log-level L      0 quiet, 1 errors (default), 2 info, 3 every frame\n"
-          "  --help\n"
-          "Exit status: 0 after SIGINT/SIGTERM, 1 device or LCM failure,\n"
-          "2 bad options.\n", f);
-}
+/* ---- the command line: one table for the parser and --help ------------------- */
 
-static int bad_opt(const char *what, const char *arg)
-{
-    fprintf(stderr, "spvs-serial-agent: %s%s%s (see --help)\n", what,
-            arg ? ": " : "", arg ? arg : "");
-    return 2;
-}
-
+/* s as a number in [lo, hi] into *out; 0, or -1 when it is not one. */
 static int parse_num(const char *s, double lo, double hi, double *out)
 {
     char *end = NULL;
@@ -682,78 +654,245 @@ static int parse_num(const char *s, double lo, double hi, double *out)
     return 0;
 }
 
-int main(int argc, char **argv)
+/* The same for a whole number. */
+static int parse_whole(const char *s, double lo, double hi, double *out)
 {
-    static agent_t a;
-    a.fd = -1;
-    a.baud = 921600;
-    a.url = getenv("LCM_DEFAULT_URL");
-    if (!a.url)
-        a.url = DEFAULT_URL;
-    a.cfg.method = 3;
-    a.cfg.seed = 0;
-    a.cfg.alpha_px = 800.0f;
-    a.cfg.watchdog_ms = 300u;
-    a.reconnect_s = 10.0;
-    a.log_level = 1;
-    a.fwd_seq = -1;
-    a.last_config_s = -1e9;
+    return parse_num(s, lo, hi, out) != 0 || *out != floor(*out) ? -1 : 0;
+}
+
+/* Each setter stores the value in the agent; 0, or -1 to refuse it. */
+static int set_device(agent_t *a, const char *v)
+{
+    a->device = v;
+    return 0;
+}
+
+static int set_baud(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_num(v, 1, 4e6, &d) != 0 || baud_const((long)d) == B0 ||
+        d != floor(d))
+        return -1;
+    a->baud = (long)d;
+    return 0;
+}
+
+static int set_method(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_whole(v, 1, 3, &d) != 0)
+        return -1;
+    a->cfg.method = (uint8_t)d;
+    return 0;
+}
+
+static int set_seed(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_whole(v, 0, 4294967295.0, &d) != 0)
+        return -1;
+    a->cfg.seed = (uint32_t)d;
+    return 0;
+}
+
+static int set_alpha(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_num(v, 1, 1e5, &d) != 0)
+        return -1;
+    a->cfg.alpha_px = (float)d;
+    return 0;
+}
+
+static int set_watchdog(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_whole(v, SPVS_SERIAL_WATCHDOG_MIN_MS, SPVS_SERIAL_WATCHDOG_MAX_MS,
+                    &d) != 0)
+        return -1;
+    a->cfg.watchdog_ms = (uint16_t)d;
+    return 0;
+}
+
+static int set_url(agent_t *a, const char *v)
+{
+    a->url = v;
+    return 0;
+}
+
+static int set_reconnect(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_num(v, 0, 3600, &d) != 0)
+        return -1;
+    a->reconnect_s = d;
+    return 0;
+}
+
+static int set_summary(agent_t *a, const char *v)
+{
+    a->summary_path = v;
+    return 0;
+}
+
+static int set_ready(agent_t *a, const char *v)
+{
+    a->ready_path = v;
+    return 0;
+}
+
+static int set_log_level(agent_t *a, const char *v)
+{
+    double d;
+    if (parse_whole(v, 0, 3, &d) != 0)
+        return -1;
+    a->log_level = (int)d;
+    return 0;
+}
+
+/* The default is written in the help text itself, not added after it. */
+#define OPT_DEFAULT_IN_TEXT 1
+
+typedef struct {
+    const char *name;    /* "--baud"                                        */
+    const char *metavar; /* the value in --help; NULL: takes no value       */
+    const char *help;    /* a '\n' starts a line indented under the first   */
+    const char *def;     /* the default, given to set before the command
+                            line is read and shown after the help as
+                            " (def)"; NULL: none                           */
+    int flags;           /* OPT_DEFAULT_IN_TEXT                             */
+    int (*set)(agent_t *a, const char *v);
+    const char *refusal; /* the error when set refuses the value            */
+} agent_opt_t;
+
+/* Every option, in the order --help lists them.  --lcm-url's default is
+ * $LCM_DEFAULT_URL when set, so agent_defaults sets it. */
+static const agent_opt_t k_opts[] = {
+    { "--device", "DEV", "/dev/ttyUSB0, a pty path, tcp:HOST:PORT or\n"
+      "unix:PATH (QEMU's -serial tcp:...,server)", NULL, 0, set_device, NULL },
+    { "--baud", "N", "serial ports: 9600 .. 4000000", "921600", 0, set_baud,
+      "not a supported rate" },
+    { "--method", "1|2|3", "controller method sent to the MCU", "3", 0,
+      set_method, "not 1, 2 or 3" },
+    { "--seed", "S", "RANSAC seed, 0..4294967295", "0", 0, set_seed,
+      "not an integer in 0..4294967295" },
+    { "--alpha", "PX", "assumed focal length, pixels", "800", 0, set_alpha,
+      "not a focal length in 1..1e5 px" },
+    { "--watchdog-ms", "MS", "the MCU stops the robot after MS ms without\n"
+      "a valid frame, 50..10000", "300", 0, set_watchdog,
+      "not an integer in 50..10000" },
+    { "--lcm-url", "URL", "LCM provider ($LCM_DEFAULT_URL or\n" DEFAULT_URL
+      ")", NULL, 0, set_url, NULL },
+    { "--reconnect", "S", "keep trying to (re)open the device for S s", "10",
+      0, set_reconnect, "not 0..3600 s" },
+    { "--summary", "FILE", "write the counters as JSON at exit", NULL, 0,
+      set_summary, NULL },
+    { "--ready-file", "FILE", "create FILE once the MCU runs with the set-up",
+      NULL, 0, set_ready, NULL },
+    { "--log-level", "L", "0 quiet, 1 errors (default), 2 info, 3 every frame",
+      "1", OPT_DEFAULT_IN_TEXT, set_log_level, "not 0..3" },
+    { "--help", NULL, NULL, NULL, 0, NULL, NULL },
+};
+#define N_OPTS (sizeof(k_opts) / sizeof(k_opts[0]))
+
+/* The option column is this wide; a help text's later lines start under
+ * its first. */
+#define HELP_COL 19
+
+static void usage(FILE *f)
+{
+    fputs("usage: spvs-serial-agent --device DEV [options]\n"
+          "Bridges the controller on a microcontroller (serial link,\n"
+          "docs/SERIAL.md) to LCM: SPVS_MATCHES in, SPVS_CMD and SPVS_STATE out.\n",
+          f);
+    for (size_t k = 0; k < N_OPTS; k++) {
+        const agent_opt_t *o = &k_opts[k];
+        if (!o->help) {
+            fprintf(f, "  %s\n", o->name);
+            continue;
+        }
+        char left[64];
+        snprintf(left, sizeof(left), "%s %s", o->name, o->metavar);
+        fprintf(f, "  %-*s", HELP_COL, left);
+        for (const char *c = o->help; *c; c++) {
+            if (*c == '\n')
+                fprintf(f, "\n  %*s", HELP_COL, "");
+            else
+                fputc(*c, f);
+        }
+        if (o->def && !(o->flags & OPT_DEFAULT_IN_TEXT))
+            fprintf(f, " (%s)", o->def);
+        fputc('\n', f);
+    }
+    fputs("Exit status: 0 after SIGINT/SIGTERM, 1 device or LCM failure,\n"
+          "2 bad options.\n", f);
+}
+
+static int bad_opt(const char *what, const char *arg)
+{
+    fprintf(stderr, "spvs-serial-agent: %s%s%s (see --help)\n", what,
+            arg ? ": " : "", arg ? arg : "");
+    return 2;
+}
+
+static const agent_opt_t *find_opt(const char *name)
+{
+    for (size_t k = 0; k < N_OPTS; k++) {
+        if (strcmp(k_opts[k].name, name) == 0)
+            return &k_opts[k];
+    }
+    return NULL;
+}
+
+/* The defaults: the table's, then what is not an option's. */
+static void agent_defaults(agent_t *a)
+{
+    for (size_t k = 0; k < N_OPTS; k++) {
+        if (k_opts[k].def)
+            (void)k_opts[k].set(a, k_opts[k].def);
+    }
+    a->url = getenv("LCM_DEFAULT_URL");
+    if (!a->url)
+        a->url = DEFAULT_URL;
+    a->fd = -1;
+    a->fwd_seq = -1;
+    a->last_config_s = -1e9;
+}
+
+/* Reads the command line into a.  Returns -1 to run, else the exit
+ * status: 0 after --help, 2 on a bad option (the error line printed). */
+static int parse_command_line(agent_t *a, int argc, char **argv)
+{
     for (int i = 1; i < argc; i++) {
-        const char *o = argv[i];
-        if (strcmp(o, "--help") == 0) {
+        const char *name = argv[i];
+        const agent_opt_t *o = find_opt(name);
+        if (o && !o->metavar) {
             usage(stdout);
             return 0;
         }
         if (i + 1 >= argc)
-            return bad_opt(strncmp(o, "--", 2) == 0 ? "option needs a value"
-                                                    : "unexpected argument", o);
+            return bad_opt(strncmp(name, "--", 2) == 0 ? "option needs a value"
+                                                       : "unexpected argument",
+                           name);
         const char *v = argv[++i];
-        double d;
-        if (strcmp(o, "--device") == 0) {
-            a.device = v;
-        } else if (strcmp(o, "--baud") == 0) {
-            if (parse_num(v, 1, 4e6, &d) != 0 || baud_const((long)d) == B0 ||
-                d != floor(d))
-                return bad_opt("--baud: not a supported rate", v);
-            a.baud = (long)d;
-        } else if (strcmp(o, "--method") == 0) {
-            if (parse_num(v, 1, 3, &d) != 0 || d != floor(d))
-                return bad_opt("--method: not 1, 2 or 3", v);
-            a.cfg.method = (uint8_t)d;
-        } else if (strcmp(o, "--seed") == 0) {
-            if (parse_num(v, 0, 4294967295.0, &d) != 0 || d != floor(d))
-                return bad_opt("--seed: not an integer in 0..4294967295", v);
-            a.cfg.seed = (uint32_t)d;
-        } else if (strcmp(o, "--alpha") == 0) {
-            if (parse_num(v, 1, 1e5, &d) != 0)
-                return bad_opt("--alpha: not a focal length in 1..1e5 px", v);
-            a.cfg.alpha_px = (float)d;
-        } else if (strcmp(o, "--watchdog-ms") == 0) {
-            if (parse_num(v, SPVS_SERIAL_WATCHDOG_MIN_MS, SPVS_SERIAL_WATCHDOG_MAX_MS,
-                          &d) != 0 || d != floor(d))
-                return bad_opt("--watchdog-ms: not an integer in 50..10000", v);
-            a.cfg.watchdog_ms = (uint16_t)d;
-        } else if (strcmp(o, "--lcm-url") == 0) {
-            a.url = v;
-        } else if (strcmp(o, "--reconnect") == 0) {
-            if (parse_num(v, 0, 3600, &d) != 0)
-                return bad_opt("--reconnect: not 0..3600 s", v);
-            a.reconnect_s = d;
-        } else if (strcmp(o, "--summary") == 0) {
-            a.summary_path = v;
-        } else if (strcmp(o, "--ready-file") == 0) {
-            a.ready_path = v;
-        } else if (strcmp(o, "--log-level") == 0) {
-            if (parse_num(v, 0, 3, &d) != 0 || d != floor(d))
-                return bad_opt("--log-level: not 0..3", v);
-            a.log_level = (int)d;
-        } else {
-            return bad_opt("unknown option", o);
+        if (!o)
+            return bad_opt("unknown option", name);
+        if (o->set(a, v) != 0) {
+            fprintf(stderr, "spvs-serial-agent: %s: %s: %s (see --help)\n",
+                    o->name, o->refusal, v);
+            return 2;
         }
     }
-    if (!a.device)
+    if (!a->device)
         return bad_opt("--device is required", NULL);
+    return -1;
+}
 
+/* ---- main ---------------------------------------------------------------------- */
+
+/* Signals, LCM and the subscription.  0, or 1 with the error printed. */
+static int agent_start(agent_t *a)
+{
     struct sigaction sa;
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = on_signal;
@@ -761,67 +900,90 @@ int main(int argc, char **argv)
     sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
 
-    a.lcm = lcm_create(a.url);
-    if (!a.lcm) {
+    a->lcm = lcm_create(a->url);
+    if (!a->lcm) {
         fprintf(stderr, "spvs-serial-agent: cannot open LCM '%s' (no multicast "
-                "route? see docs/LCM.md)\n", a.url);
+                "route? see docs/LCM.md)\n", a->url);
         return 1;
     }
-    if (!lcm_subscribe(a.lcm, SPVS_CH_MATCHES, on_matches, &a)) {
+    if (!lcm_subscribe(a->lcm, SPVS_CH_MATCHES, on_matches, a)) {
         fprintf(stderr, "spvs-serial-agent: subscribing to %s failed\n",
                 SPVS_CH_MATCHES);
         return 1;
     }
-    spvs_serial_rx_init(&a.rx);
-    int lfd = lcm_get_fileno(a.lcm);
+    spvs_serial_rx_init(&a->rx);
+    return 0;
+}
+
+/* With no device open, a try at most every 100 ms.  Returns 0, or 1 when
+ * the device cannot be opened for good or --reconnect ran out since
+ * offline_since (the error printed). */
+static int try_open(agent_t *a, double offline_since, double *last_try)
+{
+    double t = now_s();
+    if (t - *last_try < 0.1)
+        return 0;
+    char err[300];
+    *last_try = t;
+    int fd = open_device(a, err, sizeof(err));
+    if (fd == -2) {
+        fprintf(stderr, "spvs-serial-agent: %s\n", err);
+        return 1;
+    }
+    if (fd >= 0) {
+        a->fd = fd;
+        a->fresh = 1;
+        a->st.connects++;
+        logf_(a, 2, "device %s open", a->device);
+        send_config(a);
+    } else if (t - offline_since > a->reconnect_s) {
+        fprintf(stderr, "spvs-serial-agent: %s (gave up after %.3g s)\n", err,
+                a->reconnect_s);
+        return 1;
+    }
+    return 0;
+}
+
+/* Serves LCM and the device until a signal (0) or a failure for good (1). */
+static int agent_run(agent_t *a)
+{
+    int lfd = lcm_get_fileno(a->lcm);
     double offline_since = now_s();
     double last_try = -1e9;
-    int rc = 0;
     while (!g_stop) {
-        if (a.fd < 0) {
-            double t = now_s();
-            if (t - last_try >= 0.1) {
-                char err[300];
-                last_try = t;
-                int fd = open_device(&a, err, sizeof(err));
-                if (fd == -2) {
-                    fprintf(stderr, "spvs-serial-agent: %s\n", err);
-                    rc = 1;
-                    break;
-                }
-                if (fd >= 0) {
-                    a.fd = fd;
-                    a.fresh = 1;
-                    a.st.connects++;
-                    logf_(&a, 2, "device %s open", a.device);
-                    send_config(&a);
-                } else if (t - offline_since > a.reconnect_s) {
-                    fprintf(stderr, "spvs-serial-agent: %s (gave up after "
-                            "%.3g s)\n", err, a.reconnect_s);
-                    rc = 1;
-                    break;
-                }
-            }
-        }
-        struct pollfd pf[2] = { { lfd, POLLIN, 0 }, { a.fd, POLLIN, 0 } };
-        int np = a.fd >= 0 ? 2 : 1;
+        if (a->fd < 0 && try_open(a, offline_since, &last_try) != 0)
+            return 1;
+        struct pollfd pf[2] = { { lfd, POLLIN, 0 }, { a->fd, POLLIN, 0 } };
+        int np = a->fd >= 0 ? 2 : 1;
         int pr = poll(pf, (nfds_t)np, 50);
         if (pr < 0 && errno != EINTR) {
             fprintf(stderr, "spvs-serial-agent: poll: %s\n", strerror(errno));
-            rc = 1;
-            break;
+            return 1;
         }
-        if (pr > 0 && (pf[0].revents & POLLIN) && lcm_handle(a.lcm) != 0) {
+        if (pr > 0 && (pf[0].revents & POLLIN) && lcm_handle(a->lcm) != 0) {
             fprintf(stderr, "spvs-serial-agent: LCM receive failed\n");
-            rc = 1;
-            break;
+            return 1;
         }
         if (np == 2 && pr > 0 && (pf[1].revents & (POLLIN | POLLHUP | POLLERR)))
-            read_device(&a);
-        note_frame_left(&a, now_s());
-        if (a.fd >= 0)
+            read_device(a);
+        note_frame_left(a, now_s());
+        if (a->fd >= 0)
             offline_since = now_s();
     }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static agent_t a;
+    agent_defaults(&a);
+    int rc = parse_command_line(&a, argc, argv);
+    if (rc >= 0)
+        return rc;
+    rc = agent_start(&a);
+    if (rc != 0)
+        return rc;
+    rc = agent_run(&a);
     write_summary(&a);
     if (a.fd >= 0)
         close(a.fd);

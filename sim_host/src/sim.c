@@ -122,15 +122,12 @@ static void finish(sim_result_t *res, const sim_pose_t *pose)
     res->err_phi_deg = sim_wrap_pi(pose->phi_rad) * (180.0 / SIM_PI);
 }
 
-int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
-            sim_frame_cb cb, void *user, char *err, unsigned err_len)
+/* Clears res, checks the link and builds the world.  0, or -1 with the
+ * reason in err. */
+static int run_begin(const sim_config_t *c, const sim_link_t *link,
+                     sim_world_t *world, sim_result_t *res, char *err,
+                     unsigned err_len)
 {
-    /* The world is ~30 kB: static keeps it off small thread stacks.  The
-     * simulator runs one loop at a time. */
-    static sim_world_t world;
-    static sim_obs_t obs[SIM_MAX_POINTS];
-    static spvs_match_t m[SIM_MAX_POINTS];
-
     memset(res, 0, sizeof(*res));
     for (int i = 0; i < 4; ++i) {
         res->step_start_s[i] = -1.0;
@@ -140,10 +137,99 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
         snprintf(err, err_len, "no link to a controller");
         return -1;
     }
-    if (sim_config_world(c, &world, err, err_len) != 0) {
+    return sim_config_world(c, world, err, err_len);
+}
+
+/* Frame k's observations, from the configured source or the world, at
+ * most cap of them. */
+static uint16_t observe(const sim_config_t *c, uint32_t k,
+                        sim_world_t *world, const sim_pose_t *pose,
+                        sim_obs_t *obs, uint16_t cap)
+{
+    uint16_t n = c->observe != NULL
+                     ? c->observe(c->observe_user, k, world, pose, obs, cap)
+                     : sim_world_observe(world, pose, obs, cap);
+    /* A source that claims more than it was given room for is a bug at
+     * the edge; never hand the controller memory past the buffer. */
+    return n > cap ? cap : n;
+}
+
+/* Frame k to the controller and its answer into out.  0, or -1 when the
+ * link failed (res then says so). */
+static int exchange_frame(const sim_link_t *link, uint32_t k, double t,
+                          const spvs_match_t *m, uint16_t n,
+                          spvs_output_t *out, sim_result_t *res)
+{
+    memset(out, 0, sizeof(*out));
+    char lerr[128] = "";
+    int rc = link->exchange(link->ctx, k, t, m, n, out, lerr,
+                            (unsigned)sizeof(lerr));
+    res->time_s = t;
+    if (rc < 0) {
+        res->status = SIM_LINK_ERROR;
+        snprintf(res->reason, sizeof(res->reason), "%s",
+                 lerr[0] ? lerr : "link failure");
         return -1;
     }
+    res->frames = k + 1;
+    res->core_status = out->status;
+    return 0;
+}
 
+/* Step bookkeeping: a change of step ends the old step and starts the new
+ * one at this frame's time t. */
+static void note_step(sim_result_t *res, int *prev_step, int step, double t)
+{
+    if (step == *prev_step) {
+        return;
+    }
+    if (*prev_step >= 1 && *prev_step <= 3) {
+        res->step_end_s[*prev_step] = t;
+    }
+    if (step >= 1 && step <= 3 && !res->started[step]) {
+        res->started[step] = 1;
+        res->step_start_s[step] = t;
+    }
+    *prev_step = step;
+}
+
+/* Whether frame k's answer ends the run: the controller arrived or failed,
+ * or answered with a command that cannot be executed (res says which). */
+static int run_ends(const spvs_output_t *out, uint32_t k, sim_result_t *res)
+{
+    if (out->step == SPVS_STEP_DONE) {
+        res->status = SIM_CONVERGED;
+        return 1;
+    }
+    if (out->step == SPVS_STEP_FAILED) {
+        res->status = SIM_FAILED;
+        snprintf(res->reason, sizeof(res->reason), "%s",
+                 spvs_status_str(out->status));
+        return 1;
+    }
+    /* A controller answering with non-finite numbers is a broken link,
+     * not a command to execute. */
+    if (!isfinite((double)out->v) || !isfinite((double)out->w)) {
+        res->status = SIM_LINK_ERROR;
+        snprintf(res->reason, sizeof(res->reason),
+                 "non-finite command at frame %u", (unsigned)k);
+        return 1;
+    }
+    return 0;
+}
+
+int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
+            sim_frame_cb cb, void *user, char *err, unsigned err_len)
+{
+    /* The world is ~30 kB: static keeps it off small thread stacks.  The
+     * simulator runs one loop at a time. */
+    static sim_world_t world;
+    static sim_obs_t obs[SIM_MAX_POINTS];
+    static spvs_match_t m[SIM_MAX_POINTS];
+
+    if (run_begin(c, link, &world, res, err, err_len) != 0) {
+        return -1;
+    }
     sim_pose_t pose = c->start;
     pose.phi_rad = sim_wrap_pi(pose.phi_rad);
     sim_actuator_t robot;
@@ -163,46 +249,13 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
         if (c->realtime) {
             sim_clock_sleep_until(t0_s + (double)k * c->dt_s);
         }
-        uint16_t n = c->observe != NULL
-                         ? c->observe(c->observe_user, k, &world, &pose, obs,
-                                      cap)
-                         : sim_world_observe(&world, &pose, obs, cap);
-        /* A source that claims more than it was given room for is a bug at
-         * the edge; never hand the controller memory past the buffer. */
-        if (n > cap) {
-            n = cap;
-        }
+        uint16_t n = observe(c, k, &world, &pose, obs, cap);
         sim_obs_to_matches(obs, n, m);
-
         spvs_output_t out;
-        memset(&out, 0, sizeof(out));
-        char lerr[128] = "";
-        int rc = link->exchange(link->ctx, k, t, m, n, &out, lerr,
-                                (unsigned)sizeof(lerr));
-        res->time_s = t;
-        if (rc < 0) {
-            res->status = SIM_LINK_ERROR;
-            snprintf(res->reason, sizeof(res->reason), "%s",
-                     lerr[0] ? lerr : "link failure");
+        if (exchange_frame(link, k, t, m, n, &out, res) != 0) {
             break;
         }
-        res->frames = k + 1;
-        res->core_status = out.status;
-
-        /* Step bookkeeping: a change of out.step ends the old step and
-         * starts the new one at this frame's time. */
-        int step = out.step;
-        if (step != prev_step) {
-            if (prev_step >= 1 && prev_step <= 3) {
-                res->step_end_s[prev_step] = t;
-            }
-            if (step >= 1 && step <= 3 && !res->started[step]) {
-                res->started[step] = 1;
-                res->step_start_s[step] = t;
-            }
-            prev_step = step;
-        }
-
+        note_step(res, &prev_step, out.step, t);
         if (cb != NULL) {
             sim_frame_t f = { k, t, pose, obs, m, n, &out };
             if (cb(&f, user) != 0) {
@@ -212,27 +265,11 @@ int sim_run(const sim_config_t *c, const sim_link_t *link, sim_result_t *res,
                 break;
             }
         }
-        if (step == SPVS_STEP_DONE) {
-            res->status = SIM_CONVERGED;
-            break;
-        }
-        if (step == SPVS_STEP_FAILED) {
-            res->status = SIM_FAILED;
-            snprintf(res->reason, sizeof(res->reason), "%s",
-                     spvs_status_str(out.status));
-            break;
-        }
-        double v = (double)out.v, w = (double)out.w;
-        /* A controller answering with non-finite numbers is a broken link,
-         * not a command to execute. */
-        if (!isfinite(v) || !isfinite(w)) {
-            res->status = SIM_LINK_ERROR;
-            snprintf(res->reason, sizeof(res->reason),
-                     "non-finite command at frame %u", (unsigned)k);
+        if (run_ends(&out, k, res)) {
             break;
         }
         double x0 = pose.x_m, z0 = pose.z_m;
-        sim_actuator_step(&robot, &pose, t, v, w, c->dt_s, drift);
+        sim_actuator_step(&robot, &pose, t, (double)out.v, (double)out.w, c->dt_s, drift);
         res->path_m += hypot(pose.x_m - x0, pose.z_m - z0);
     }
     /* A run that timed out on an error says which: the last frame's

@@ -709,6 +709,93 @@ def outer_main(a):
             shutil.rmtree(workdir, ignore_errors=True)
 
 
+def start_inner(a, paths, workdir, router, tcp):
+    """Writes the fleet's set-up for the supervisor and starts it in a
+    network namespace of its own."""
+    cfg = dict(robots=a.robots, noise=a.noise, outliers=a.outliers,
+               watchdog=a.watchdog, timeout=a.timeout,
+               max_time=a.max_time, realtime=a.realtime,
+               timing=a.timing, quiet=a.quiet, router=tcp,
+               endpoint=router.listen[1],
+               **paths)
+    with open(os.path.join(workdir, "fleet.json"), "w") as f:
+        json.dump(cfg, f)
+    log(a, "router on %s; %d robots; work folder %s"
+        % (tcp, len(a.robots), workdir))
+    return Child("supervisor", ["unshare", "-r", "-n", sys.executable,
+                                os.path.abspath(__file__), "--inner",
+                                workdir], workdir, stdout=sys.stderr,
+                 inherit_stderr=True)
+
+
+def supervise(a, router, inner, stopping, hard_end):
+    """Until the supervisor ends: pass a signal on to it, bound it by
+    --max-time, restart the router when it dies (at most
+    ROUTER_RESTARTS_MAX times)."""
+    while inner.poll() is None:
+        if stopping["sig"] is not None:
+            inner.signal(signal.SIGTERM)
+            end = time.monotonic() + 15.0
+            while inner.poll() is None and time.monotonic() < end:
+                time.sleep(TICK_S)
+            break
+        if time.monotonic() > hard_end:
+            sys.stderr.write("%s: the supervisor outlived --max-time\n"
+                             % PROG)
+            break
+        if router.child.poll() is not None:
+            if router.restarts >= ROUTER_RESTARTS_MAX:
+                sys.stderr.write("%s: the router died %d times; giving "
+                                 "up\n" % (PROG, router.restarts + 1))
+                inner.signal(signal.SIGTERM)
+                stopping["sig"] = signal.SIGTERM
+                continue
+            log(a, "router exited (%s); restarting it"
+                % describe_exit(router.child.rc))
+            router.cpu_s += router.child.cpu_s or 0.0
+            router.restarts += 1
+            try:
+                router.start()
+            except RuntimeError as e:
+                log(a, str(e))
+        time.sleep(TICK_S)
+
+
+def read_results(a, workdir, inner):
+    """Each robot's result.json, or a failed result saying there is none."""
+    results = []
+    for i, r in enumerate(a.robots):
+        path = os.path.join(workdir, "%02d-%s" % (i, r["name"]),
+                            "result.json")
+        try:
+            with open(path) as f:
+                results.append(json.loads(f.read()))
+        except (OSError, ValueError):
+            results.append({"robot": r["name"], "method": r["method"],
+                            "seed": r["seed"], "status": "failed",
+                            "reason": "no result (supervisor %s)"
+                            % describe_exit(inner.rc if inner else None)})
+    return results
+
+
+def fleet_summary(results, wall, tcp, router, inner, workdir, own_tmp):
+    """The fleet's summary line as a dict."""
+    statuses = {}
+    for res in results:
+        statuses[res["status"]] = statuses.get(res["status"], 0) + 1
+    return {"robots": len(results),
+            "converged": statuses.get("converged", 0),
+            "failed": statuses.get("failed", 0),
+            "statuses": statuses,
+            "frames": sum(res.get("frames", 0) for res in results),
+            "wall_s": round(wall, 3), "router": tcp,
+            "router_restarts": router.restarts,
+            "cpu_s": {"router": round(router.cpu_s, 3),
+                      "supervisor_and_robots": round(inner.cpu_s, 3)
+                      if inner is not None and inner.cpu_s else None},
+            "workdir": None if own_tmp else workdir}
+
+
 def run_fleet(a, paths, workdir, own_tmp):
     stopping = {"sig": None}
 
@@ -731,48 +818,8 @@ def run_fleet(a, paths, workdir, own_tmp):
             sys.stderr.write("%s: %s (another router on port %d? use "
                              "--port)\n" % (PROG, e, port))
             return 1
-        cfg = dict(robots=a.robots, noise=a.noise, outliers=a.outliers,
-                   watchdog=a.watchdog, timeout=a.timeout,
-                   max_time=a.max_time, realtime=a.realtime,
-                   timing=a.timing, quiet=a.quiet, router=tcp,
-                   endpoint=router.listen[1],
-                   **paths)
-        with open(os.path.join(workdir, "fleet.json"), "w") as f:
-            json.dump(cfg, f)
-        log(a, "router on %s; %d robots; work folder %s"
-            % (tcp, len(a.robots), workdir))
-        inner = Child("supervisor", ["unshare", "-r", "-n", sys.executable,
-                                     os.path.abspath(__file__), "--inner",
-                                     workdir], workdir, stdout=sys.stderr,
-                      inherit_stderr=True)
-        hard_end = t0 + a.max_time + 30.0
-        while inner.poll() is None:
-            if stopping["sig"] is not None:
-                inner.signal(signal.SIGTERM)
-                end = time.monotonic() + 15.0
-                while inner.poll() is None and time.monotonic() < end:
-                    time.sleep(TICK_S)
-                break
-            if time.monotonic() > hard_end:
-                sys.stderr.write("%s: the supervisor outlived --max-time\n"
-                                 % PROG)
-                break
-            if router.child.poll() is not None:
-                if router.restarts >= ROUTER_RESTARTS_MAX:
-                    sys.stderr.write("%s: the router died %d times; giving "
-                                     "up\n" % (PROG, router.restarts + 1))
-                    inner.signal(signal.SIGTERM)
-                    stopping["sig"] = signal.SIGTERM
-                    continue
-                log(a, "router exited (%s); restarting it"
-                    % describe_exit(router.child.rc))
-                router.cpu_s += router.child.cpu_s or 0.0
-                router.restarts += 1
-                try:
-                    router.start()
-                except RuntimeError as e:
-                    log(a, str(e))
-            time.sleep(TICK_S)
+        inner = start_inner(a, paths, workdir, router, tcp)
+        supervise(a, router, inner, stopping, t0 + a.max_time + 30.0)
     finally:
         if inner is not None and inner.poll() is None:
             inner.stop(5.0)
@@ -781,32 +828,9 @@ def run_fleet(a, paths, workdir, own_tmp):
             router.cpu_s += router.child.cpu_s or 0.0
     wall = time.monotonic() - t0
 
-    results = []
-    for i, r in enumerate(a.robots):
-        path = os.path.join(workdir, "%02d-%s" % (i, r["name"]),
-                            "result.json")
-        try:
-            with open(path) as f:
-                results.append(json.loads(f.read()))
-        except (OSError, ValueError):
-            results.append({"robot": r["name"], "method": r["method"],
-                            "seed": r["seed"], "status": "failed",
-                            "reason": "no result (supervisor %s)"
-                            % describe_exit(inner.rc if inner else None)})
-    statuses = {}
-    for res in results:
-        statuses[res["status"]] = statuses.get(res["status"], 0) + 1
-    summary = {"robots": len(results),
-               "converged": statuses.get("converged", 0),
-               "failed": statuses.get("failed", 0),
-               "statuses": statuses,
-               "frames": sum(res.get("frames", 0) for res in results),
-               "wall_s": round(wall, 3), "router": tcp,
-               "router_restarts": router.restarts,
-               "cpu_s": {"router": round(router.cpu_s, 3),
-                         "supervisor_and_robots": round(inner.cpu_s, 3)
-                         if inner is not None and inner.cpu_s else None},
-               "workdir": None if own_tmp else workdir}
+    results = read_results(a, workdir, inner)
+    summary = fleet_summary(results, wall, tcp, router, inner, workdir,
+                            own_tmp)
     if a.json:
         for res in results:
             print(json.dumps(res))

@@ -356,8 +356,20 @@ static int robot_ok(const char *s)
     return 1;
 }
 
-int sim_link_zenoh_open(const char *endpoint, double timeout_s,
-                        sim_link_t *out, char *err, unsigned err_len)
+/* What the environment and the caller choose for the port. */
+typedef struct {
+    const char *robot;
+    const char *mode;
+    double resend_s;
+    char python[1024];
+    char port[1024];
+} port_setup_t;
+
+/* The caller's arguments and the SPVS_ZENOH_* variables, checked.  0, or
+ * -1 with the reason in err. */
+static int check_setup(const char *endpoint, double timeout_s,
+                       const sim_link_t *out, port_setup_t *ps, char *err,
+                       unsigned err_len)
 {
     if (!out || !(timeout_s > 0.0) || !isfinite(timeout_s)) {
         snprintf(err, err_len, "Zenoh link: timeout must be positive seconds");
@@ -369,50 +381,120 @@ int sim_link_zenoh_open(const char *endpoint, double timeout_s,
                  "tcp/HOST:PORT", endpoint ? endpoint : "(null)");
         return -1;
     }
-    const char *robot = getenv("SPVS_ZENOH_ROBOT");
-    if (!robot || !*robot)
-        robot = "robot0";
-    if (!robot_ok(robot)) {
+    ps->robot = getenv("SPVS_ZENOH_ROBOT");
+    if (!ps->robot || !*ps->robot)
+        ps->robot = "robot0";
+    if (!robot_ok(ps->robot)) {
         snprintf(err, err_len, "Zenoh link: SPVS_ZENOH_ROBOT='%.70s' must be "
-                 "1..64 characters from A-Z a-z 0-9 _ . -", robot);
+                 "1..64 characters from A-Z a-z 0-9 _ . -", ps->robot);
         return -1;
     }
-    const char *mode = getenv("SPVS_ZENOH_MODE");
-    if (!mode || !*mode)
-        mode = "peer";
-    if (strcmp(mode, "peer") != 0 && strcmp(mode, "client") != 0) {
+    ps->mode = getenv("SPVS_ZENOH_MODE");
+    if (!ps->mode || !*ps->mode)
+        ps->mode = "peer";
+    if (strcmp(ps->mode, "peer") != 0 && strcmp(ps->mode, "client") != 0) {
         snprintf(err, err_len, "Zenoh link: SPVS_ZENOH_MODE='%.40s' is not "
-                 "peer or client", mode);
+                 "peer or client", ps->mode);
         return -1;
     }
-    double resend_s;
-    if (env_number("SPVS_ZENOH_RESEND_S", 0.5, 0.0, 3600.0, &resend_s, err,
-                   err_len) != 0)
-        return -1;
+    return env_number("SPVS_ZENOH_RESEND_S", 0.5, 0.0, 3600.0, &ps->resend_s,
+                      err, err_len);
+}
 
-    char python[1024], port[1024];
+/* The Python and the port's script: $SPVS_PYTHON and $SPVS_ZENOH_PORT, else
+ * the source tree's venv and sim_port.py.  0, or -1 with the reason in err
+ * when either is not there. */
+static int find_port(port_setup_t *ps, char *err, unsigned err_len)
+{
     const char *s = getenv("SPVS_PYTHON");
     if (s && *s)
-        snprintf(python, sizeof(python), "%s", s);
+        snprintf(ps->python, sizeof(ps->python), "%s", s);
     else
-        snprintf(python, sizeof(python), "%s/.venv/bin/python",
+        snprintf(ps->python, sizeof(ps->python), "%s/.venv/bin/python",
                  SPVS_SOURCE_DIR);
     s = getenv("SPVS_ZENOH_PORT");
     if (s && *s)
-        snprintf(port, sizeof(port), "%s", s);
+        snprintf(ps->port, sizeof(ps->port), "%s", s);
     else
-        snprintf(port, sizeof(port), "%s/sim_host/zenoh/" SPVS_ZENOH_PORT_NAME,
-                 SPVS_SOURCE_DIR);
-    if (access(python, X_OK) != 0) {
+        snprintf(ps->port, sizeof(ps->port),
+                 "%s/sim_host/zenoh/" SPVS_ZENOH_PORT_NAME, SPVS_SOURCE_DIR);
+    if (access(ps->python, X_OK) != 0) {
         snprintf(err, err_len, "Zenoh link: no Python at %.150s: run "
-                 "scripts/setup_venv.sh (or set SPVS_PYTHON)", python);
+                 "scripts/setup_venv.sh (or set SPVS_PYTHON)", ps->python);
         return -1;
     }
-    if (access(port, R_OK) != 0) {
+    if (access(ps->port, R_OK) != 0) {
         snprintf(err, err_len, "Zenoh link: cannot read %.150s (set "
-                 "SPVS_ZENOH_PORT)", port);
+                 "SPVS_ZENOH_PORT)", ps->port);
         return -1;
     }
+    return 0;
+}
+
+/* Starts the port with l->fd as our end of its input and output.  0, or
+ * -1 with the reason in err (l->fd then closed, l not freed). */
+static int spawn_port(link_zenoh_t *l, port_setup_t *ps, double wait_s,
+                      char *err, unsigned err_len)
+{
+    /* One socket pair serves as the port's stdin and stdout: unlike a pipe
+     * it takes MSG_NOSIGNAL, and shutdown() gives the port its end of
+     * input while its answers can still be read. */
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
+        snprintf(err, err_len, "Zenoh link: socketpair failed: %s",
+                 strerror(errno));
+        return -1;
+    }
+    char wait_arg[32];
+    snprintf(wait_arg, sizeof(wait_arg), "%.3f", wait_s);
+    char *argv[] = { ps->python, "-u", ps->port, "--robot", l->robot,
+                     "--connect", l->endpoint, "--mode", (char *)ps->mode,
+                     "--wait", wait_arg, NULL };
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_adddup2(&fa, sv[1], 0);
+    posix_spawn_file_actions_adddup2(&fa, sv[1], 1);
+    int rc = posix_spawn(&l->pid, ps->python, &fa, NULL, argv, environ);
+    posix_spawn_file_actions_destroy(&fa);
+    close(sv[1]);
+    l->fd = sv[0];
+    if (rc != 0) {
+        snprintf(err, err_len, "Zenoh link: cannot start %.150s: %s",
+                 ps->python, strerror(rc));
+        close(l->fd);
+        return -1;
+    }
+    return 0;
+}
+
+/* Waits for the port's ready record: its publisher then has a subscriber.
+ * 0, or -1 with the reason in err. */
+static int await_ready(link_zenoh_t *l, double wait_s, char *err,
+                       unsigned err_len)
+{
+    double deadline = sim_clock_now_s() + wait_s + START_SLACK_S;
+    for (;;) {
+        double left = deadline - sim_clock_now_s();
+        if (left <= 0.0) {
+            snprintf(err, err_len, "Zenoh link: the port did not become ready "
+                     "within %.3g s", wait_s + START_SLACK_S);
+            return -1;
+        }
+        int r = pump(l, left, 'R', err, err_len);
+        if (r < 0)
+            return -1;
+        if (r == 1)
+            return 0;
+    }
+}
+
+int sim_link_zenoh_open(const char *endpoint, double timeout_s,
+                        sim_link_t *out, char *err, unsigned err_len)
+{
+    port_setup_t ps;
+    if (check_setup(endpoint, timeout_s, out, &ps, err, err_len) != 0 ||
+        find_port(&ps, err, err_len) != 0)
+        return -1;
 
     link_zenoh_t *l = (link_zenoh_t *)calloc(1, sizeof(*l));
     if (!l) {
@@ -422,64 +504,23 @@ int sim_link_zenoh_open(const char *endpoint, double timeout_s,
     l->fd = -1;
     l->pid = -1;
     l->timeout_s = timeout_s;
-    l->resend_s = resend_s;
+    l->resend_s = ps.resend_s;
     sim_lockstep_init(&l->ls);
-    snprintf(l->robot, sizeof(l->robot), "%s", robot);
+    snprintf(l->robot, sizeof(l->robot), "%s", ps.robot);
     snprintf(l->endpoint, sizeof(l->endpoint), "%s", endpoint);
     /* A node still running from an earlier run resets its controller. */
     l->run_id = sim_clock_run_id();
 
-    /* One socket pair serves as the port's stdin and stdout: unlike a pipe
-     * it takes MSG_NOSIGNAL, and shutdown() gives the port its end of
-     * input while its answers can still be read. */
-    int sv[2];
-    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
-        snprintf(err, err_len, "Zenoh link: socketpair failed: %s",
-                 strerror(errno));
-        free(l);
-        return -1;
-    }
     /* The port waits for a subscriber of the matches for the timeout, but
      * at least long enough for the Zenoh peers to exchange declarations. */
     double wait_s = timeout_s > 3.0 ? timeout_s : 3.0;
-    char wait_arg[32];
-    snprintf(wait_arg, sizeof(wait_arg), "%.3f", wait_s);
-    char *argv[] = { python, "-u", port, "--robot", l->robot, "--connect",
-                     l->endpoint, "--mode", (char *)mode, "--wait", wait_arg,
-                     NULL };
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, sv[1], 0);
-    posix_spawn_file_actions_adddup2(&fa, sv[1], 1);
-    int rc = posix_spawn(&l->pid, python, &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    close(sv[1]);
-    l->fd = sv[0];
-    if (rc != 0) {
-        snprintf(err, err_len, "Zenoh link: cannot start %.150s: %s", python,
-                 strerror(rc));
-        close(l->fd);
+    if (spawn_port(l, &ps, wait_s, err, err_len) != 0) {
         free(l);
         return -1;
     }
-
-    /* Ready when the port says so: its publisher then has a subscriber. */
-    double deadline = sim_clock_now_s() + wait_s + START_SLACK_S;
-    for (;;) {
-        double left = deadline - sim_clock_now_s();
-        if (left <= 0.0) {
-            snprintf(err, err_len, "Zenoh link: the port did not become ready "
-                     "within %.3g s", wait_s + START_SLACK_S);
-            link_close(l);
-            return -1;
-        }
-        int r = pump(l, left, 'R', err, err_len);
-        if (r < 0) {
-            link_close(l);
-            return -1;
-        }
-        if (r == 1)
-            break;
+    if (await_ready(l, wait_s, err, err_len) != 0) {
+        link_close(l);
+        return -1;
     }
     out->ctx = l;
     out->exchange = link_exchange;

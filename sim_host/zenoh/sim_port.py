@@ -110,7 +110,9 @@ def on_signal(signum, frame):
     raise Stop()
 
 
-def main(argv):
+def parse_args(argv):
+    """The options, checked: (namespace, None), or (None, 2) after an error
+    line (argparse itself exits 2 on what it refuses)."""
     p = argparse.ArgumentParser(prog="sim_port.py",
                                 description="Zenoh end of spvs-sim "
                                 "--transport zenoh (started by spvs-sim).")
@@ -133,10 +135,85 @@ def main(argv):
             [common.check_endpoint(e) for e in a.connect + a.listen]:
         if why:
             sys.stderr.write("%s: %s\n" % (PROG, why))
-            return 2
+            return None, 2
     if not (0.0 < a.wait <= 3600.0):
         sys.stderr.write("%s: --wait must be in (0, 3600] s\n" % PROG)
-        return 2
+        return None, 2
+    return a, None
+
+
+def declare(zenoh, session, a, out, timing):
+    """The matches publisher and the subscribers that pass the commands and
+    the telemetry on to spvs-sim.  Returns (publisher, its key)."""
+    remote = zenoh.Locality.REMOTE
+    key_m = common.key_expr(a.robot, "matches")
+    pub = session.declare_publisher(key_m, allowed_destination=remote)
+
+    def on_cmd(sample):
+        data = bytes(sample.payload.to_bytes())
+        timing.note("C", data)
+        out.record(b"C", data)
+    session.declare_subscriber(common.key_expr(a.robot, "cmd"),
+                               on_cmd, allowed_origin=remote)
+    session.declare_subscriber(
+        common.key_expr(a.robot, "state"),
+        lambda s: out.record(b"S", bytes(s.payload.to_bytes())),
+        allowed_origin=remote)
+    return pub, key_m
+
+
+def await_subscriber(pub, key_m, a, out):
+    """True once the publisher has a subscriber; False after an 'E' record
+    when none came within --wait."""
+    deadline = time.monotonic() + a.wait
+    while not pub.matching_status.matching:
+        if time.monotonic() > deadline:
+            out.record(b"E", ("nobody subscribes to %s after %.3g s (is "
+                              "spvs-zenoh-bridge running at %s with "
+                              "--robot %s?)" % (key_m, a.wait,
+                                                ",".join(a.connect),
+                                                a.robot)).encode())
+            return False
+        time.sleep(0.02)
+    return True
+
+
+def forward_frames(pub, out, timing):
+    """Frames from stdin onto the matches key until the input ends (0) or
+    a frame is too long (1, after an 'E' record)."""
+    while True:
+        head = read_exact(4)
+        if head is None:
+            return 0
+        (n,) = struct.unpack(">I", head)
+        if n > MAX_FRAME:
+            out.record(b"E", ("frame of %d bytes from spvs-sim, more "
+                              "than %d" % (n, MAX_FRAME)).encode())
+            return 1
+        payload = read_exact(n)
+        if payload is None:
+            return 0
+        timing.note("M", payload)
+        pub.put(payload)
+
+
+def close_session(session):
+    """Always close the session: an open one keeps Zenoh's threads running
+    and the process would not exit."""
+    if session is None:
+        return
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        session.close()
+    except Exception:
+        pass
+
+
+def main(argv):
+    a, status = parse_args(argv)
+    if a is None:
+        return status
 
     out = Out()
     timing = Timing(os.environ.get("SPVS_ZENOH_TIMING"))
@@ -158,66 +235,22 @@ def main(argv):
             cfg = common.zenoh_config(zenoh, a.mode, a.listen, a.connect,
                                       a.scouting == "on")
             session = zenoh.open(cfg)
-            remote = zenoh.Locality.REMOTE
-            key_m = common.key_expr(a.robot, "matches")
-            pub = session.declare_publisher(key_m, allowed_destination=remote)
-
-            def on_cmd(sample):
-                data = bytes(sample.payload.to_bytes())
-                timing.note("C", data)
-                out.record(b"C", data)
-            session.declare_subscriber(common.key_expr(a.robot, "cmd"),
-                                       on_cmd, allowed_origin=remote)
-            session.declare_subscriber(
-                common.key_expr(a.robot, "state"),
-                lambda s: out.record(b"S", bytes(s.payload.to_bytes())),
-                allowed_origin=remote)
+            pub, key_m = declare(zenoh, session, a, out, timing)
         except Stop:
             raise
         except Exception as e:
             out.record(b"E", ("cannot open Zenoh (connect %s): %s"
                               % (a.connect, common.short_error(e))).encode())
             return 1
-
-        deadline = time.monotonic() + a.wait
-        while not pub.matching_status.matching:
-            if time.monotonic() > deadline:
-                out.record(b"E", ("nobody subscribes to %s after %.3g s (is "
-                                  "spvs-zenoh-bridge running at %s with "
-                                  "--robot %s?)" % (key_m, a.wait,
-                                                    ",".join(a.connect),
-                                                    a.robot)).encode())
-                return 1
-            time.sleep(0.02)
+        if not await_subscriber(pub, key_m, a, out):
+            return 1
         out.record(b"R", ("%s ready" % key_m).encode())
-
-        while True:
-            head = read_exact(4)
-            if head is None:
-                return 0
-            (n,) = struct.unpack(">I", head)
-            if n > MAX_FRAME:
-                out.record(b"E", ("frame of %d bytes from spvs-sim, more "
-                                  "than %d" % (n, MAX_FRAME)).encode())
-                return 1
-            payload = read_exact(n)
-            if payload is None:
-                return 0
-            timing.note("M", payload)
-            pub.put(payload)
+        return forward_frames(pub, out, timing)
     except Stop:
         return 0
     finally:
         timing.write()
-        # Always close the session: an open one keeps Zenoh's threads
-        # running and the process would not exit.
-        if session is not None:
-            signal.signal(signal.SIGTERM, signal.SIG_IGN)
-            signal.signal(signal.SIGINT, signal.SIG_IGN)
-            try:
-                session.close()
-            except Exception:
-                pass
+        close_session(session)
 
 
 if __name__ == "__main__":
