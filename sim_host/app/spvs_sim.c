@@ -66,73 +66,381 @@ typedef struct {
     int quantize_serial;        /* --quantize-serial                      */
 } options_t;
 
-static const char *const usage_text =
-    "usage: spvs-sim [options]\n"
-    "Closed-loop simulation of Shortest Path Control (Methods I, II, III).\n"
-    "\n"
-    "  --method 1|2|3        control method (3)\n"
-    "  --pose X,Z,PHI_DEG    start pose, metres and degrees (-3,-10,-30)\n"
-    "  --normal NX,NY,NZ     plane normal, normalised here (0.3,-0.6,-0.75)\n"
-    "  --distance D_M        plane distance d > 0, metres (45)\n"
-    "  --noise SIGMA_PX      Gaussian image noise, pixels (0)\n"
-    "  --outliers FRACTION   mismatched fraction of each frame, [0,1) (0)\n"
-    "  --drift DEG_PER_M     odometry drift in rotation, deg per metre (0)\n"
-    "  --focal-mm F          TRUE focal length, mm; the controller assumes 6,\n"
-    "                        or 3 with --frontend images (6; images: 3)\n"
-    "  --pp-offset PX        TRUE principal point x offset, pixels (0)\n"
-    "  --seed S              seed of scene, noise and RANSAC, 0..4294967295 (0)\n"
-    "  --dt S                control period, seconds (0.1)\n"
-    "  --latency S           each command acts S s after its frame was taken (0)\n"
-    "  --accel-limit A,ALPHA the robot's v and w follow the command within A m/s^2\n"
-    "                        and ALPHA rad/s^2 (none)\n"
-    "  --max-time S          stop with status timeout after this, seconds (300)\n"
-    "  --clip                match only points inside the 640x480 frame\n"
-    "  --trace FILE.csv      write one CSV row per frame\n"
-    "  --record FILE         write a binary recording (docs/RECORDING.md)\n"
-    "  --rosbag DIR          write a rosbag2 (MCAP) of the run into the new\n"
-    "                        folder DIR: /spvs/matches, /cmd_vel, /spvs/state\n"
-    "  --transport T         inproc (default), lcm, zenoh, dds (ROS 2 names,\n"
-    "                        $ROS_DOMAIN_ID, docs/ROS2.md) or mcu (QEMU,\n"
-    "                        docs/SERIAL.md)\n"
-    "  --mcu-image FILE      mcu: the application image (the build's)\n"
-    "  --quantize-serial     round frames as the serial link does (1/16 px,\n"
-    "                        ms) before any transport\n"
-    "  --lcm-url URL         LCM provider (udpm://239.255.76.67:7667?ttl=0)\n"
-    "  --zenoh-endpoint E    Zenoh endpoint (tcp/127.0.0.1:7447)\n"
-    "  --timeout S           transport wait for each command, seconds (2)\n"
-    "  --lcm-matches-channel CH  LCM channel the frames go out on (SPVS_MATCHES)\n"
-    "  --keep-last S         LCM: a frame unanswered within --timeout is no\n"
-    "                        error: drive on the newest command received, for\n"
-    "                        at most S s of frame time, then stop (off)\n"
-    "  --realtime            pace frames at dt in wall-clock time\n"
-    "  --frontend F          points (default): exact projected points;\n"
-    "                        images: SIFT matches in rendered images\n"
-    "  --save-frames DIR     images: write every Nth frame as DIR/frame_NNNNN.png\n"
-    "  --save-every N        images: N for --save-frames (10)\n"
-    "  --save-matches FRAME  images: write DIR/matches_FRAME.png (or ./)\n"
-    "  --json                last stdout line: one JSON object with the result\n"
-    "  --quiet               no human-readable report\n"
-    "  --help                this text\n"
-    "\n"
-    "Exit status: 0 run completed (any outcome), 1 link or output error,\n"
-    "2 bad options.\n";
-
 /* Seeds and frame counts: 32 bits. */
 #define U32_MAX_LL 4294967295LL
 
+/* ---- options: one table for the parser and --help -------------------- */
+
+/* Sets an option from its value (NULL for a flag), or fails with exit
+ * status 2 (sim_cli_fail). */
+typedef void (*opt_set_fn)(options_t *o, const char *name, const char *val);
+
+typedef struct {
+    const char *name;    /* "--method"                                      */
+    const char *metavar; /* the value in --help; NULL: a flag               */
+    const char *help;    /* a '\n' starts a line under the first            */
+    opt_set_fn set;
+} sim_opt_t;
+
+static void set_method(options_t *o, const char *name, const char *val)
+{
+    o->cfg.method = (int)sim_cli_int(name, val, 1, 3);
+}
+
+static void set_pose(options_t *o, const char *name, const char *val)
+{
+    double v[3];
+    sim_cli_triple(name, val, -SIM_CLI_INF, SIM_CLI_INF, v);
+    o->cfg.start.x_m = v[0];
+    o->cfg.start.z_m = v[1];
+    o->cfg.start.phi_rad = v[2] * PI / 180.0;
+}
+
+static void set_normal(options_t *o, const char *name, const char *val)
+{
+    double *n = o->cfg.normal;
+    sim_cli_triple(name, val, -SIM_CLI_INF, SIM_CLI_INF, n);
+    if (hypot(hypot(n[0], n[1]), n[2]) < 1e-9) {
+        sim_cli_fail("--normal: '%s' is a zero vector", val);
+    }
+}
+
+static void set_distance(options_t *o, const char *name, const char *val)
+{
+    o->cfg.distance_m = sim_cli_real(name, val, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+}
+
+static void set_noise(options_t *o, const char *name, const char *val)
+{
+    o->cfg.noise_px = sim_cli_real(name, val, 0.0, SIM_CLI_INF, SIM_CLI_OPEN_HI);
+}
+
+static void set_outliers(options_t *o, const char *name, const char *val)
+{
+    o->cfg.outliers = sim_cli_real(name, val, 0.0, 1.0, SIM_CLI_OPEN_HI);
+}
+
+static void set_drift(options_t *o, const char *name, const char *val)
+{
+    o->cfg.drift_deg_per_m = sim_cli_real(name, val, -SIM_CLI_INF, SIM_CLI_INF, SIM_CLI_OPEN);
+}
+
+static void set_focal(options_t *o, const char *name, const char *val)
+{
+    o->cfg.focal_true_mm = sim_cli_real(name, val, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+    o->focal_given = 1;
+}
+
+static void set_pp_offset(options_t *o, const char *name, const char *val)
+{
+    o->cfg.pp_offset_px = sim_cli_real(name, val, -SIM_CLI_INF, SIM_CLI_INF, SIM_CLI_OPEN);
+}
+
+static void set_seed(options_t *o, const char *name, const char *val)
+{
+    o->seed32 = (uint32_t)sim_cli_int(name, val, 0, U32_MAX_LL);
+    o->cfg.seed = o->seed32;
+}
+
+static void set_dt(options_t *o, const char *name, const char *val)
+{
+    o->cfg.dt_s = sim_cli_real(name, val, 0.0, 10.0, SIM_CLI_OPEN_LO);
+}
+
+static void set_latency(options_t *o, const char *name, const char *val)
+{
+    o->cfg.robot.latency_s = sim_cli_real(name, val, 0.0, 60.0, SIM_CLI_OPEN_HI);
+}
+
 /* --accel-limit A,ALPHA: two numbers > 0 into the robot's limits. */
-static void parse_accel_limit(const char *val, sim_actuator_spec_t *robot)
+static void set_accel_limit(options_t *o, const char *name, const char *val)
 {
     char a[64];
     const char *comma = strchr(val, ',');
     if (comma == NULL || (size_t)(comma - val) >= sizeof(a) || strchr(comma + 1, ',') != NULL) {
-        sim_cli_fail("--accel-limit: '%.80s' is not A,ALPHA (m/s^2, rad/s^2)", val);
+        sim_cli_fail("%s: '%.80s' is not A,ALPHA (m/s^2, rad/s^2)", name, val);
     }
     memcpy(a, val, (size_t)(comma - val));
     a[comma - val] = '\0';
-    robot->accel_mps2 = sim_cli_real("--accel-limit", a, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
-    robot->alpha_radps2 =
-        sim_cli_real("--accel-limit", comma + 1, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+    o->cfg.robot.accel_mps2 = sim_cli_real(name, a, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+    o->cfg.robot.alpha_radps2 = sim_cli_real(name, comma + 1, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+}
+
+static void set_max_time(options_t *o, const char *name, const char *val)
+{
+    o->cfg.max_time_s = sim_cli_real(name, val, 0.0, SIM_CLI_INF, SIM_CLI_OPEN);
+}
+
+static void set_clip(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    (void)val;
+    o->cfg.clip = 1;
+}
+
+static void set_trace(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->trace_path = val;
+}
+
+static void set_record(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->record_path = val;
+}
+
+static void set_rosbag(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+#ifndef SPVS_HAVE_ROSBAG
+    sim_cli_fail("--rosbag: this build has no rosbag2 writer");
+#endif
+    o->rosbag_dir = val;
+}
+
+static void set_transport(options_t *o, const char *name, const char *val)
+{
+    static const char *const known[] = {"inproc", "fixed", "lcm", "zenoh", "dds", "mcu"};
+    for (size_t k = 0; k < sizeof(known) / sizeof(known[0]); ++k) {
+        if (strcmp(val, known[k]) == 0) {
+            o->transport = known[k];
+            return;
+        }
+    }
+    sim_cli_fail("%s: '%s' is not inproc, fixed, lcm, zenoh, dds or mcu", name, val);
+}
+
+static void set_mcu_image(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->mcu_image = val;
+}
+
+static void set_quantize_serial(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    (void)val;
+    o->quantize_serial = 1;
+}
+
+static void set_lcm_url(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->lcm_url = val;
+}
+
+static void set_zenoh_endpoint(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->zenoh_endpoint = val;
+}
+
+static void set_timeout(options_t *o, const char *name, const char *val)
+{
+    o->timeout_s = sim_cli_real(name, val, 0.0, 3600.0, SIM_CLI_OPEN_LO);
+}
+
+static void set_matches_channel(options_t *o, const char *name, const char *val)
+{
+    if (val[0] == '\0' || strlen(val) > 63) {
+        sim_cli_fail("%s: '%s' is not 1..63 characters", name, val);
+    }
+    o->lcm_matches_channel = val;
+}
+
+static void set_keep_last(options_t *o, const char *name, const char *val)
+{
+    o->keep_last_s = sim_cli_real(name, val, 0.0, 3600.0, SIM_CLI_OPEN_LO);
+}
+
+static void set_realtime(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    (void)val;
+    o->cfg.realtime = 1;
+}
+
+static void set_frontend(options_t *o, const char *name, const char *val)
+{
+    if (strcmp(val, "points") == 0) {
+        o->images = 0;
+    } else if (strcmp(val, "images") == 0) {
+#ifdef SPVS_HAVE_FRONTEND
+        o->images = 1;
+#else
+        sim_cli_fail("%s images: this build has no image front end (OpenCV)", name);
+#endif
+    } else {
+        sim_cli_fail("%s: '%s' is not points or images", name, val);
+    }
+}
+
+static void set_save_frames(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->save_frames_dir = val;
+}
+
+static void set_save_every(options_t *o, const char *name, const char *val)
+{
+    o->save_every = (uint32_t)sim_cli_int(name, val, 1, U32_MAX_LL);
+}
+
+static void set_save_matches(options_t *o, const char *name, const char *val)
+{
+    o->save_matches_frame = (long)sim_cli_int(name, val, 0, U32_MAX_LL);
+}
+
+static void set_json(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    (void)val;
+    o->json = 1;
+}
+
+static void set_quiet(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    (void)val;
+    o->quiet = 1;
+}
+
+static void show_help(options_t *o, const char *name, const char *val);
+
+/* Every option, in the order --help lists them, with its default in the
+ * help text. */
+static const sim_opt_t k_opts[] = {
+    {"--method", "1|2|3", "control method (3)", set_method},
+    {"--pose", "X,Z,PHI_DEG", "start pose, metres and degrees (-3,-10,-30)", set_pose},
+    {"--normal", "NX,NY,NZ", "plane normal, normalised here (0.3,-0.6,-0.75)", set_normal},
+    {"--distance", "D_M", "plane distance d > 0, metres (45)", set_distance},
+    {"--noise", "SIGMA_PX", "Gaussian image noise, pixels (0)", set_noise},
+    {"--outliers", "FRACTION", "mismatched fraction of each frame, [0,1) (0)", set_outliers},
+    {"--drift", "DEG_PER_M", "odometry drift in rotation, deg per metre (0)", set_drift},
+    {"--focal-mm", "F",
+     "TRUE focal length, mm; the controller assumes 6,\n"
+     "or 3 with --frontend images (6; images: 3)",
+     set_focal},
+    {"--pp-offset", "PX", "TRUE principal point x offset, pixels (0)", set_pp_offset},
+    {"--seed", "S", "seed of scene, noise and RANSAC, 0..4294967295 (0)", set_seed},
+    {"--dt", "S", "control period, seconds (0.1)", set_dt},
+    {"--latency", "S", "each command acts S s after its frame was taken (0)", set_latency},
+    {"--accel-limit", "A,ALPHA",
+     "the robot's v and w follow the command within A m/s^2\n"
+     "and ALPHA rad/s^2 (none)",
+     set_accel_limit},
+    {"--max-time", "S", "stop with status timeout after this, seconds (300)", set_max_time},
+    {"--clip", NULL, "match only points inside the 640x480 frame", set_clip},
+    {"--trace", "FILE.csv", "write one CSV row per frame", set_trace},
+    {"--record", "FILE", "write a binary recording (docs/RECORDING.md)", set_record},
+    {"--rosbag", "DIR",
+     "write a rosbag2 (MCAP) of the run into the new\n"
+     "folder DIR: /spvs/matches, /cmd_vel, /spvs/state",
+     set_rosbag},
+    {"--transport", "T",
+     "inproc (default), lcm, zenoh, dds (ROS 2 names,\n"
+     "$ROS_DOMAIN_ID, docs/ROS2.md) or mcu (QEMU,\n"
+     "docs/SERIAL.md)",
+     set_transport},
+    {"--mcu-image", "FILE", "mcu: the application image (the build's)", set_mcu_image},
+    {"--quantize-serial", NULL,
+     "round frames as the serial link does (1/16 px,\n"
+     "ms) before any transport",
+     set_quantize_serial},
+    {"--lcm-url", "URL", "LCM provider (udpm://239.255.76.67:7667?ttl=0)", set_lcm_url},
+    {"--zenoh-endpoint", "E", "Zenoh endpoint (tcp/127.0.0.1:7447)", set_zenoh_endpoint},
+    {"--timeout", "S", "transport wait for each command, seconds (2)", set_timeout},
+    {"--lcm-matches-channel", "CH", "LCM channel the frames go out on (SPVS_MATCHES)",
+     set_matches_channel},
+    {"--keep-last", "S",
+     "LCM: a frame unanswered within --timeout is no\n"
+     "error: drive on the newest command received, for\n"
+     "at most S s of frame time, then stop (off)",
+     set_keep_last},
+    {"--realtime", NULL, "pace frames at dt in wall-clock time", set_realtime},
+    {"--frontend", "F",
+     "points (default): exact projected points;\n"
+     "images: SIFT matches in rendered images",
+     set_frontend},
+    {"--save-frames", "DIR", "images: write every Nth frame as DIR/frame_NNNNN.png",
+     set_save_frames},
+    {"--save-every", "N", "images: N for --save-frames (10)", set_save_every},
+    {"--save-matches", "FRAME", "images: write DIR/matches_FRAME.png (or ./)", set_save_matches},
+    {"--json", NULL, "last stdout line: one JSON object with the result", set_json},
+    {"--quiet", NULL, "no human-readable report", set_quiet},
+    {"--help", NULL, "this text", show_help},
+};
+#define N_OPTS (sizeof(k_opts) / sizeof(k_opts[0]))
+
+/* The option column's width: a help text's later lines start under its
+ * first, and a longer option is followed by two spaces. */
+#define HELP_COL 22
+
+static void show_help(options_t *o, const char *name, const char *val)
+{
+    (void)o;
+    (void)name;
+    (void)val;
+    fputs("usage: spvs-sim [options]\n"
+          "Closed-loop simulation of Shortest Path Control (Methods I, II, III).\n"
+          "\n",
+          stdout);
+    for (size_t k = 0; k < N_OPTS; ++k) {
+        char left[64];
+        snprintf(left, sizeof(left), "%s%s%s", k_opts[k].name, k_opts[k].metavar ? " " : "",
+                 k_opts[k].metavar ? k_opts[k].metavar : "");
+        const int w = (int)strlen(left);
+        printf("  %s%*s", left, w < HELP_COL ? HELP_COL - w : 2, "");
+        for (const char *c = k_opts[k].help; *c; ++c) {
+            if (*c == '\n') {
+                printf("\n  %*s", HELP_COL, "");
+            } else {
+                putchar(*c);
+            }
+        }
+        putchar('\n');
+    }
+    fputs("\n"
+          "Exit status: 0 run completed (any outcome), 1 link or output error,\n"
+          "2 bad options.\n",
+          stdout);
+    exit(0);
+}
+
+static const sim_opt_t *find_opt(const char *name)
+{
+    for (size_t k = 0; k < N_OPTS; ++k) {
+        if (strcmp(k_opts[k].name, name) == 0) {
+            return &k_opts[k];
+        }
+    }
+    return NULL;
+}
+
+/* The settings that are not an option's alone: the front end's camera,
+ * and the checks of combinations and ranges. */
+static void finish_options(options_t *o)
+{
+    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
+        sim_cli_fail("--save-frames and --save-matches need --frontend images");
+    }
+#ifdef SPVS_HAVE_FRONTEND
+    /* Images are taken with the front end's wide camera, and the
+     * controller is told its focal length (--focal-mm still sets the true
+     * one, for calibration errors). */
+    if (o->images) {
+        o->cfg.focal_assumed_mm = SIM_FRONTEND_FOCAL_MM;
+        o->cfg.arrival_sigma_px = SIM_FRONTEND_ARRIVAL_SIGMA_PX;
+        if (!o->focal_given) {
+            o->cfg.focal_true_mm = SIM_FRONTEND_FOCAL_MM;
+        }
+    }
+#endif
+    char err[160];
+    if (sim_config_check(&o->cfg, err, sizeof(err)) != 0) {
+        sim_cli_fail("%s", err);
+    }
 }
 
 static void parse_options(int argc, char **argv, options_t *o)
@@ -165,182 +473,22 @@ static void parse_options(int argc, char **argv, options_t *o)
         if (eq) {
             val = eq + 1;
         }
-
-        /* Flags first: they take no value. */
-        static const char *const flags[] = { "--help", "--json", "--quiet",
-                                             "--clip", "--realtime",
-                                             "--quantize-serial" };
-        int is_flag = 0;
-        for (size_t k = 0; k < sizeof(flags) / sizeof(flags[0]); ++k) {
-            if (strcmp(name, flags[k]) == 0) {
-                is_flag = 1;
-            }
-        }
-        if (is_flag) {
-            if (val) {
-                sim_cli_fail("%s takes no value", name);
-            }
-            if (strcmp(name, "--help") == 0) {
-                fputs(usage_text, stdout);
-                exit(0);
-            } else if (strcmp(name, "--json") == 0) {
-                o->json = 1;
-            } else if (strcmp(name, "--quiet") == 0) {
-                o->quiet = 1;
-            } else if (strcmp(name, "--clip") == 0) {
-                o->cfg.clip = 1;
-            } else if (strcmp(name, "--quantize-serial") == 0) {
-                o->quantize_serial = 1;
-            } else {
-                o->cfg.realtime = 1;
-            }
-            continue;
-        }
-
-        static const char *const valued[] = {
-            "--method", "--pose", "--normal", "--distance", "--noise",
-            "--outliers", "--drift", "--focal-mm", "--pp-offset", "--seed",
-            "--dt", "--latency", "--accel-limit", "--max-time", "--trace", "--record",
-            "--rosbag", "--transport",
-            "--lcm-url", "--zenoh-endpoint", "--timeout",
-            "--lcm-matches-channel", "--keep-last", "--frontend",
-            "--save-frames", "--save-every", "--save-matches", "--mcu-image" };
-        int known = 0;
-        for (size_t k = 0; k < sizeof(valued) / sizeof(valued[0]); ++k) {
-            if (strcmp(name, valued[k]) == 0) {
-                known = 1;
-            }
-        }
-        if (!known) {
+        const sim_opt_t *opt = find_opt(name);
+        if (opt == NULL) {
             sim_cli_fail("unknown option '%s'", name);
         }
-        if (!val) {
+        if (opt->metavar == NULL && val) {
+            sim_cli_fail("%s takes no value", name);
+        }
+        if (opt->metavar != NULL && !val) {
             if (i + 1 >= argc) {
                 sim_cli_fail("%s needs a value", name);
             }
             val = argv[++i];
         }
-
-        sim_config_t *c = &o->cfg;
-        if (strcmp(name, "--method") == 0) {
-            c->method = (int)sim_cli_int(name, val, 1, 3);
-        } else if (strcmp(name, "--pose") == 0) {
-            double v[3];
-            sim_cli_triple(name, val, -SIM_CLI_INF, SIM_CLI_INF, v);
-            c->start.x_m = v[0];
-            c->start.z_m = v[1];
-            c->start.phi_rad = v[2] * PI / 180.0;
-        } else if (strcmp(name, "--normal") == 0) {
-            sim_cli_triple(name, val, -SIM_CLI_INF, SIM_CLI_INF, c->normal);
-            if (hypot(hypot(c->normal[0], c->normal[1]), c->normal[2]) <
-                1e-9) {
-                sim_cli_fail("--normal: '%s' is a zero vector", val);
-            }
-        } else if (strcmp(name, "--distance") == 0) {
-            c->distance_m = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
-                                         SIM_CLI_OPEN);
-        } else if (strcmp(name, "--noise") == 0) {
-            c->noise_px = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
-                                       SIM_CLI_OPEN_HI);
-        } else if (strcmp(name, "--outliers") == 0) {
-            c->outliers = sim_cli_real(name, val, 0.0, 1.0, SIM_CLI_OPEN_HI);
-        } else if (strcmp(name, "--drift") == 0) {
-            c->drift_deg_per_m = sim_cli_real(name, val, -SIM_CLI_INF,
-                                              SIM_CLI_INF, SIM_CLI_OPEN);
-        } else if (strcmp(name, "--focal-mm") == 0) {
-            c->focal_true_mm = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
-                                            SIM_CLI_OPEN);
-            o->focal_given = 1;
-        } else if (strcmp(name, "--pp-offset") == 0) {
-            c->pp_offset_px = sim_cli_real(name, val, -SIM_CLI_INF,
-                                           SIM_CLI_INF, SIM_CLI_OPEN);
-        } else if (strcmp(name, "--seed") == 0) {
-            o->seed32 = (uint32_t)sim_cli_int(name, val, 0, U32_MAX_LL);
-            c->seed = o->seed32;
-        } else if (strcmp(name, "--dt") == 0) {
-            c->dt_s = sim_cli_real(name, val, 0.0, 10.0, SIM_CLI_OPEN_LO);
-        } else if (strcmp(name, "--latency") == 0) {
-            c->robot.latency_s = sim_cli_real(name, val, 0.0, 60.0, SIM_CLI_OPEN_HI);
-        } else if (strcmp(name, "--accel-limit") == 0) {
-            parse_accel_limit(val, &c->robot);
-        } else if (strcmp(name, "--max-time") == 0) {
-            c->max_time_s = sim_cli_real(name, val, 0.0, SIM_CLI_INF,
-                                         SIM_CLI_OPEN);
-        } else if (strcmp(name, "--trace") == 0) {
-            o->trace_path = val;
-        } else if (strcmp(name, "--record") == 0) {
-            o->record_path = val;
-        } else if (strcmp(name, "--rosbag") == 0) {
-#ifndef SPVS_HAVE_ROSBAG
-            sim_cli_fail("--rosbag: this build has no rosbag2 writer");
-#endif
-            o->rosbag_dir = val;
-        } else if (strcmp(name, "--transport") == 0) {
-            if (strcmp(val, "inproc") != 0 && strcmp(val, "fixed") != 0 &&
-                strcmp(val, "lcm") != 0 && strcmp(val, "zenoh") != 0 &&
-                strcmp(val, "mcu") != 0 && strcmp(val, "dds") != 0) {
-                sim_cli_fail("--transport: '%s' is not inproc, fixed, lcm, zenoh, dds or mcu", val);
-            }
-            o->transport = val;
-        } else if (strcmp(name, "--lcm-url") == 0) {
-            o->lcm_url = val;
-        } else if (strcmp(name, "--mcu-image") == 0) {
-            o->mcu_image = val;
-        } else if (strcmp(name, "--zenoh-endpoint") == 0) {
-            o->zenoh_endpoint = val;
-        } else if (strcmp(name, "--frontend") == 0) {
-            if (strcmp(val, "points") == 0) {
-                o->images = 0;
-            } else if (strcmp(val, "images") == 0) {
-#ifdef SPVS_HAVE_FRONTEND
-                o->images = 1;
-#else
-                sim_cli_fail("--frontend images: this build has no image "
-                            "front end (OpenCV)");
-#endif
-            } else {
-                sim_cli_fail("--frontend: '%s' is not points or images", val);
-            }
-        } else if (strcmp(name, "--save-frames") == 0) {
-            o->save_frames_dir = val;
-        } else if (strcmp(name, "--save-every") == 0) {
-            o->save_every = (uint32_t)sim_cli_int(name, val, 1, U32_MAX_LL);
-        } else if (strcmp(name, "--save-matches") == 0) {
-            o->save_matches_frame = (long)sim_cli_int(name, val, 0, U32_MAX_LL);
-        } else if (strcmp(name, "--timeout") == 0) {
-            o->timeout_s = sim_cli_real(name, val, 0.0, 3600.0,
-                                        SIM_CLI_OPEN_LO);
-        } else if (strcmp(name, "--lcm-matches-channel") == 0) {
-            if (val[0] == '\0' || strlen(val) > 63) {
-                sim_cli_fail("--lcm-matches-channel: '%s' is not 1..63 "
-                            "characters", val);
-            }
-            o->lcm_matches_channel = val;
-        } else if (strcmp(name, "--keep-last") == 0) {
-            o->keep_last_s = sim_cli_real(name, val, 0.0, 3600.0,
-                                          SIM_CLI_OPEN_LO);
-        }
+        opt->set(o, name, val);
     }
-    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
-        sim_cli_fail("--save-frames and --save-matches need --frontend images");
-    }
-#ifdef SPVS_HAVE_FRONTEND
-    /* Images are taken with the front end's wide camera, and the
-     * controller is told its focal length (--focal-mm still sets the true
-     * one, for calibration errors). */
-    if (o->images) {
-        o->cfg.focal_assumed_mm = SIM_FRONTEND_FOCAL_MM;
-        o->cfg.arrival_sigma_px = SIM_FRONTEND_ARRIVAL_SIGMA_PX;
-        if (!o->focal_given) {
-            o->cfg.focal_true_mm = SIM_FRONTEND_FOCAL_MM;
-        }
-    }
-#endif
-    /* Whatever the single checks missed (combinations, ranges). */
-    char err[160];
-    if (sim_config_check(&o->cfg, err, sizeof(err)) != 0) {
-        sim_cli_fail("%s", err);
-    }
+    finish_options(o);
 }
 
 /* ---- outputs ------------------------------------------------------------ */
@@ -630,6 +778,135 @@ static int open_link(const options_t *o, sim_link_t *link, char *err,
     return -1;
 }
 
+/* Opens --trace, --record and --rosbag as sinks s asks; fails with exit
+ * status 2 (a file that cannot be opened) or returns EXIT_LINK (a header
+ * that cannot be written), else 0. */
+static int open_sinks(const options_t *o, sinks_t *s)
+{
+    memset(s, 0, sizeof(*s));
+    if (o->trace_path) {
+        s->trace = fopen(o->trace_path, "w");
+        if (!s->trace) {
+            sim_cli_fail("--trace: cannot open '%s': %s", o->trace_path, strerror(errno));
+        }
+        /* Line-buffered, so that a reader following the trace (the demo's
+         * progress lines) sees each frame as it happens. */
+        setvbuf(s->trace, NULL, _IOLBF, 0);
+        fputs("t,x,z,phi_deg,v,w,step,status,h11,h12,h13,h31,h32,h33,e_x,"
+              "parallax,n_inliers,n_matches\n",
+              s->trace);
+    }
+    if (o->record_path) {
+        s->record = fopen(o->record_path, "wb");
+        if (!s->record) {
+            sim_cli_fail("--record: cannot open '%s': %s", o->record_path, strerror(errno));
+        }
+        if (sim_record_write_header(s->record) != 0) {
+            fprintf(stderr, "spvs-sim: cannot write the recording\n");
+            return EXIT_LINK;
+        }
+    }
+#ifdef SPVS_HAVE_ROSBAG
+    if (o->rosbag_dir) {
+        char berr[200];
+        s->rosbag = sim_rosbag_open(o->rosbag_dir, berr, sizeof(berr));
+        if (!s->rosbag) {
+            sim_cli_fail("%s", berr);
+        }
+    }
+#endif
+    return 0;
+}
+
+/* Closes the sinks; nonzero when one could not be written out. */
+static int close_sinks(sinks_t *s)
+{
+    int bad = 0;
+    if (s->trace && fclose(s->trace) != 0) {
+        bad = 1;
+    }
+    if (s->record && fclose(s->record) != 0) {
+        bad = 1;
+    }
+#ifdef SPVS_HAVE_ROSBAG
+    if (s->rosbag && sim_rosbag_close(s->rosbag, s->err, sizeof(s->err)) != 0) {
+        bad = 1;
+    }
+#endif
+    return bad;
+}
+
+#ifdef SPVS_HAVE_FRONTEND
+/* --frontend images: the front end on the run's camera and plane, as the
+ * loop's source of observations. */
+static void open_images(options_t *o, images_t *images)
+{
+    memset(images, 0, sizeof(*images));
+    if (!o->images) {
+        return;
+    }
+    static sim_world_t w;
+    char ferr[200];
+    if (sim_config_world(&o->cfg, &w, ferr, sizeof(ferr)) != 0) {
+        sim_cli_fail("%s", ferr);
+    }
+    sim_frontend_params_t fp;
+    sim_frontend_params_default(&fp);
+    fp.seed = o->cfg.seed;
+    images->fe = sim_frontend_create(&fp, &w.cam, &w.plane, ferr, sizeof(ferr));
+    if (images->fe == NULL) {
+        sim_cli_fail("%s", ferr);
+    }
+    images->o = o;
+    o->cfg.observe = observe_images;
+    o->cfg.observe_user = images;
+}
+
+/* The front end's totals (unless quiet), then closes it; nonzero when a
+ * frame could not be saved (its message into s->err). */
+static int close_images(const options_t *o, images_t *images, sinks_t *s)
+{
+    if (images->fe == NULL) {
+        return 0;
+    }
+    sim_frontend_totals_t t;
+    sim_frontend_totals(images->fe, &t);
+    if (!o->quiet) {
+        printf("images: %u frames, matches per frame mean %.1f (min %u, "
+               "max %u), mismatches %.1f %% (worst frame %.1f %%)\n",
+               (unsigned)t.frames, t.frames ? (double)t.matches / t.frames : 0.0,
+               (unsigned)t.min_matches, (unsigned)t.max_matches,
+               t.matches ? 100.0 * (double)t.mismatches / (double)t.matches : 0.0,
+               100.0 * t.max_mismatch_rate);
+    }
+    sim_frontend_destroy(images->fe);
+    images->fe = NULL;
+    if (images->failed) {
+        snprintf(s->err, sizeof(s->err), "%.150s", images->err);
+        return 1;
+    }
+    return 0;
+}
+#endif
+
+/* The run's outcome as the exit status, after its summary. */
+static int finish_run(const options_t *o, const sim_result_t *res, const sinks_t *s, int out_bad)
+{
+    if (o->json) {
+        print_json(o, res, s);
+    }
+    fflush(stdout);
+    if (res->status == SIM_ABORTED || out_bad) {
+        fprintf(stderr, "spvs-sim: %s\n", s->err[0] ? s->err : "cannot write an output file");
+        return EXIT_LINK;
+    }
+    if (res->status == SIM_LINK_ERROR) {
+        fprintf(stderr, "spvs-sim: link error: %s\n", res->reason);
+        return EXIT_LINK;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     options_t o;
@@ -644,71 +921,18 @@ int main(int argc, char **argv)
             sim_cli_fail("%s", werr);
         }
     }
-
     sinks_t sinks;
-    memset(&sinks, 0, sizeof(sinks));
-    if (o.trace_path) {
-        sinks.trace = fopen(o.trace_path, "w");
-        if (!sinks.trace) {
-            sim_cli_fail("--trace: cannot open '%s': %s", o.trace_path,
-                        strerror(errno));
-        }
-        /* Line-buffered, so that a reader following the trace (the demo's
-         * progress lines) sees each frame as it happens. */
-        setvbuf(sinks.trace, NULL, _IOLBF, 0);
-        fputs("t,x,z,phi_deg,v,w,step,status,h11,h12,h13,h31,h32,h33,e_x,"
-              "parallax,n_inliers,n_matches\n", sinks.trace);
+    if (open_sinks(&o, &sinks) != 0) {
+        return EXIT_LINK;
     }
-    if (o.record_path) {
-        sinks.record = fopen(o.record_path, "wb");
-        if (!sinks.record) {
-            sim_cli_fail("--record: cannot open '%s': %s", o.record_path,
-                        strerror(errno));
-        }
-        if (sim_record_write_header(sinks.record) != 0) {
-            fprintf(stderr, "spvs-sim: cannot write the recording\n");
-            return EXIT_LINK;
-        }
-    }
-
-#ifdef SPVS_HAVE_ROSBAG
-    if (o.rosbag_dir) {
-        char berr[200];
-        sinks.rosbag = sim_rosbag_open(o.rosbag_dir, berr, sizeof(berr));
-        if (!sinks.rosbag) {
-            sim_cli_fail("%s", berr);
-        }
-    }
-#endif
-
 #ifdef SPVS_HAVE_FRONTEND
     images_t images;
-    memset(&images, 0, sizeof(images));
-    if (o.images) {
-        static sim_world_t w;
-        char ferr[200];
-        if (sim_config_world(&o.cfg, &w, ferr, sizeof(ferr)) != 0) {
-            sim_cli_fail("%s", ferr);
-        }
-        sim_frontend_params_t fp;
-        sim_frontend_params_default(&fp);
-        fp.seed = o.cfg.seed;
-        images.fe = sim_frontend_create(&fp, &w.cam, &w.plane, ferr,
-                                        sizeof(ferr));
-        if (images.fe == NULL) {
-            sim_cli_fail("%s", ferr);
-        }
-        images.o = &o;
-        o.cfg.observe = observe_images;
-        o.cfg.observe_user = &images;
-    }
+    open_images(&o, &images);
 #endif
-
     char err[200] = "";
     sim_link_t link;
     if (open_link_q(&o, &link, err, sizeof(err)) != 0) {
-        fprintf(stderr, "spvs-sim: cannot open the %s link: %s\n",
-                o.transport, err);
+        fprintf(stderr, "spvs-sim: cannot open the %s link: %s\n", o.transport, err);
         return EXIT_LINK;
     }
     if (!o.quiet) {
@@ -721,19 +945,7 @@ int main(int argc, char **argv)
     if (link.close) {
         link.close(link.ctx);
     }
-    int out_bad = 0;
-    if (sinks.trace && fclose(sinks.trace) != 0) {
-        out_bad = 1;
-    }
-    if (sinks.record && fclose(sinks.record) != 0) {
-        out_bad = 1;
-    }
-#ifdef SPVS_HAVE_ROSBAG
-    if (sinks.rosbag && sim_rosbag_close(sinks.rosbag, sinks.err,
-                                         sizeof(sinks.err)) != 0) {
-        out_bad = 1;
-    }
-#endif
+    int out_bad = close_sinks(&sinks);
     if (rc != 0) {
         /* The scene could not be built from these settings. */
         fprintf(stderr, "spvs-sim: %s\n", err);
@@ -743,39 +955,7 @@ int main(int argc, char **argv)
         print_report(&res);
     }
 #ifdef SPVS_HAVE_FRONTEND
-    if (images.fe != NULL) {
-        sim_frontend_totals_t t;
-        sim_frontend_totals(images.fe, &t);
-        if (!o.quiet) {
-            printf("images: %u frames, matches per frame mean %.1f (min %u, "
-                   "max %u), mismatches %.1f %% (worst frame %.1f %%)\n",
-                   (unsigned)t.frames,
-                   t.frames ? (double)t.matches / t.frames : 0.0,
-                   (unsigned)t.min_matches, (unsigned)t.max_matches,
-                   t.matches ? 100.0 * (double)t.mismatches / (double)t.matches
-                             : 0.0,
-                   100.0 * t.max_mismatch_rate);
-        }
-        sim_frontend_destroy(images.fe);
-        images.fe = NULL;
-        if (images.failed) {
-            out_bad = 1;
-            snprintf(sinks.err, sizeof(sinks.err), "%.150s", images.err);
-        }
-    }
+    out_bad |= close_images(&o, &images, &sinks);
 #endif
-    if (o.json) {
-        print_json(&o, &res, &sinks);
-    }
-    fflush(stdout);
-    if (res.status == SIM_ABORTED || out_bad) {
-        fprintf(stderr, "spvs-sim: %s\n",
-                sinks.err[0] ? sinks.err : "cannot write an output file");
-        return EXIT_LINK;
-    }
-    if (res.status == SIM_LINK_ERROR) {
-        fprintf(stderr, "spvs-sim: link error: %s\n", res.reason);
-        return EXIT_LINK;
-    }
-    return 0;
+    return finish_run(&o, &res, &sinks, out_bad);
 }
