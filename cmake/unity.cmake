@@ -38,4 +38,8 @@ function(spvs_unity_library name)
   target_include_directories(${name} SYSTEM PUBLIC ${SPVS_UNITY_SOURCE_DIR})
   target_include_directories(${name} PUBLIC ${SPVS_UNIT_TESTS_DIR})
   target_compile_definitions(${name} PUBLIC UNITY_INCLUDE_CONFIG_H ${U_DEFINES})
+  # cJSON's copy of unity_internals.h includes ../examples/unity_config.h
+  # in place of honouring UNITY_INCLUDE_CONFIG_H, so the settings are also
+  # read first into every source that sees Unity's headers.
+  target_compile_options(${name} PUBLIC -include ${SPVS_UNIT_TESTS_DIR}/unity_config.h)
 endfunction()

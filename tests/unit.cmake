@@ -90,3 +90,12 @@ if(NOT SPVS_FIXED)
                        LABELS "${spvs_variant};unity;unit" TIMEOUT 60
                        PASS_REGULAR_EXPRESSION "\n4 Tests 1 Failures 0 Ignored")
 endif()
+if(SPVS_FIXED)
+  spvs_unity_test(NAME unity_self_fail SOURCES ${spvs_unit_dir}/test_golden_fixed.c
+                  LIBS spvs::fixed DEFINES SPVS_UNIT_SELF_FAIL=1 TIMEOUT 60)
+  set_tests_properties(unity_self_fail PROPERTIES WILL_FAIL TRUE)
+  add_test(NAME unity_self_fail_count COMMAND unity_self_fail)
+  set_tests_properties(unity_self_fail_count PROPERTIES
+                       LABELS "${spvs_variant};unity;unit" TIMEOUT 60
+                       PASS_REGULAR_EXPRESSION "\n3 Tests 1 Failures 0 Ignored")
+endif()

@@ -541,6 +541,7 @@ static void test_params_check(void)
 
 void suite_control(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_closed_loop_law);
     RUN_TEST(test_first_command_signs);
     RUN_TEST(test_plane_check);

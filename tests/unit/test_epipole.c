@@ -210,6 +210,7 @@ static void test_clamp(void)
 
 void suite_epipole(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_exact_on_line);
     RUN_TEST(test_exact_general_and_sign);
     RUN_TEST(test_mismatches);

@@ -657,6 +657,7 @@ static void test_params_check(void)
 
 void suite_fixed_control(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_twin_noise_free);
     RUN_TEST(test_twin_one_pixel);
     RUN_TEST(test_plane_zero_rows);

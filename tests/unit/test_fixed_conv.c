@@ -131,7 +131,11 @@ static void test_q_load_bits(void)
 
 void suite_fixed_conv(void)
 {
+    UNIT_SUITE_FILE();
+#if !defined(SPVS_UNIT_TARGET)
+    /* On the Cortex-M images: its reference rounds through long double, which has a 64-bit mantissa on x86-64 but is double on ARM (double rounding there): host only. */
     RUN_TEST(test_q_ieee_bits);
+#endif
     RUN_TEST(test_q_load_bits);
 }
 

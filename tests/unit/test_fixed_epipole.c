@@ -742,6 +742,7 @@ static void test_memory_sequences(void)
 
 void suite_fixed_epipole(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_helpers);
     RUN_TEST(test_epipole_golden);
     RUN_TEST(test_epipole_statuses);

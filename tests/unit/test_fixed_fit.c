@@ -771,6 +771,7 @@ static void test_q_fit_edges(void)
 
 void suite_fixed_fit(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_q_solves_ref);
     RUN_TEST(test_q_fits_random);
     RUN_TEST(test_q_fits_golden);

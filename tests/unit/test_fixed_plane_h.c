@@ -351,6 +351,7 @@ static void test_plane_h_load_statuses(void)
 
 void suite_fixed_plane_h(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_plane_h_load_statuses);
     RUN_TEST(test_plane_h_golden);
     RUN_TEST(test_plane_h_random);

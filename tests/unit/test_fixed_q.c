@@ -1809,6 +1809,7 @@ static void test_q_load_checks(void)
 
 void suite_fixed_q(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_q_shifts);
     RUN_TEST(test_q_saturation);
     RUN_TEST(test_q_div_sqrt);

@@ -291,6 +291,7 @@ static void test_q_solve3_thresholds(void)
 
 void suite_fixed_solve3(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_q_solve3);
     RUN_TEST(test_q_solve3_thresholds);
 }

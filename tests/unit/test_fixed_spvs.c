@@ -515,6 +515,7 @@ static void test_twin_bad_h(void)
 
 void suite_fixed_spvs(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_readback_fresh);
     RUN_TEST(test_readback_closed_loop);
     RUN_TEST(test_bad_h);

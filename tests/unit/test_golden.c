@@ -115,6 +115,7 @@ static void test_epipole(void)
 
 void suite_golden(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_vectors_consistent);
     RUN_TEST(test_solve3_exact);
     RUN_TEST(test_refit_noisy);

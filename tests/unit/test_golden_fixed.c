@@ -20,6 +20,16 @@
 #include "golden/golden_vectors.h"
 #include "golden/golden_check_q.h"
 
+/* The harness's own test (SPVS_UNIT_SELF_FAIL=1, the fixed-point build's
+ * unity_self_fail*): test_golden_q_h runs every case with the true H
+ * perturbed as test_golden_q_tamper does, so it must fail, and the run must
+ * count exactly one failed test. */
+#if defined(SPVS_UNIT_SELF_FAIL) && SPVS_UNIT_SELF_FAIL
+#define UNIT_SELF_FAIL_TAMPER 1
+#else
+#define UNIT_SELF_FAIL_TAMPER 0
+#endif
+
 static double q18_px(int64_t v)
 {
     return (double)v / (double)(1 << 18);
@@ -31,7 +41,10 @@ static void test_golden_q_h(void)
     int fails = 0;
     for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
         golden_q_h_result_t r;
-        golden_q_run_h(&spvs_golden_h[c], 0, &r);
+        int bad = 0;
+        const int32_t tamper = UNIT_SELF_FAIL_TAMPER
+            ? golden_q_in(spvs_golden_h[c].H[0], SPVS_QH, &bad) / 1000 : 0;
+        golden_q_run_h(&spvs_golden_h[c], tamper, &r);
         const double rel = r.solve3_max > 0 ? (double)r.solve3_diff / (double)r.solve3_max : 1.0;
         worst_rel = rel > worst_rel ? rel : worst_rel;
         worst_corner = q18_px(r.corner_q18) > worst_corner ? q18_px(r.corner_q18) : worst_corner;
@@ -84,6 +97,7 @@ static void test_golden_q_tamper(void)
 
 void suite_golden_fixed(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_golden_q_h);
     RUN_TEST(test_golden_q_e);
     RUN_TEST(test_golden_q_tamper);

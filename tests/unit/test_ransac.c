@@ -367,6 +367,7 @@ static void test_lo_lifts_share(void)
 
 void suite_ransac(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_needed);
     RUN_TEST(test_lo_only_plausible);
     RUN_TEST(test_exact_iterations);

@@ -283,6 +283,7 @@ static void test_estimate_h(void)
 
 void suite_spvs(void)
 {
+    UNIT_SUITE_FILE();
     RUN_TEST(test_ok_and_remember);
     RUN_TEST(test_every_status_stops);
     RUN_TEST(test_estimate_h);

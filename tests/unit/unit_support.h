@@ -40,6 +40,10 @@
     }
 #endif
 
+/* A suite's first statement: Unity's report names the test file (on the
+ * target all suites run under one UNITY_BEGIN). */
+#define UNIT_SUITE_FILE() (Unity.TestFile = __FILE__)
+
 /* Each test file's suite: RUN_TEST of each of its tests. */
 void suite_homography(void);
 void suite_ransac(void);
