@@ -35,27 +35,11 @@ void unit_putc(int c)
     }
 }
 
-/* One suite, and the time it took (SysTick at BOARD_CPU_HZ: under QEMU
- * without -icount, the emulation's virtual clock). */
-static void unit_timed(const char *name, void (*suite)(void))
-{
-    const uint64_t t0 = board_ticks();
-    suite();
-    const uint64_t ms = (board_ticks() - t0) / (BOARD_CPU_HZ / 1000u);
-    unit_flush();
-    out_str("suite ");
-    out_str(name);
-    out_str(": ");
-    out_u32((uint32_t)ms);
-    out_str(" ms\n");
-}
-
 int main(void)
 {
-    board_ticks_start();
     out_str("spvs " SPVS_TARGET_CPU_NAME " Unity image\n");
     UNITY_BEGIN();
-#define SPVS_UNIT_SUITE(name) unit_timed(#name, suite_##name);
+#define SPVS_UNIT_SUITE(name) suite_##name();
 #include "unit_suites.h"
 #undef SPVS_UNIT_SUITE
     int fails = UNITY_END();

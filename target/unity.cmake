@@ -18,9 +18,8 @@
 #                          the ARM compiler lacks;
 #   fixed_spvs, fixed_control, fixed_epipole, fixed_ransac
 #                          Q stages against their float twins over
-#                          thousands of random frames: 20-120 s of emulated
-#                          time each on the Cortex-M4F, twice that on the
-#                          Cortex-M3;
+#                          thousands of random frames, too slow under
+#                          emulation for the suite's time (docs/TESTING.md);
 # and three tests of the files that run here, each saying why in its
 # suite (test_lin_fit, test_q_ieee_bits; test_q_ransac_same_decisions is
 # in fixed_ransac).  The test images keep the board's memory map but not

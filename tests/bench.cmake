@@ -10,11 +10,13 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt AND NOT SPVS_FIXED)
   # (bench_work/NAME in the build tree), so that no two tests share a file
   # under `ctest -j`.
   set(spvs_bench_work ${CMAKE_CURRENT_BINARY_DIR}/bench_work)
-  # SCRIPT run by sh in that directory (one quoted argument, so that its
-  # semicolons stay shell syntax, not CMake list separators).
+  # SCRIPT run by bash in that directory (one quoted argument, so that its
+  # semicolons stay shell syntax, not CMake list separators), with
+  # pipefail: in `spvs-bench ... | check_short.py` a failing spvs-bench
+  # fails the test, whatever the checker makes of its output.
   function(spvs_bench_add name script)
     add_test(NAME ${name}
-      COMMAND sh -c "d=${spvs_bench_work}/${name}; rm -rf \"$d\" && mkdir -p \"$d\" && cd \"$d\" && ${script}")
+      COMMAND /bin/bash -c "set -o pipefail; d=${spvs_bench_work}/${name}; rm -rf \"$d\" && mkdir -p \"$d\" && cd \"$d\" && ${script}")
   endfunction()
 
   # `spvs-bench RUN | check_short.py CHECK`.
