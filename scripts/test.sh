@@ -16,7 +16,7 @@ status=0
 # a test that CI must run may be neither skipped (exit 77,
 # SKIP_RETURN_CODE, or a fixture's skip) nor missing: every name in
 # tests/ci/VARIANT.txt must be registered in DIR under the selection, and
-# ctest's report may name no skipped test.  Sets status=1 on any failure.
+# ctest's report may name no skipped or disabled test.  Sets status=1 on any failure.
 run_ctest() {
   local variant=$1 dir=$2
   shift 2
@@ -41,7 +41,7 @@ run_ctest() {
       echo "CI: required tests not registered in $dir ($variant):" $missing >&2
       status=1
     fi
-    skipped=$(grep -E '\*\*\*Skipped|\(Skipped\)' "$log" |
+    skipped=$(grep -E '\*\*\*Skipped|\(Skipped\)|\(Disabled\)' "$log" |
       sed -E 's/.*Test +#[0-9]+: ([^ ]+).*/\1/; s/^[[:space:]]*[0-9]+ - ([^ ]+).*/\1/' | sort -u || true)
     if [ -n "$skipped" ]; then
       echo "CI: required tests skipped ($variant):" $skipped >&2

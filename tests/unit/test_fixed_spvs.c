@@ -520,8 +520,10 @@ void suite_fixed_spvs(void)
     RUN_TEST(test_readback_closed_loop);
     RUN_TEST(test_bad_h);
     RUN_TEST(test_inlier_px);
+#if !SPVS_USE_FIXED
     RUN_TEST(test_twin_float);
     RUN_TEST(test_twin_bad_h);
+#endif
 }
 
 UNIT_MAIN(suite_fixed_spvs)
