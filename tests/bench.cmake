@@ -46,10 +46,13 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt AND NOT SPVS_FIXED)
   # A grazing case (63: N = 200, 20 %, 1 px, the goal image's centre 60-100
   # deg off the optical axis) through the same workflow: one instance is its
   # 48 poses (8 angles at each of the six Figure 5 starts), every line says
-  # it is of the grazing family and carries both corner errors.
+  # it is of the grazing family and carries both corner errors; and ours
+  # keeps what it measures on those 48 seeded estimates: the success rate,
+  # the mean corner error in the current image and the median in the target
+  # image, each bound just beyond the measured figure (docs/TESTING.md).
   spvs_bench_test(bench_case_file_grazing
     "--generate case63.bin --case 63 --instances 1 && $<TARGET_FILE:spvs-bench> --cases case63.bin --json --repeats 1 --warmup 1 --estimators spvs,cv_usac_default,cv_usac_magsac"
-    "--family grazing --need spvs,cv_usac_default,cv_usac_magsac --records 48 --min-success 0 --max-err inf" 120)
+    "--family grazing --need spvs,cv_usac_default,cv_usac_magsac --records 48 --min-success 0.04 --max-err 10 --max-err-tgt 0.5" 120)
 
   # Bad values, each named in the message.
   spvs_bench_refuses(bench_bad_order "--short --order sideways" "'sideways'")
