@@ -10,11 +10,13 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt AND NOT SPVS_FIXED)
   # (bench_work/NAME in the build tree), so that no two tests share a file
   # under `ctest -j`.
   set(spvs_bench_work ${CMAKE_CURRENT_BINARY_DIR}/bench_work)
-  # SCRIPT run by sh in that directory (one quoted argument, so that its
-  # semicolons stay shell syntax, not CMake list separators).
+  # SCRIPT run by bash in that directory (one quoted argument, so that its
+  # semicolons stay shell syntax, not CMake list separators), with
+  # pipefail: in `spvs-bench ... | check_short.py` a failing spvs-bench
+  # fails the test, whatever the checker makes of its output.
   function(spvs_bench_add name script)
     add_test(NAME ${name}
-      COMMAND sh -c "d=${spvs_bench_work}/${name}; rm -rf \"$d\" && mkdir -p \"$d\" && cd \"$d\" && ${script}")
+      COMMAND /bin/bash -c "set -o pipefail; d=${spvs_bench_work}/${name}; rm -rf \"$d\" && mkdir -p \"$d\" && cd \"$d\" && ${script}")
   endfunction()
 
   # `spvs-bench RUN | check_short.py CHECK`.
@@ -44,10 +46,13 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/tools/bench/CMakeLists.txt AND NOT SPVS_FIXED)
   # A grazing case (63: N = 200, 20 %, 1 px, the goal image's centre 60-100
   # deg off the optical axis) through the same workflow: one instance is its
   # 48 poses (8 angles at each of the six Figure 5 starts), every line says
-  # it is of the grazing family and carries both corner errors.
+  # it is of the grazing family and carries both corner errors; and ours
+  # keeps what it measures on those 48 seeded estimates: the success rate,
+  # the mean corner error in the current image and the median in the target
+  # image, each bound just beyond the measured figure (docs/TESTING.md).
   spvs_bench_test(bench_case_file_grazing
     "--generate case63.bin --case 63 --instances 1 && $<TARGET_FILE:spvs-bench> --cases case63.bin --json --repeats 1 --warmup 1 --estimators spvs,cv_usac_default,cv_usac_magsac"
-    "--family grazing --need spvs,cv_usac_default,cv_usac_magsac --records 48 --min-success 0 --max-err inf" 120)
+    "--family grazing --need spvs,cv_usac_default,cv_usac_magsac --records 48 --min-success 0.04 --max-err 10 --max-err-tgt 0.5" 120)
 
   # Bad values, each named in the message.
   spvs_bench_refuses(bench_bad_order "--short --order sideways" "'sideways'")

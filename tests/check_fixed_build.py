@@ -10,6 +10,10 @@ import json
 import subprocess
 import sys
 
+# A success (DESIGN.md section 6, docs/RESULTS.md): converged and home.
+POS_TOL_M = 0.25
+PHI_TOL_DEG = 0.5
+
 RUN = ["--pose", "0.8,-2,-20", "--noise", "0.5", "--outliers", "0.1",
        "--seed", "3", "--json", "--quiet"]
 
@@ -36,6 +40,12 @@ def main():
             sys.exit("method %d: spvs_update and spvs_q_update differ:\n%s\n%s"
                      % (method, json.dumps(a), json.dumps(b)))
         e = a["final_error"]
+        if a["status"] != "converged":
+            sys.exit("method %d: status %s (converged expected)" % (method, a["status"]))
+        if not (abs(e["x_m"]) <= POS_TOL_M and abs(e["z_m"]) <= POS_TOL_M
+                and abs(e["phi_deg"]) <= PHI_TOL_DEG):
+            sys.exit("method %d: final error %.4f m, %.4f m, %.4f deg (limits %.2f m, %.1f deg)"
+                     % (method, e["x_m"], e["z_m"], e["phi_deg"], POS_TOL_M, PHI_TOL_DEG))
         print("method %d: the same run on both (%s, %d frames, final error "
               "%.4f m, %.4f m, %.4f deg)" % (method, a["status"], a["frames"],
                                             e["x_m"], e["z_m"], e["phi_deg"]))

@@ -2,7 +2,7 @@
  * fixed_scene.h - the random planar-motion scenes of the fixed-point tests
  * (test_fixed_q.c, test_fixed_fit.c): matches with noise in both images and
  * mismatches, loaded into the float store and the Q store in the same
- * spread order.  Included by one test source each, after cmocka.h (static
+ * spread order.  Included by one test source each, after unity.h (static
  * functions).
  */
 #ifndef SPVS_TESTS_FIXED_SCENE_H
@@ -82,9 +82,9 @@ static inline void load_both(scene_t *sc)
         }
         st++;
     }
-    assert_int_equal(spvs_pts_load(&sc->fst, f1, sc->m, sc->n, sc->n, NULL, st), 0);
-    assert_int_equal(spvs_q_pts_load(&sc->qst, f2, sc->m, sc->n, sc->n, NULL, st), 0);
-    assert_memory_equal(f1, f2, sc->n * sizeof f1[0]);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_pts_load(&sc->fst, f1, sc->m, sc->n, sc->n, NULL, st));
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_pts_load(&sc->qst, f2, sc->m, sc->n, sc->n, NULL, st));
+    TEST_ASSERT_EQUAL_MEMORY(f2, f1, sc->n * sizeof f1[0]);
     for (uint16_t i = 0; i < sc->n; i++) {
         spvs_real fr[4];
         int32_t qr[4];
@@ -92,7 +92,7 @@ static inline void load_both(scene_t *sc)
         spvs_q_pts_row(&sc->qst, i, qr);
         for (int k = 0; k < 4; k++) {
             /* Q26 rounding: within half a unit of 2^-26 scaled units. */
-            assert_true(fabs(ldexp((double)qr[k], -SPVS_QC) - (double)fr[k]) <= 0x1p-27);
+            TEST_ASSERT_TRUE(fabs(ldexp((double)qr[k], -SPVS_QC) - (double)fr[k]) <= 0x1p-27);
         }
     }
 }

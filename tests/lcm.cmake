@@ -52,3 +52,16 @@ if(TARGET spvs_node_lib)
                          LABELS "${spvs_variant};lcm;process;scenario" TIMEOUT 240)
   endif()
 endif()
+
+# The README's and docs/LCM.md's sample report held to a default run of the
+# demo's loop (tests/lcm/readme_report.sh): simulated time, frames, metres
+# driven and the LCM log's events per channel.
+if(TARGET spvs-node AND TARGET spvs-sim AND NOT SPVS_FIXED AND NOT SPVS_DOUBLE)
+  add_test(NAME lcm_readme_report
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/lcm/readme_report.sh
+                   $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-sim>
+                   ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/LCM.md
+                   ${CMAKE_CURRENT_BINARY_DIR}/lcm_readme_report)
+  set_tests_properties(lcm_readme_report PROPERTIES
+                       LABELS "${spvs_variant};lcm;process;docs" TIMEOUT 180)
+endif()

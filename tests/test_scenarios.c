@@ -197,11 +197,12 @@ static const double table1_normals[16][3] = {
     {0.57, -0.20, -0.80},
 };
 
-/* Table 1 from (-3, -10, -30): where the component a method relies on (n_z
+/* Table 1 from (-3, -10, -30), every row judged against the status
+ * docs/RESULTS.md gives it: where the component a method relies on (n_z
  * for I and III, n_y for II) is zero, the run fails with the plane status
- * and the robot never leaves its start pose; where its magnitude is 0.4 or
- * more, the method converges within 0.05 m and 0.2 deg.  Rows at 0.2 are
- * printed, not judged (the paper's own runs stop short there). */
+ * and the robot never leaves its start pose; everywhere else, the rows
+ * where that component is about 0.2 included, the method converges within
+ * 0.05 m and 0.2 deg. */
 static void test_table1_plane_normals(void **state)
 {
     (void)state;
@@ -227,14 +228,8 @@ static void test_table1_plane_normals(void **state)
                      r.final_pose.z_m == c.start.z_m &&
                      r.final_pose.phi_rad == c.start.phi_rad &&
                      r.path_m == 0.0;
-            } else if (comp >= 0.4 - 1e-3) {
-                ok = within(&r, 0.05, 0.2);
             } else {
-                ok = 1;
-                print_message("Table 1 row %d, n = (%.2f, %.2f, %.2f), "
-                              "component %.2f (reported only): ", row + 1,
-                              n0[0], n0[1], n0[2], comp);
-                report("", &c, &r);
+                ok = within(&r, 0.05, 0.2);
             }
             if (!ok) {
                 print_message("Table 1 row %d, n = (%.2f, %.2f, %.2f), "
@@ -251,17 +246,32 @@ static void test_table1_plane_normals(void **state)
 
 /* 1 px image noise from the six Figure 5 poses, seeds 0..NOISE_SEEDS-1 (120
  * runs per method), without and with 20 % mismatches (seeds
- * 0..MISMATCH_SEEDS-1): no run reports "converged" outside 0.25 m / 0.5 deg
- * (the arrival check, docs/CONTROL.md).  Without mismatches at least
- * NOISE_MIN_PCT_HOME % of the runs end within them, whatever their status,
- * and at least NOISE_MIN_PCT_CONVERGED % end there converged (the others
- * end not_at_target at home: the check refuses some homes, never a miss).
- * Measured on seeds 1000-1099 (docs/CONTROL.md): 100, 99.2 and 100 % home,
- * 83, 72.5 and 86 % converged. */
+ * 0..MISMATCH_SEEDS-1, 30 runs per method): no run reports "converged"
+ * outside 0.25 m / 0.5 deg (the arrival check, docs/CONTROL.md), and the
+ * share of runs that end within them (whatever their status) and the share
+ * that end there converged each reach a floor: the rate measured on 600
+ * runs per method and case on seeds the tests do not use (1000-1099, the
+ * table of docs/CONTROL.md, in noise_rates below) minus three binomial
+ * standard deviations of a share of this test's run count n,
+ * 3 sqrt(p (1 - p) / n), with p kept at most 1 - 1/n so that a rate
+ * measured at or near 100 % still leaves a margin. */
 #define NOISE_SEEDS 20
 #define MISMATCH_SEEDS 5
-#define NOISE_MIN_PCT_HOME 97
-#define NOISE_MIN_PCT_CONVERGED 60
+
+/* Measured rates (docs/CONTROL.md, seeds 1000-1099): [mismatches 0 or
+ * 20 %][method - 1] = {home, converged}. */
+static const double noise_rates[2][3][2] = {
+    {{600 / 600.0, 497 / 600.0}, {597 / 600.0, 438 / 600.0}, {599 / 600.0, 518 / 600.0}},
+    {{599 / 600.0, 427 / 600.0}, {588 / 600.0, 421 / 600.0}, {599 / 600.0, 409 / 600.0}},
+};
+
+/* The fewest of `runs` runs that may meet a rate measured at p. */
+static int binomial_floor(double p, int runs)
+{
+    const double pc = p < 1.0 - 1.0 / runs ? p : 1.0 - 1.0 / runs;
+    const double floor_share = p - 3.0 * sqrt(pc * (1.0 - pc) / runs);
+    return (int)ceil(floor_share * runs - 1e-9);
+}
 
 typedef struct {
     int home;         /* ended within 0.25 m / 0.5 deg, any status */
@@ -295,28 +305,25 @@ static void noise_runs(int method, double outliers, int seeds, noise_count_t *n)
 static void test_one_pixel_noise_six_poses(void **state)
 {
     (void)state;
-    int short_methods = 0, false_claims = 0;
+    int short_counts = 0, false_claims = 0;
     for (int method = 1; method <= 3; ++method) {
-        const int runs = 6 * NOISE_SEEDS;
-        noise_count_t n = {0, 0, 0};
-        noise_runs(method, 0.0, NOISE_SEEDS, &n);
-        print_message("method %d: %d of %d runs end within 0.25 m / 0.5 deg (%.1f %%, at least "
-                      "%d %% needed), %d of them converged (at least %d %% needed)\n",
-                      method, n.home, runs, 100.0 * n.home / runs, NOISE_MIN_PCT_HOME,
-                      n.converged, NOISE_MIN_PCT_CONVERGED);
-        if (100 * n.home < NOISE_MIN_PCT_HOME * runs ||
-            100 * n.converged < NOISE_MIN_PCT_CONVERGED * runs) {
-            ++short_methods;
+        for (int mis = 0; mis < 2; ++mis) {
+            const int seeds = mis ? MISMATCH_SEEDS : NOISE_SEEDS;
+            const int runs = 6 * seeds;
+            noise_count_t n = {0, 0, 0};
+            noise_runs(method, mis ? 0.2 : 0.0, seeds, &n);
+            const int min_home = binomial_floor(noise_rates[mis][method - 1][0], runs);
+            const int min_conv = binomial_floor(noise_rates[mis][method - 1][1], runs);
+            print_message("method %d, %d %% mismatches: %d of %d runs end within 0.25 m / "
+                          "0.5 deg (at least %d needed), %d of them converged (at least %d "
+                          "needed)\n", method, mis ? 20 : 0, n.home, runs, min_home,
+                          n.converged, min_conv);
+            short_counts += (n.home < min_home) + (n.converged < min_conv);
+            false_claims += n.false_claims;
         }
-        false_claims += n.false_claims;
-        noise_count_t m = {0, 0, 0};
-        noise_runs(method, 0.2, MISMATCH_SEEDS, &m);
-        print_message("method %d, 20 %% mismatches: %d of %d runs end within 0.25 m / 0.5 deg, "
-                      "%d converged\n", method, m.home, 6 * MISMATCH_SEEDS, m.converged);
-        false_claims += m.false_claims;
     }
     assert_int_equal(false_claims, 0);
-    assert_int_equal(short_methods, 0);
+    assert_int_equal(short_counts, 0);
 }
 
 /* Odometry drift of 1 deg/m (the paper's Figure 7, first row): every method

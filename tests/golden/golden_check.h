@@ -1,6 +1,6 @@
 /*
  * golden_check.h - the checks of the core against golden_vectors.h, written
- * once and shared by the host test (tests/test_golden.c, cmocka) and the
+ * once and shared by the host test (tests/unit/test_golden.c, Unity) and the
  * Cortex-M4F image (target/golden_run.c), so both run the same arithmetic.
  *
  * Everything here computes in spvs_real: on the float MCU build no double

@@ -12,7 +12,9 @@ usage: spvs-bench --short | check_short.py [--min-success S] [--max-err PX|inf]
 --order, --between and --family: every line must say it was timed so, or
 come from that pose family; --records: ours must have timed that many
 records; --max-err inf: no bound on the corner error (only that it is
-reported).
+reported).  --max-err-tgt PX: ours' median corner error in target-image
+pixels (median_corner_err_tgt_px, H's magnification taken out) must be
+under PX.
 """
 import argparse
 import json
@@ -31,6 +33,7 @@ def fail(msg):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--min-success", type=float, default=1.0)
+    ap.add_argument("--max-err-tgt", type=float, default=math.inf)
     ap.add_argument("--max-err", type=float, default=2.0)
     ap.add_argument("--need", default="spvs,cv_ransac,cv_usac_default",
                     help="estimators that must be present")
@@ -73,6 +76,11 @@ def main():
     if math.isfinite(args.max_err) and (err is None or not math.isfinite(err) or
                                         err >= args.max_err):
         fail("our mean corner error %r px is not under %.2f px" % (err, args.max_err))
+    err_tgt = ours.get("median_corner_err_tgt_px")
+    if math.isfinite(args.max_err_tgt) and (err_tgt is None or not math.isfinite(err_tgt) or
+                                            err_tgt >= args.max_err_tgt):
+        fail("our median corner error in the target image %r px is not under %.2f px"
+             % (err_tgt, args.max_err_tgt))
     sys.stdout.write("check_short: %s, spvs %.1f us, success %.3f, corner error %s px; "
                      "fastest OpenCV %.1f us\n" % (
                          ours["family"], ours["median_us"], ours["success_rate"],

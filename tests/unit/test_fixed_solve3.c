@@ -3,14 +3,13 @@
  * in long double on the Q store's exact values and against the float
  * solver, on random planar-motion scenes (docs/FIXED.md). */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "core_util.h"
 #include "fixed_scene.h"
@@ -143,14 +142,13 @@ static void check_row(const int32_t Hq[9], const long double Hr[9], int k0,
         er->abs = fmax(er->abs, e);
         er->tol = fmax(er->tol, e / tol);
         er->bound = fmax(er->bound, e / bound);
-        assert_true(e <= tol);
-        assert_true(e <= bound);
+        TEST_ASSERT_TRUE(e <= tol);
+        TEST_ASSERT_TRUE(e <= bound);
     }
 }
 
-static void test_q_solve3(void **state)
+static void test_q_solve3(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 314;
     long solved = 0, degenerate = 0, near = 0, float_cmp = 0;
@@ -181,7 +179,7 @@ static void test_q_solve3(void **state)
                 /* Only a triple at a threshold may be decided otherwise:
                  * its reference result sits within 1e-6 of the bound. */
                 near++;
-                assert_true(near <= NEAR_MAX);
+                TEST_ASSERT_TRUE(near <= NEAR_MAX);
                 continue;
             }
             if (rq != SPVS_OK) {
@@ -189,9 +187,9 @@ static void test_q_solve3(void **state)
                 continue;
             }
             solved++;
-            assert_int_equal(Hq[3], 0);
-            assert_int_equal(Hq[4], (int32_t)1 << SPVS_QH);
-            assert_int_equal(Hq[5], 0);
+            TEST_ASSERT_EQUAL_INT64(0, Hq[3]);
+            TEST_ASSERT_EQUAL_INT64((int32_t)1 << SPVS_QH, Hq[4]);
+            TEST_ASSERT_EQUAL_INT64(0, Hq[5]);
             check_row(Hq, Hr, 0, &rs, &r1);
             check_row(Hq, Hr, 6, &rs, &r3);
             /* The float solver on the float store's points (which differ
@@ -209,16 +207,14 @@ static void test_q_solve3(void **state)
             }
         }
     }
-    print_message("solve3: %ld solved, %ld degenerate, %ld decided otherwise at a threshold\n"
+    UNIT_NOTE("solve3: %ld solved, %ld degenerate, %ld decided otherwise at a threshold\n"
                   "  row 1: largest error %.3g scaled units, %.3g of the tolerance, "
                   "%.3g of the bound\n"
                   "  row 3: largest error %.3g scaled units, %.3g of the tolerance, "
                   "%.3g of the bound\n"
                   "  float against the reference (%ld triples with |adj P| / |det P| < 1e3): "
-                  "%.3g relative\n",
-                  solved, degenerate, near, r1.abs, r1.tol, r1.bound, r3.abs, r3.tol, r3.bound,
-                  float_cmp, worst_f);
-    assert_true(solved > 8000);
+                  "%.3g relative\n", solved, degenerate, near, r1.abs, r1.tol, r1.bound, r3.abs, r3.tol, r3.bound, float_cmp, worst_f);
+    TEST_ASSERT_TRUE(solved > 8000);
 }
 
 /* Triples built at the thresholds, on exact Q store values: the solver's
@@ -240,9 +236,9 @@ static void check_edge(const edge_t *ed)
     const uint16_t idx[3] = {0, 1, 2};
     long double Hr[9];
     ref_scale_t rs;
-    assert_int_equal(ref_solve3(&st, idx, Hr, &rs) == 0, ed->ok);
+    TEST_ASSERT_EQUAL_INT64(ed->ok, ref_solve3(&st, idx, Hr, &rs) == 0);
     int32_t Hq[9] = {0};
-    assert_int_equal(spvs_q_solve3(&st, idx, Hq), ed->ok ? SPVS_OK : SPVS_E_DEGENERATE);
+    TEST_ASSERT_EQUAL_INT64(ed->ok ? SPVS_OK : SPVS_E_DEGENERATE, spvs_q_solve3(&st, idx, Hq));
     if (ed->ok) {
         row_err_t er = {0, 0, 0};
         check_row(Hq, Hr, 0, &rs, &er);
@@ -254,9 +250,8 @@ static void check_edge(const edge_t *ed)
  * above its threshold while det P sits at its own. */
 #define EDGE_Y 80530637
 
-static void test_q_solve3_thresholds(void **state)
+static void test_q_solve3_thresholds(void)
 {
-    (void)state;
     const int32_t Y = EDGE_Y, U = 1 << 25;
     /* det P = 21222^2 - d e in Q52 units: 450359962 (1e-7 2^52 rounded
      * down, degenerate) with d e = 13322, 450359963 (solved) with
@@ -294,11 +289,11 @@ static void test_q_solve3_thresholds(void **state)
     check_edge(&h_in);
 }
 
-int main(void)
+void suite_fixed_solve3(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_q_solve3),
-        cmocka_unit_test(test_q_solve3_thresholds),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_q_solve3);
+    RUN_TEST(test_q_solve3_thresholds);
 }
+
+UNIT_MAIN(suite_fixed_solve3)

@@ -8,14 +8,13 @@
  * measured (the largest errors seen) are printed in one line per test and
  * recorded in docs/FIXED.md. */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "core_util.h"
 /* The kernels' source itself, and with the accelerators the count's
@@ -152,69 +151,67 @@ static int64_t ref_rnd(int64_t x, int s)
     return (int64_t)r;
 }
 
-static void test_q_shifts(void **state)
+static void test_q_shifts(void)
 {
-    (void)state;
     /* Ties go up: 1.5 -> 2, -1.5 -> -1, 2.5 -> 3, -2.5 -> -2. */
-    assert_int_equal(spvs_q_rshift_rnd64(3, 1), 2);
-    assert_int_equal(spvs_q_rshift_rnd64(-3, 1), -1);
-    assert_int_equal(spvs_q_rshift_rnd64(5, 1), 3);
-    assert_int_equal(spvs_q_rshift_rnd64(-5, 1), -2);
-    assert_int_equal(spvs_q_rshift_rnd32(3, 1), 2);
-    assert_int_equal(spvs_q_rshift_rnd32(-3, 1), -1);
+    TEST_ASSERT_EQUAL_INT64(2, spvs_q_rshift_rnd64(3, 1));
+    TEST_ASSERT_EQUAL_INT64(-1, spvs_q_rshift_rnd64(-3, 1));
+    TEST_ASSERT_EQUAL_INT64(3, spvs_q_rshift_rnd64(5, 1));
+    TEST_ASSERT_EQUAL_INT64(-2, spvs_q_rshift_rnd64(-5, 1));
+    TEST_ASSERT_EQUAL_INT64(2, spvs_q_rshift_rnd32(3, 1));
+    TEST_ASSERT_EQUAL_INT64(-1, spvs_q_rshift_rnd32(-3, 1));
     /* No overflow at the edges. */
-    assert_true(spvs_q_rshift_rnd64(INT64_MAX, 1) == ((int64_t)1 << 62));
-    assert_true(spvs_q_rshift_rnd64(INT64_MIN, 1) == -((int64_t)1 << 62));
-    assert_true(spvs_q_rshift_rnd64(INT64_MAX, 63) == 1);
-    assert_true(spvs_q_rshift_rnd64(INT64_MIN, 63) == -1);
-    assert_int_equal(spvs_q_rshift_rnd32(INT32_MAX, 31), 1);
+    TEST_ASSERT_TRUE(spvs_q_rshift_rnd64(INT64_MAX, 1) == ((int64_t)1 << 62));
+    TEST_ASSERT_TRUE(spvs_q_rshift_rnd64(INT64_MIN, 1) == -((int64_t)1 << 62));
+    TEST_ASSERT_TRUE(spvs_q_rshift_rnd64(INT64_MAX, 63) == 1);
+    TEST_ASSERT_TRUE(spvs_q_rshift_rnd64(INT64_MIN, 63) == -1);
+    TEST_ASSERT_EQUAL_INT64(1, spvs_q_rshift_rnd32(INT32_MAX, 31));
     uint64_t s = 5;
     for (int i = 0; i < 200000; i++) {
         const int64_t x = rnd_i64(&s);
         const int sh = (int)(rng_u64(&s) % 63u);
-        assert_true(spvs_q_rshift_rnd64(x, sh) == ref_rnd(x, sh));
+        TEST_ASSERT_TRUE(spvs_q_rshift_rnd64(x, sh) == ref_rnd(x, sh));
     }
     /* Leading zeros and bit lengths. */
-    assert_int_equal(spvs_q_clz32(0), 32);
-    assert_int_equal(spvs_q_clz32(1), 31);
-    assert_int_equal(spvs_q_clz64(0), 64);
-    assert_int_equal(spvs_q_clz64((uint64_t)1 << 40), 23);
-    assert_int_equal(spvs_q_bitlen64(UINT64_MAX), 64);
-    assert_int_equal(spvs_q_norm_shift((uint64_t)1 << 40, 30), 11);
-    assert_int_equal(spvs_q_norm_shift(5, 30), 0);
+    TEST_ASSERT_EQUAL_INT64(32, spvs_q_clz32(0));
+    TEST_ASSERT_EQUAL_INT64(31, spvs_q_clz32(1));
+    TEST_ASSERT_EQUAL_INT64(64, spvs_q_clz64(0));
+    TEST_ASSERT_EQUAL_INT64(23, spvs_q_clz64((uint64_t)1 << 40));
+    TEST_ASSERT_EQUAL_INT64(64, spvs_q_bitlen64(UINT64_MAX));
+    TEST_ASSERT_EQUAL_INT64(11, spvs_q_norm_shift((uint64_t)1 << 40, 30));
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_norm_shift(5, 30));
 }
 
-static void test_q_saturation(void **state)
+static void test_q_saturation(void)
 {
-    (void)state;
     uint32_t sat = 0;
-    assert_int_equal(spvs_q_sat32((int64_t)INT32_MAX + 1, &sat), INT32_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MAX, spvs_q_sat32((int64_t)INT32_MAX + 1, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_int_equal(spvs_q_sat32((int64_t)INT32_MIN - 1, &sat), INT32_MIN);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MIN, spvs_q_sat32((int64_t)INT32_MIN - 1, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_int_equal(spvs_q_add32(INT32_MAX, 1, &sat), INT32_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MAX, spvs_q_add32(INT32_MAX, 1, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_int_equal(spvs_q_sub32(INT32_MIN, 1, &sat), INT32_MIN);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MIN, spvs_q_sub32(INT32_MIN, 1, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_true(spvs_q_add64(INT64_MAX, 1, &sat) == INT64_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_TRUE(spvs_q_add64(INT64_MAX, 1, &sat) == INT64_MAX);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_true(spvs_q_add64(INT64_MIN, -1, &sat) == INT64_MIN);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_TRUE(spvs_q_add64(INT64_MIN, -1, &sat) == INT64_MIN);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
     /* Q31 x Q31 >> 31: -1 x -1 is +1, which Q31 cannot hold. */
-    assert_int_equal(spvs_q_mul32(INT32_MIN, INT32_MIN, 31, &sat), INT32_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MAX, spvs_q_mul32(INT32_MIN, INT32_MIN, 31, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_true(spvs_q_lshift_sat64((int64_t)1 << 61, 2, &sat) == INT64_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_TRUE(spvs_q_lshift_sat64((int64_t)1 << 61, 2, &sat) == INT64_MAX);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_true(spvs_q_lshift_sat64(-((int64_t)1 << 61), 1, &sat) == -((int64_t)1 << 62));
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_TRUE(spvs_q_lshift_sat64(-((int64_t)1 << 61), 1, &sat) == -((int64_t)1 << 62));
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     /* Random values: exact when in range (flag clear), clamped and flagged
      * when not. */
     uint64_t s = 7;
@@ -224,51 +221,50 @@ static void test_q_saturation(void **state)
         const int64_t sum = (int64_t)a + b;
         const int32_t r = spvs_q_add32(a, b, &sat);
         if (sum > INT32_MAX || sum < INT32_MIN) {
-            assert_int_equal(sat, SPVS_Q_SAT);
-            assert_int_equal(r, sum > 0 ? INT32_MAX : INT32_MIN);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
+            TEST_ASSERT_EQUAL_INT64(sum > 0 ? INT32_MAX : INT32_MIN, r);
         } else {
-            assert_int_equal(sat, 0);
-            assert_int_equal(r, (int32_t)sum);
+            TEST_ASSERT_EQUAL_INT64(0, sat);
+            TEST_ASSERT_EQUAL_INT64((int32_t)sum, r);
         }
         const int sh = (int)(rng_u64(&s) % 40u);
         sat = 0;
         const int64_t p = ref_rnd((int64_t)a * b, sh);
         const int32_t m = spvs_q_mul32(a, b, sh, &sat);
         if (p > INT32_MAX || p < INT32_MIN) {
-            assert_int_equal(sat, SPVS_Q_SAT);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
         } else {
-            assert_int_equal(sat, 0);
-            assert_int_equal(m, (int32_t)p);
+            TEST_ASSERT_EQUAL_INT64(0, sat);
+            TEST_ASSERT_EQUAL_INT64((int32_t)p, m);
         }
         const int64_t x = rnd_i64(&s), y = rnd_i64(&s);
         sat = 0;
         const i128 s128 = (i128)x + y;
         const int64_t r64 = spvs_q_add64(x, y, &sat);
         if (s128 > INT64_MAX || s128 < INT64_MIN) {
-            assert_int_equal(sat, SPVS_Q_SAT);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
         } else {
-            assert_int_equal(sat, 0);
-            assert_true(r64 == (int64_t)s128);
+            TEST_ASSERT_EQUAL_INT64(0, sat);
+            TEST_ASSERT_TRUE(r64 == (int64_t)s128);
         }
     }
 }
 
-static void test_q_div_sqrt(void **state)
+static void test_q_div_sqrt(void)
 {
-    (void)state;
     uint32_t sat = 0;
-    assert_int_equal(spvs_q_div64_32(7, 2, &sat), 4);   /* 3.5 -> 4  */
-    assert_int_equal(spvs_q_div64_32(-7, 2, &sat), -4); /* ties away */
-    assert_int_equal(spvs_q_div64_32(5, 3, &sat), 2);
-    assert_int_equal(sat, 0);
-    assert_int_equal(spvs_q_div64_32(1, 0, &sat), INT32_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT | SPVS_Q_DIV0);
+    TEST_ASSERT_EQUAL_INT64(4, spvs_q_div64_32(7, 2, &sat));   /* 3.5 -> 4  */
+    TEST_ASSERT_EQUAL_INT64(-4, spvs_q_div64_32(-7, 2, &sat)); /* ties away */
+    TEST_ASSERT_EQUAL_INT64(2, spvs_q_div64_32(5, 3, &sat));
+    TEST_ASSERT_EQUAL_INT64(0, sat);
+    TEST_ASSERT_EQUAL_INT64(INT32_MAX, spvs_q_div64_32(1, 0, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT | SPVS_Q_DIV0, sat);
     sat = 0;
-    assert_int_equal(spvs_q_div64_32(INT64_MIN, 1, &sat), INT32_MIN);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MIN, spvs_q_div64_32(INT64_MIN, 1, &sat));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_int_equal(spvs_q_div64_32((int64_t)INT32_MIN, 1, &sat), INT32_MIN);
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(INT32_MIN, spvs_q_div64_32((int64_t)INT32_MIN, 1, &sat));
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     uint64_t s = 9;
     for (int i = 0; i < 200000; i++) {
         const int64_t n = rnd_i64(&s);
@@ -285,10 +281,10 @@ static void test_q_div_sqrt(void **state)
             r = -r;
         }
         if (r > INT32_MAX || r < INT32_MIN) {
-            assert_int_equal(sat, SPVS_Q_SAT);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
         } else {
-            assert_int_equal(sat, 0);
-            assert_true((i128)q == r);
+            TEST_ASSERT_EQUAL_INT64(0, sat);
+            TEST_ASSERT_TRUE((i128)q == r);
         }
     }
     /* floor(sqrt(x)) exactly, edges and random magnitudes. */
@@ -297,18 +293,17 @@ static void test_q_div_sqrt(void **state)
     for (size_t k = 0; k < sizeof edge / sizeof edge[0]; k++) {
         const uint64_t x = edge[k];
         const unsigned __int128 r = spvs_q_isqrt64(x);
-        assert_true(r * r <= x && (r + 1) * (r + 1) > x);
+        TEST_ASSERT_TRUE(r * r <= x && (r + 1) * (r + 1) > x);
     }
     for (int i = 0; i < 200000; i++) {
         const uint64_t x = (uint64_t)rnd_i64(&s) * 2u + (rng_u64(&s) & 1u);
         const unsigned __int128 r = spvs_q_isqrt64(x);
-        assert_true(r * r <= x && (r + 1) * (r + 1) > x);
+        TEST_ASSERT_TRUE(r * r <= x && (r + 1) * (r + 1) > x);
     }
 }
 
-static void test_q_recip(void **state)
+static void test_q_recip(void)
 {
-    (void)state;
     uint64_t s = 13;
     long worst = 0;
     for (int i = 0; i < 400000; i++) {
@@ -322,14 +317,13 @@ static void test_q_recip(void **state)
         const long double exact = ldexpl(1.0L, 61) / (long double)m;
         const long err = labs((long)llroundl((long double)y - exact));
         worst = err > worst ? err : worst;
-        assert_true(err <= TOL_RECIP_ULP);
+        TEST_ASSERT_TRUE(err <= TOL_RECIP_ULP);
     }
-    print_message("recip_norm: largest error %ld ulp of 2^-30 (tolerance %d)\n", worst,
-                  TOL_RECIP_ULP);
+    UNIT_NOTE("recip_norm: largest error %ld ulp of 2^-30 (tolerance %d)\n", worst, TOL_RECIP_ULP);
     uint32_t z = 0;
     const spvs_qf_t inf = spvs_qf_recip(spvs_qf_from_i64(0, 0), &z);
-    assert_int_equal(z, SPVS_Q_DIV0);
-    assert_true(inf.m > 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_DIV0, z);
+    TEST_ASSERT_TRUE(inf.m > 0);
 }
 
 static long double qf_val(spvs_qf_t a)
@@ -343,19 +337,18 @@ static spvs_qf_t rnd_qf(uint64_t *s)
     return spvs_qf_from_i64(m, (int32_t)(rng_u64(s) % 160u) - 80);
 }
 
-static void test_qf_ops(void **state)
+static void test_qf_ops(void)
 {
-    (void)state;
     uint64_t s = 17;
     double worst_mul = 0, worst_add = 0, worst_rec = 0;
     for (int i = 0; i < 300000; i++) {
         const spvs_qf_t a = rnd_qf(&s), b = rnd_qf(&s);
         /* Normalised: 0 or |m| in [2^30, 2^31). */
-        assert_true(a.m == 0 || (labs((long)a.m) >= (1L << 30) && labs((long)a.m) < (1L << 31)));
+        TEST_ASSERT_TRUE(a.m == 0 || (labs((long)a.m) >= (1L << 30) && labs((long)a.m) < (1L << 31)));
         const long double va = qf_val(a), vb = qf_val(b);
         const spvs_qf_t p = spvs_qf_mul(a, b);
         const long double ep = fabsl(qf_val(p) - va * vb);
-        assert_true(ep <= TOL_QF_MUL * fabsl(va * vb));
+        TEST_ASSERT_TRUE(ep <= TOL_QF_MUL * fabsl(va * vb));
         if (va * vb != 0) {
             worst_mul = fmax(worst_mul, (double)(ep / fabsl(va * vb)));
         }
@@ -363,20 +356,20 @@ static void test_qf_ops(void **state)
         const long double sum = va + vb;
         const long double eq = fabsl(qf_val(q) - sum);
         const long double big = fmaxl(fabsl(va), fabsl(vb));
-        assert_true(eq <= TOL_QF_ADD_RES * fabsl(sum) + TOL_QF_ADD_OP * big);
+        TEST_ASSERT_TRUE(eq <= TOL_QF_ADD_RES * fabsl(sum) + TOL_QF_ADD_OP * big);
         if (sum != 0) {
             worst_add = fmax(worst_add, (double)(eq / (fabsl(sum) + 0x1p-30L * big)));
         }
         /* The comparison is exact on the represented values. */
-        assert_int_equal(spvs_qf_le(a, b), va <= vb);
-        assert_int_equal(spvs_qf_le(b, a), vb <= va);
+        TEST_ASSERT_EQUAL_INT64(va <= vb, spvs_qf_le(a, b));
+        TEST_ASSERT_EQUAL_INT64(vb <= va, spvs_qf_le(b, a));
         if (a.m != 0) {
             uint32_t z = 0;
             const spvs_qf_t r = spvs_qf_recip(a, &z);
-            assert_int_equal(z, 0);
+            TEST_ASSERT_EQUAL_INT64(0, z);
             const long double er = fabsl(qf_val(r) * va - 1.0L);
             worst_rec = fmax(worst_rec, (double)er);
-            assert_true(er <= 0x1p-28L);
+            TEST_ASSERT_TRUE(er <= 0x1p-28L);
         }
         /* To Q: rounded, saturated with the flag. */
         uint32_t sat = 0;
@@ -384,14 +377,13 @@ static void test_qf_ops(void **state)
         const int64_t qv = spvs_qf_to_q64(a, f, &sat);
         const long double want = ldexpl(va, f);
         if (fabsl(want) >= 0x1p63L) {
-            assert_int_equal(sat, SPVS_Q_SAT);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
         } else {
-            assert_int_equal(sat, 0);
-            assert_true(fabsl((long double)qv - want) <= 0.5L);
+            TEST_ASSERT_EQUAL_INT64(0, sat);
+            TEST_ASSERT_TRUE(fabsl((long double)qv - want) <= 0.5L);
         }
     }
-    print_message("qf: largest relative error mul %.3g, add %.3g, recip %.3g\n", worst_mul,
-                  worst_add, worst_rec);
+    UNIT_NOTE("qf: largest relative error mul %.3g, add %.3g, recip %.3g\n", worst_mul, worst_add, worst_rec);
 }
 
 static uint32_t f32_bits(float x)
@@ -401,29 +393,27 @@ static uint32_t f32_bits(float x)
     return b;
 }
 
-static void test_q_ieee(void **state)
+static void test_q_ieee(void)
 {
-    (void)state;
     uint32_t sat = 0;
     int below = 0;
     const float zero = 0.0f;
     /* NaN and infinity made at run time. */
-    assert_int_equal(spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(zero / zero)), 17, &sat, &below), 0);
-    assert_int_equal(sat, SPVS_Q_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(zero / zero)), 17, &sat, &below));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_NONFINITE, sat);
     sat = 0;
-    assert_int_equal(spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(1.0f / zero)), 17, &sat, &below), 0);
-    assert_int_equal(sat, SPVS_Q_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(1.0f / zero)), 17, &sat, &below));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_NONFINITE, sat);
     sat = 0;
     /* 2^14 in Q17 is 2^31: saturates. */
-    assert_int_equal(spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(16384.0f)), 17, &sat, &below),
-                     INT32_MAX);
-    assert_int_equal(sat, SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(INT32_MAX, spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(16384.0f)), 17, &sat, &below));
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
     sat = 0;
-    assert_int_equal(spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(-0.0f)), 17, &sat, &below), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_from_ieee(spvs_q_ieee_f32(f32_bits(-0.0f)), 17, &sat, &below));
     /* The smallest subnormal rounds to 0, below its value. */
-    assert_int_equal(spvs_q_from_ieee(spvs_q_ieee_f32(1u), 17, &sat, &below), 0);
-    assert_int_equal(below, 1);
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_from_ieee(spvs_q_ieee_f32(1u), 17, &sat, &below));
+    TEST_ASSERT_EQUAL_INT64(1, below);
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     uint64_t s = 19;
     for (int i = 0; i < 300000; i++) {
         /* Random floats over the whole pixel range and beyond. */
@@ -435,19 +425,19 @@ static void test_q_ieee(void **state)
         const double want = ldexp((double)x, f);
         const double r = round(want); /* ties away from zero */
         if (fabs(r) > 2147483647.0) {
-            assert_int_equal(sat, SPVS_Q_SAT);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
         } else {
-            assert_int_equal(sat, 0);
-            assert_true((double)q == r);
-            assert_int_equal(below, fabs(r) < fabs(want));
+            TEST_ASSERT_EQUAL_INT64(0, sat);
+            TEST_ASSERT_TRUE((double)q == r);
+            TEST_ASSERT_EQUAL_INT64(fabs(r) < fabs(want), below);
         }
         double xd = ldexp((double)(int64_t)(rng_u64(&s) >> 11), -(int)(rng_u64(&s) % 60u));
         uint64_t b;
         memcpy(&b, &xd, sizeof b);
         sat = 0;
         const spvs_qf_t qf = spvs_qf_from_ieee(spvs_q_ieee_f64(b), &sat);
-        assert_int_equal(sat, 0);
-        assert_true(fabsl(qf_val(qf) - xd) <= 0x1p-31L * fabsl((long double)xd));
+        TEST_ASSERT_EQUAL_INT64(0, sat);
+        TEST_ASSERT_TRUE(fabsl(qf_val(qf) - xd) <= 0x1p-31L * fabsl((long double)xd));
     }
 }
 
@@ -513,7 +503,7 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
     const spvs_real t2 = t * t;
     uint32_t sat = 0;
     const spvs_qf_t qt2 = spvs_q_t2_from_real(t2, &sat);
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     uint8_t mf[NMAX], mq[NMAX];
     const uint16_t cf = spvs_pts_score(&sc->fst, sc->n, H, t2, 0, mf);
     const spvs_q_thr_t thr = spvs_q_thr(qt2);
@@ -533,19 +523,19 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
             diff += mq[i] ? 1 : -1;
             ss->band_f++;
             ss->worst_band_f = fmax(ss->worst_band_f, rel);
-            assert_true(rel <= TOL_BAND);
+            TEST_ASSERT_TRUE(rel <= TOL_BAND);
         }
         if (ref_in != mq[i]) {
             ss->band_q_ref++;
             ss->worst_band_q_ref = fmax(ss->worst_band_q_ref, rel);
-            assert_true(rel <= TOL_BAND_Q_REF);
+            TEST_ASSERT_TRUE(rel <= TOL_BAND_Q_REF);
         }
     }
-    assert_int_equal((int)cq, (int)cf + diff);
+    TEST_ASSERT_EQUAL_INT64((int)cf + diff, (int)cq);
     /* The cost over the Q kernel's inliers, against the double sum and
      * the float cost over the same set. */
     const uint64_t cqq = spvs_q_pts_cost(&sc->qst, sc->n, Hq, mq, &sat);
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     const double cqd = ldexp((double)cqq, -SPVS_QCOST);
     const double cfd = (double)spvs_pts_cost(&sc->fst, sc->n, H, mq);
     if (cq > 0) {
@@ -558,13 +548,12 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
         ss->worst_cost_q = fmax(ss->worst_cost_q, eq);
         ss->worst_cost_f = fmax(ss->worst_cost_f, ef);
         if (eq > TOL_COST_Q || ef > TOL_COST_F) {
-            print_message("cost: q %.9g f %.9g ref %.9g (%u inliers, t2 %.3g)\n", cqd, cfd,
-                          cost_ref, cq, t2d);
+            UNIT_NOTE("cost: q %.9g f %.9g ref %.9g (%u inliers, t2 %.3g)\n", cqd, cfd, cost_ref, cq, t2d);
         }
-        assert_true(eq <= TOL_COST_Q);
-        assert_true(ef <= TOL_COST_F);
+        TEST_ASSERT_TRUE(eq <= TOL_COST_Q);
+        TEST_ASSERT_TRUE(ef <= TOL_COST_F);
     } else {
-        assert_true(cqq == 0);
+        TEST_ASSERT_TRUE(cqq == 0);
     }
     /* The early stop and bail-out: with need > 0 a count at or above need
      * is the full count, and both kernels agree on reaching it.  A stop
@@ -578,18 +567,17 @@ static void check_model(const scene_t *sc, const spvs_real H[9], double t2d, sco
         }
         const uint16_t a = spvs_pts_score(&sc->fst, sc->n, H, t2, needs[k], NULL);
         const uint16_t b = spvs_q_pts_score(&sc->qst, sc->n, Hq, &thr, needs[k], NULL);
-        assert_int_equal(a >= needs[k], b >= needs[k]);
+        TEST_ASSERT_EQUAL_INT64(b >= needs[k], a >= needs[k]);
         if (a >= needs[k]) {
-            assert_int_equal(a, b);
+            TEST_ASSERT_EQUAL_INT64(b, a);
         } else {
             ss->early++;
         }
     }
 }
 
-static void test_q_score_random(void **state)
+static void test_q_score_random(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 2024;
     score_stats_t ss = {0};
@@ -618,21 +606,18 @@ static void test_q_score_random(void **state)
             }
         }
     }
-    print_message("score: %ld models (%ld outside the Q range), %ld points; float/Q differ at %ld "
+    UNIT_NOTE("score: %ld models (%ld outside the Q range), %ld points; float/Q differ at %ld "
                   "(largest |s2/t2 - 1| %.3g, tolerance %.0e), Q/double at %ld (%.3g, %.0e); cost "
                   "error float %.3g (%.0e), Q %.3g (%.0e); %ld early stops; models outside: at most %ld "
-                  "inliers in float (share %.3f)\n",
-                  ss.models, ss.skipped, ss.points, ss.band_f, ss.worst_band_f, TOL_BAND,
-                  ss.band_q_ref, ss.worst_band_q_ref, TOL_BAND_Q_REF, ss.worst_cost_f, TOL_COST_F,
-                  ss.worst_cost_q, TOL_COST_Q, ss.early, ss.skipped_max, ss.skipped_share);
-    assert_true(ss.models > 2000);
+                  "inliers in float (share %.3f)\n", ss.models, ss.skipped, ss.points, ss.band_f, ss.worst_band_f, TOL_BAND, ss.band_q_ref, ss.worst_band_q_ref, TOL_BAND_Q_REF, ss.worst_cost_f, TOL_COST_F, ss.worst_cost_q, TOL_COST_Q, ss.early, ss.skipped_max, ss.skipped_share);
+    TEST_ASSERT_TRUE(ss.models > 2000);
     /* Models outside (-16, 16) in scaled units are contaminated or
      * near-degenerate samples' (no planar motion of the documented range
      * gives them, docs/FIXED.md): under 10 % of the hypotheses, and none
      * has the SPVS_MIN_INLIERS inliers a consensus needs in float, so
      * refusing them loses no estimate. */
-    assert_true(ss.skipped * 10 < ss.models);
-    assert_true(ss.skipped_max < SPVS_MIN_INLIERS);
+    TEST_ASSERT_TRUE(ss.skipped * 10 < ss.models);
+    TEST_ASSERT_TRUE(ss.skipped_max < SPVS_MIN_INLIERS);
 }
 
 /* ---- kernels: the inlier test's own arithmetic ----------------------------- */
@@ -754,8 +739,8 @@ static void inlier_arith_point(void *ctx, const scene_t *sc, const int32_t *Hq, 
     const spvs_qf_t hi = qf_from_ld(s2 * (1 + (long double)TOL_TEST_ARITH));
     const spvs_qf_t lo = qf_from_ld(s2 * (1 - (long double)TOL_TEST_ARITH));
     const spvs_q_thr_t thr_hi = spvs_q_thr(hi), thr_lo = spvs_q_thr(lo);
-    assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_hi, 0, m1), 1);
-    assert_int_equal(spvs_q_pts_score(&one, 1, Hq, &thr_lo, 0, m2), 0);
+    TEST_ASSERT_EQUAL_INT64(1, spvs_q_pts_score(&one, 1, Hq, &thr_hi, 0, m1));
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_pts_score(&one, 1, Hq, &thr_lo, 0, m2));
     ++*(long *)ctx;
 }
 
@@ -765,15 +750,13 @@ static void inlier_arith_point(void *ctx, const scene_t *sc, const int32_t *Hq, 
  * an inlier and an outlier.  This isolates the kernel's arithmetic from
  * the quantisation of its inputs, over all three branches of the test
  * (direct, band, full Sampson). */
-static void test_q_inlier_arith(void **state)
+static void test_q_inlier_arith(void)
 {
-    (void)state;
     long tested = 0;
     each_scene_point(99, 40, inlier_arith_point, &tested);
-    print_message("inlier test arithmetic: %ld points decided as exact arithmetic at t2 = "
-                  "s2 (1 +- %.0e)\n",
-                  tested, TOL_TEST_ARITH);
-    assert_true(tested > 10000);
+    UNIT_NOTE("inlier test arithmetic: %ld points decided as exact arithmetic at t2 = "
+                  "s2 (1 +- %.0e)\n", tested, TOL_TEST_ARITH);
+    TEST_ASSERT_TRUE(tested > 10000);
 }
 
 #if SPVS_ACCEL
@@ -803,13 +786,13 @@ static void sampson30_point(void *ctx, const scene_t *sc, const int32_t *Hq, uin
         t->tested++;
         if (got < 0) {
             t->left[j / 2]++;
-            assert_true(rel < 0x1p-10L);
+            TEST_ASSERT_TRUE(rel < 0x1p-10L);
             continue;
         }
         t->decided++;
-        assert_int_equal(got, s2 <= t2v);
-        assert_int_equal(got, q_inlier_qf(Hq, p, &r, t2));
-        assert_true(rel >= 0x1p-20L * (1 - 1e-9L));
+        TEST_ASSERT_EQUAL_INT64(s2 <= t2v, got);
+        TEST_ASSERT_EQUAL_INT64(q_inlier_qf(Hq, p, &r, t2), got);
+        TEST_ASSERT_TRUE(rel >= 0x1p-20L * (1 - 1e-9L));
         t->closest = rel < t->closest ? rel : t->closest;
     }
 }
@@ -824,19 +807,16 @@ static void sampson30_point(void *ctx, const scene_t *sc, const int32_t *Hq, uin
  * it leaves there are those of wild models (h31, h32 of 2 or more, w of a
  * few hundredths), whose P is far larger than w, so that v and u are far
  * below the size of the values they are made of. */
-static void test_q_sampson30(void **state)
+static void test_q_sampson30(void)
 {
-    (void)state;
     sampson30_tally_t t = {0, 0, {0}, 1};
     each_scene_point(2027, 30, sampson30_point, &t);
-    print_message("sampson30: %ld tests, %ld decided, closest decided |s2/t2 - 1| %.3Lg; "
-                  "left at 2^-6 .. 2^-22: %ld %ld %ld %ld %ld %ld %ld\n",
-                  t.tested, t.decided, t.closest, t.left[0], t.left[1], t.left[2], t.left[3],
-                  t.left[4], t.left[5], t.left[6]);
-    assert_true(t.tested > 50000);
-    assert_int_equal(t.left[0] + t.left[1], 0);
-    assert_true((double)t.left[2] <= 1e-3 * (double)(t.tested / 7));
-    assert_true((double)t.left[3] <= 0.02 * (double)(t.tested / 7));
+    UNIT_NOTE("sampson30: %ld tests, %ld decided, closest decided |s2/t2 - 1| %.3Lg; "
+                  "left at 2^-6 .. 2^-22: %ld %ld %ld %ld %ld %ld %ld\n", t.tested, t.decided, t.closest, t.left[0], t.left[1], t.left[2], t.left[3], t.left[4], t.left[5], t.left[6]);
+    TEST_ASSERT_TRUE(t.tested > 50000);
+    TEST_ASSERT_EQUAL_INT64(0, t.left[0] + t.left[1]);
+    TEST_ASSERT_TRUE((double)t.left[2] <= 1e-3 * (double)(t.tested / 7));
+    TEST_ASSERT_TRUE((double)t.left[3] <= 0.02 * (double)(t.tested / 7));
 }
 
 /* ---- kernels: the band's Sampson test -------------------------------------- */
@@ -892,9 +872,8 @@ static void band_scene(const scene_t *sc, scene_t *bs, const spvs_real H[9], dou
  * test's decisions equal the long double one with the exact error at
  * least BAND_MARGIN from t2; and the whole count (spvs_q_pts_score) marks
  * the same points as the exact test alone (thr.fast = 0). */
-static void test_q_band(void **state)
+static void test_q_band(void)
 {
-    (void)state;
     static scene_t sc, bs;
     uint64_t rng = 4711;
     const double px[4] = {1.0, INLIER_PX, 8.0, 24.0};
@@ -924,7 +903,7 @@ static void test_q_band(void **state)
             band_scene(&sc, &bs, H, t, &rng);
             uint32_t sat = 0;
             const spvs_q_thr_t thr = spvs_q_thr(spvs_q_t2_from_real((spvs_real)(t * t), &sat));
-            assert_int_equal(sat, 0);
+            TEST_ASSERT_EQUAL_INT64(0, sat);
             q_model_t md = model_prep(&bs.qst, Hq, &thr);
             if (!md.fast) {
                 continue;
@@ -939,7 +918,7 @@ static void test_q_band(void **state)
                 q_hw_t r;
                 const int f = q_fast(Hq, p, &md, &r);
                 if (f != Q_BAND) {
-                    assert_int_equal(f, in_x[i]);
+                    TEST_ASSERT_EQUAL_INT64(in_x[i], f);
                     continue;
                 }
                 band[ti]++;
@@ -948,12 +927,12 @@ static void test_q_band(void **state)
                     continue;
                 }
                 decided[ti]++;
-                assert_int_equal(b, in_x[i]);
+                TEST_ASSERT_EQUAL_INT64(in_x[i], b);
                 long double w;
                 const long double s2 = exact_sampson_q(&bs.qst, i, Hq, &w);
                 const long double rel = fabsl(s2 / t2q - 1);
-                assert_true(w > 0 && rel >= (long double)BAND_MARGIN);
-                assert_int_equal(b, s2 <= t2q);
+                TEST_ASSERT_TRUE(w > 0 && rel >= (long double)BAND_MARGIN);
+                TEST_ASSERT_EQUAL_INT64(s2 <= t2q, b);
                 closest = rel < closest ? rel : closest;
             }
             if (md.sfast == 1) {
@@ -964,9 +943,9 @@ static void test_q_band(void **state)
             uint8_t mf[NMAX], mx[NMAX];
             const uint16_t cf = spvs_q_pts_score(&bs.qst, bs.n, Hq, &thr, 0, mf);
             const uint16_t cx = spvs_q_pts_score(&bs.qst, bs.n, Hq, &thr_x, 0, mx);
-            assert_int_equal(cf, cx);
-            assert_memory_equal(mf, mx, bs.n);
-            assert_memory_equal(mf, in_x, bs.n);
+            TEST_ASSERT_EQUAL_INT64(cx, cf);
+            TEST_ASSERT_EQUAL_MEMORY(mx, mf, bs.n);
+            TEST_ASSERT_EQUAL_MEMORY(in_x, mf, bs.n);
         }
     }
     long band_all = 0, dec_all = 0;
@@ -974,16 +953,13 @@ static void test_q_band(void **state)
         band_all += band[k];
         dec_all += decided[k];
     }
-    print_message("band: %ld models, %ld points, %ld in the band; the band's Sampson test decided "
+    UNIT_NOTE("band: %ld models, %ld points, %ld in the band; the band's Sampson test decided "
                   "%ld (%.2f %%), at 1 / 3.03 / 8 / 24 px %ld of %ld, %ld of %ld, %ld of %ld, "
                   "%ld of %ld; the exact test took %ld; closest decided |s2/t2 - 1| %.3Lg "
-                  "(margin %.2g); largest shift %d\n",
-                  models, pts, band_all, dec_all, 100.0 * (double)dec_all / (double)band_all,
-                  decided[0], band[0], decided[1], band[1], decided[2], band[2], decided[3],
-                  band[3], band_all - dec_all, closest, BAND_MARGIN, sh_max);
-    assert_true(models > 300 && band[1] > 5000);
-    assert_true((double)(band[1] - decided[1]) <= TOL_BAND_UNDECIDED * (double)band[1]);
-    assert_true(sh_max > 0);
+                  "(margin %.2g); largest shift %d\n", models, pts, band_all, dec_all, 100.0 * (double)dec_all / (double)band_all, decided[0], band[0], decided[1], band[1], decided[2], band[2], decided[3], band[3], band_all - dec_all, closest, BAND_MARGIN, sh_max);
+    TEST_ASSERT_TRUE(models > 300 && band[1] > 5000);
+    TEST_ASSERT_TRUE((double)(band[1] - decided[1]) <= TOL_BAND_UNDECIDED * (double)band[1]);
+    TEST_ASSERT_TRUE(sh_max > 0);
 }
 
 /* ---- kernels: the whole documented range ----------------------------------- */
@@ -1018,9 +994,8 @@ static void rnd_exact_h(uint64_t *s, spvs_real H[9])
  * invariant, and every inlier decision is the exact one on the Q inputs
  * (long double) except within TOL_EXTREME_BAND of t2, counted. */
 #define TOL_EXTREME_BAND 1e-6
-static void test_q_extremes(void **state)
+static void test_q_extremes(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t s = 123;
     long pts = 0, band = 0, in_total = 0, sums_checked = 0, sat_costs = 0;
@@ -1042,12 +1017,12 @@ static void test_q_extremes(void **state)
         spvs_real H[9];
         rnd_exact_h(&s, H);
         int32_t Hq[9];
-        assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
         const double t_px = ldexp(1.0, (int)(rng_u64(&s) % 25u) - 13) * 1.3; /* 1e-4 .. 1.1e4 px */
         const spvs_real t = (spvs_real)(t_px / S);
         uint32_t sat = 0;
         const spvs_qf_t qt2 = spvs_q_t2_from_real(t * t, &sat);
-        assert_int_equal(sat, 0);
+        TEST_ASSERT_EQUAL_INT64(0, sat);
         const long double t2l = qf_val(qt2);
         uint8_t mq[NMAX];
         const spvs_q_thr_t thr = spvs_q_thr(qt2);
@@ -1063,10 +1038,10 @@ static void test_q_extremes(void **state)
                 const double rel = (double)fabsl(s2 / t2l - 1);
                 band++;
                 worst = fmax(worst, rel);
-                assert_true(rel <= TOL_EXTREME_BAND);
+                TEST_ASSERT_TRUE(rel <= TOL_EXTREME_BAND);
             }
         }
-        assert_int_equal(cq, cnt);
+        TEST_ASSERT_EQUAL_INT64(cnt, cq);
         in_total += cq;
         /* The cost: the inliers' summed squared residuals within 1e-6
          * relative plus 2^-50 per inlier (the Q52 rounding), or, beyond
@@ -1078,18 +1053,18 @@ static void test_q_extremes(void **state)
             cref += mq[i] ? exact_e2_q(&sc.qst, i, Hq) : 0;
         }
         if (cref >= 4096) {
-            assert_int_equal(sat, SPVS_Q_SAT);
+            TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, sat);
             sat_costs++;
         } else if (sat == 0) {
             const long double got = ldexpl((long double)cost, -SPVS_QCOST);
             if (!(fabsl(got - cref) <= 1e-6L * cref + 0x1p-50L * cq)) {
-                print_message("cost %Lg ref %Lg n_in %u t2 %Lg\n", got, cref, cq, t2l);
+                UNIT_NOTE("cost %Lg ref %Lg n_in %u t2 %Lg\n", got, cref, cq, t2l);
             }
-            assert_true(fabsl(got - cref) <= 1e-6L * cref + 0x1p-50L * cq);
+            TEST_ASSERT_TRUE(fabsl(got - cref) <= 1e-6L * cref + 0x1p-50L * cq);
         } else {
             /* Saturated just below the limit by a rounded term: only near
              * 2^12. */
-            assert_true(cref > 4000);
+            TEST_ASSERT_TRUE(cref > 4000);
         }
         /* The sums over the points in front (w > SPVS_W_EPS): every
          * mantissa below 2^62, each sum against long double. */
@@ -1101,9 +1076,9 @@ static void test_q_extremes(void **state)
         }
         spvs_q_sums_t q;
         const int32_t rq = spvs_q_pts_sum(SPVS_T_FIT_X, Hq, &sc.qst, use, sc.n, &q);
-        assert_int_equal(rq, 0);
+        TEST_ASSERT_EQUAL_INT64(0, rq);
         for (int j = 0; j < SPVS_NT_FIT; j++) {
-            assert_true(spvs_q_abs64(q.m[j]) < ((uint64_t)1 << 62));
+            TEST_ASSERT_TRUE(spvs_q_abs64(q.m[j]) < ((uint64_t)1 << 62));
         }
         /* FIT_X's q q^T with q = (x, y, 1) / w: checked against long double. */
         long double ref[3] = {0}, mag[3] = {0};
@@ -1132,14 +1107,13 @@ static void test_q_extremes(void **state)
             const double e = (double)(fabsl(ldexpl((long double)q.m[idx[j]], q.e[idx[j] >= q.split]) - ref[j]) / mag[j]);
             worst_sum = fmax(worst_sum, e);
             sums_checked++;
-            assert_true(e <= 1e-8);
+            TEST_ASSERT_TRUE(e <= 1e-8);
         }
     }
-    print_message("extremes: %ld points, %ld inliers; %ld decisions differ from exact (largest "
+    UNIT_NOTE("extremes: %ld points, %ld inliers; %ld decisions differ from exact (largest "
                   "|s2/t2 - 1| %.3g, tolerance %.0e); %ld sums, largest error / sum of |terms| "
-                  "%.3g (1e-8); %ld costs saturated (flagged)\n",
-                  pts, in_total, band, worst, TOL_EXTREME_BAND, sums_checked, worst_sum, sat_costs);
-    assert_true(in_total > 1000 && in_total < pts);
+                  "%.3g (1e-8); %ld costs saturated (flagged)\n", pts, in_total, band, worst, TOL_EXTREME_BAND, sums_checked, worst_sum, sat_costs);
+    TEST_ASSERT_TRUE(in_total > 1000 && in_total < pts);
 }
 
 /* ---- kernels: fit sums ------------------------------------------------------ */
@@ -1154,7 +1128,7 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
 {
     static const spvs_terms_t kinds[3] = {SPVS_T_FIT_Y, SPVS_T_FIT_X, SPVS_T_LIN};
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
     const spvs_pts_in_t in = {0, &sc->fst};
     for (int k = 0; k < 3; k++) {
         const int nt = kinds[k] == SPVS_T_LIN ? SPVS_H_LIN_SUMS : SPVS_NT_FIT;
@@ -1162,11 +1136,11 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
         spvs_q_sums_t q;
         const int32_t rf = spvs_pts_sum(kinds[k], H, &in, use, sc->n, f);
         const int32_t rq = spvs_q_pts_sum(kinds[k], Hq, &sc->qst, use, sc->n, &q);
-        assert_int_equal(rf, rq);
+        TEST_ASSERT_EQUAL_INT64(rq, rf);
         if (rf < 0) {
             continue;
         }
-        assert_int_equal(q.nt, nt);
+        TEST_ASSERT_EQUAL_INT64(nt, q.nt);
         double ref[SPVS_H_LIN_SUMS] = {0}, mag[SPVS_H_LIN_SUMS] = {0};
         for (uint16_t i = 0; i < sc->n; i++) {
             if (!use[i]) {
@@ -1182,14 +1156,14 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
             }
         }
         for (int j = 0; j < nt; j++) {
-            assert_true(spvs_q_abs64(q.m[j]) < ((uint64_t)1 << 62));
+            TEST_ASSERT_TRUE(spvs_q_abs64(q.m[j]) < ((uint64_t)1 << 62));
             /* The accessor reads term j at its block's exponent. */
             const spvs_qf_t tq = spvs_q_sums_term(&q, j);
             const double qv = ldexp((double)tq.m, tq.e);
             const double raw = ldexp((double)q.m[j], q.e[(j >= q.split) + (j >= q.split2)]);
-            assert_true(fabs(qv - raw) <= TOL_QF_MUL * fabs(raw));
+            TEST_ASSERT_TRUE(fabs(qv - raw) <= TOL_QF_MUL * fabs(raw));
             if (mag[j] == 0) {
-                assert_true(qv == 0 && f[j] == 0);
+                TEST_ASSERT_TRUE(qv == 0 && f[j] == 0);
                 continue;
             }
             const double eq = fabs(qv - ref[j]) / mag[j];
@@ -1199,8 +1173,8 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
                 st->worst_q_cost = fmax(st->worst_q_cost, eq);
                 st->worst_f_cost = fmax(st->worst_f_cost, ef);
                 st->sums++;
-                assert_true(eq <= TOL_SAMPSON_Q);
-                assert_true(ef <= TOL_SAMPSON_F);
+                TEST_ASSERT_TRUE(eq <= TOL_SAMPSON_Q);
+                TEST_ASSERT_TRUE(ef <= TOL_SAMPSON_F);
                 continue;
             }
             if (rhs) {
@@ -1210,15 +1184,14 @@ static void check_sums(const scene_t *sc, const spvs_real H[9], const uint8_t *u
             }
             st->worst_f = fmax(st->worst_f, ef);
             st->sums++;
-            assert_true(eq <= (rhs ? TOL_SUM_Q_RHS : TOL_SUM_Q));
-            assert_true(ef <= TOL_SUM_F);
+            TEST_ASSERT_TRUE(eq <= (rhs ? TOL_SUM_Q_RHS : TOL_SUM_Q));
+            TEST_ASSERT_TRUE(ef <= TOL_SUM_F);
         }
     }
 }
 
-static void test_q_sums_random(void **state)
+static void test_q_sums_random(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 77;
     sum_stats_t st = {0};
@@ -1252,32 +1225,29 @@ static void test_q_sums_random(void **state)
         }
         check_sums(&sc, H3, all, &st);
         int32_t H3q[9];
-        assert_int_equal(spvs_q_h_from_real(H3, H3q), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H3, H3q));
         wide += spvs_q_sum_fast(SPVS_T_FIT_Y, &sc.qst, H3q, sc.n);
         int32_t Hq[9];
-        assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(sc.Hs, Hq));
         fast += spvs_q_sum_fast(SPVS_T_LIN, &sc.qst, Hq, sc.n);
         const spvs_real Hw[9] = {0, 0, 0, 0, 0, 0, sc.Hs[6], sc.Hs[7], sc.Hs[8]};
         int32_t Hwq[9];
-        assert_int_equal(spvs_q_h_from_real(Hw, Hwq), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(Hw, Hwq));
         fast_fit += spvs_q_sum_fast(SPVS_T_FIT_Y, &sc.qst, Hq, sc.n) +
                     spvs_q_sum_fast(SPVS_T_FIT_X, &sc.qst, Hwq, sc.n);
         scenes++;
     }
-    print_message("sums: %ld sums; largest error / sum of |terms|: float %.3g (tolerance %.0e), "
+    UNIT_NOTE("sums: %ld sums; largest error / sum of |terms|: float %.3g (tolerance %.0e), "
                   "Q %.3g (%.0e), Q on SPVS_T_LIN's right side %.3g (%.0e), term 24 float "
                   "%.3g (%.0e), Q %.3g (%.0e); the fast paths on %d of %d scenes "
                   "(SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X), %d of the SPVS_T_FIT_Y fits "
-                  "with w up to 10\n",
-                  st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
-                  TOL_SUM_Q_RHS, st.worst_f_cost, TOL_SAMPSON_F, st.worst_q_cost, TOL_SAMPSON_Q,
-                  fast, scenes, fast_fit, 2 * scenes, wide);
-    assert_true(st.sums > 3000);
+                  "with w up to 10\n", st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs, TOL_SUM_Q_RHS, st.worst_f_cost, TOL_SAMPSON_F, st.worst_q_cost, TOL_SAMPSON_Q, fast, scenes, fast_fit, 2 * scenes, wide);
+    TEST_ASSERT_TRUE(st.sums > 3000);
     /* Typical frames take the fast path (the others have |u| or |v| near
      * 2 scaled units, or w below 1/4 somewhere in the frame). */
-    assert_true(fast * 4 >= scenes * 3);
-    assert_true(fast_fit * 4 >= 2 * scenes * 3);
-    assert_true(wide * 4 >= scenes * 3);
+    TEST_ASSERT_TRUE(fast * 4 >= scenes * 3);
+    TEST_ASSERT_TRUE(fast_fit * 4 >= 2 * scenes * 3);
+    TEST_ASSERT_TRUE(wide * 4 >= scenes * 3);
 }
 
 /* The sums near the edges of SPVS_T_LIN's fast path (points_q.c,
@@ -1286,9 +1256,8 @@ static void test_q_sums_random(void **state)
  * |u|, |v| near 2, and residuals from 0 to 24 px (the fast path keeps those
  * under 16 px).  Whichever path each set and point takes, the sums are
  * within the tolerances and every mantissa below 2^62. */
-static void test_q_lin_fast_edges(void **state)
+static void test_q_lin_fast_edges(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 2024;
     sum_stats_t st = {0};
@@ -1337,25 +1306,22 @@ static void test_q_lin_fast_edges(void **state)
         memset(all, 1, sizeof all);
         check_sums(&sc, Hs, all, &st);
         int32_t Hq[9];
-        assert_int_equal(spvs_q_h_from_real(Hs, Hq), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(Hs, Hq));
         fast += spvs_q_sum_fast(SPVS_T_LIN, &sc.qst, Hq, sc.n);
         sets++;
     }
-    print_message("lin edges: %d sets (%d on the fast path), %ld sums; largest error / sum of "
+    UNIT_NOTE("lin edges: %d sets (%d on the fast path), %ld sums; largest error / sum of "
                   "|terms|: float %.3g, Q %.3g (%.0e), right side %.3g (%.0e), term 24 %.3g "
-                  "(%.0e)\n",
-                  sets, fast, st.sums, st.worst_f, st.worst_q, TOL_SUM_Q, st.worst_q_rhs,
-                  TOL_SUM_Q_RHS, st.worst_q_cost, TOL_SAMPSON_Q);
-    assert_true(sets > 300);
+                  "(%.0e)\n", sets, fast, st.sums, st.worst_f, st.worst_q, TOL_SUM_Q, st.worst_q_rhs, TOL_SUM_Q_RHS, st.worst_q_cost, TOL_SAMPSON_Q);
+    TEST_ASSERT_TRUE(sets > 300);
     /* Both sides of the edges are covered. */
-    assert_true(fast > sets / 4 && fast < sets * 3 / 4);
+    TEST_ASSERT_TRUE(fast > sets / 4 && fast < sets * 3 / 4);
 }
 
 /* A point behind the camera (w <= SPVS_W_EPS) in a used slot fails the
  * sums in both kernels. */
-static void test_q_sums_behind(void **state)
+static void test_q_sums_behind(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 5;
     make_scene(&sc, &rng, 40, 0.0, 0.0);
@@ -1367,25 +1333,24 @@ static void test_q_sums_behind(void **state)
     uint8_t use[NMAX];
     memset(use, 1, sizeof use);
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
     spvs_q_sums_t q;
     const spvs_pts_in_t in = {0, &sc.fst};
     spvs_real f[SPVS_H_LIN_SUMS];
-    assert_int_equal(spvs_pts_sum(SPVS_T_LIN, H, &in, use, sc.n, f), -1);
-    assert_int_equal(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc.qst, use, sc.n, &q), -1);
-    assert_int_equal(spvs_q_pts_sum(SPVS_T_COST, Hq, &sc.qst, use, sc.n, &q), -2);
+    TEST_ASSERT_EQUAL_INT64(-1, spvs_pts_sum(SPVS_T_LIN, H, &in, use, sc.n, f));
+    TEST_ASSERT_EQUAL_INT64(-1, spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc.qst, use, sc.n, &q));
+    TEST_ASSERT_EQUAL_INT64(-2, spvs_q_pts_sum(SPVS_T_COST, Hq, &sc.qst, use, sc.n, &q));
     /* And no point in front: no inliers. */
     uint32_t sat = 0;
     const spvs_real t = (spvs_real)(INLIER_PX / S);
     const spvs_q_thr_t thr = spvs_q_thr(spvs_q_t2_from_real(t * t, &sat));
-    assert_int_equal(spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, NULL), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, NULL));
 }
 
 /* ---- kernels: golden vectors ------------------------------------------------ */
 
-static void test_q_golden(void **state)
+static void test_q_golden(void)
 {
-    (void)state;
     static scene_t sc;
     score_stats_t ss = {0};
     sum_stats_t st = {0};
@@ -1416,17 +1381,14 @@ static void test_q_golden(void **state)
          * inliers of the true H at 3.03 px under both kernels. */
         uint32_t sat = 0;
         int32_t Hq[9];
-        assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(sc.Hs, Hq));
         const spvs_q_thr_t thr = spvs_q_thr(spvs_q_t2_from_real(t * t, &sat));
-        assert_int_equal(spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, NULL),
-                         spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, NULL));
+        TEST_ASSERT_EQUAL_INT64(spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, NULL), spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr, 0, NULL));
     }
-    print_message("golden: %ld models, float/Q differ at %ld points, Q/double at %ld; cost error "
+    UNIT_NOTE("golden: %ld models, float/Q differ at %ld points, Q/double at %ld; cost error "
                   "float %.3g, Q %.3g; sums error float %.3g, Q %.3g (right side %.3g, term 24 "
-                  "float %.3g, Q %.3g)\n",
-                  ss.models, ss.band_f, ss.band_q_ref, ss.worst_cost_f, ss.worst_cost_q,
-                  st.worst_f, st.worst_q, st.worst_q_rhs, st.worst_f_cost, st.worst_q_cost);
-    assert_int_equal(ss.models, 2 * SPVS_GOLDEN_N_H);
+                  "float %.3g, Q %.3g)\n", ss.models, ss.band_f, ss.band_q_ref, ss.worst_cost_f, ss.worst_cost_q, st.worst_f, st.worst_q, st.worst_q_rhs, st.worst_f_cost, st.worst_q_cost);
+    TEST_ASSERT_EQUAL_INT64(2 * SPVS_GOLDEN_N_H, ss.models);
 }
 
 /* ---- kernels: the Sampson sum and the moved sums ---------------------------- */
@@ -1449,7 +1411,7 @@ static void check_sampson(const scene_t *sc, const spvs_real H[9], const uint8_t
                           samp_stats_t *st, double *ref, spvs_qf_t *q, spvs_qf_t *l)
 {
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
     const spvs_pts_in_t in = {0, &sc->fst};
     spvs_real f[SPVS_H_LIN_SUMS];
     spvs_q_sums_t qs, ql;
@@ -1461,29 +1423,29 @@ static void check_sampson(const scene_t *sc, const spvs_real H[9], const uint8_t
     for (uint16_t i = 0; i < sc->n; i++) {
         if (use[i]) {
             /* The scenes' points are in front of both cameras. */
-            assert_true(ref_w(&sc->fst, i, H) > 0.1);
+            TEST_ASSERT_TRUE(ref_w(&sc->fst, i, H) > 0.1);
             r += ref_sampson(&sc->fst, i, H);
             cnt++;
         }
     }
     /* The float kernel returns 0 for this kind, the Q kernel the count. */
-    assert_int_equal(rf, 0);
-    assert_int_equal(rq, cnt);
-    assert_int_equal(rl, cnt);
-    assert_int_equal(qs.nt, 1);
-    assert_int_equal(ql.nt, SPVS_H_LIN_SUMS);
-    assert_true(spvs_q_abs64(qs.m[0]) < ((uint64_t)1 << 62));
+    TEST_ASSERT_EQUAL_INT64(0, rf);
+    TEST_ASSERT_EQUAL_INT64(cnt, rq);
+    TEST_ASSERT_EQUAL_INT64(cnt, rl);
+    TEST_ASSERT_EQUAL_INT64(1, qs.nt);
+    TEST_ASSERT_EQUAL_INT64(SPVS_H_LIN_SUMS, ql.nt);
+    TEST_ASSERT_TRUE(spvs_q_abs64(qs.m[0]) < ((uint64_t)1 << 62));
     *ref = r;
     *q = spvs_q_sums_term(&qs, 0);
     *l = spvs_q_sums_term(&ql, SPVS_H_LIN_COST);
     /* Outside 0..nt-1 the accessor gives 0. */
-    assert_int_equal(spvs_q_sums_term(&qs, 1).m, 0);
-    assert_int_equal(spvs_q_sums_term(&ql, -1).m, 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_sums_term(&qs, 1).m);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_sums_term(&ql, -1).m);
     if (cnt == 0) {
-        assert_true(q->m == 0 && l->m == 0 && f[0] == 0);
+        TEST_ASSERT_TRUE(q->m == 0 && l->m == 0 && f[0] == 0);
         return;
     }
-    assert_true(r > 0);
+    TEST_ASSERT_TRUE(r > 0);
     const double eq = fabs(qf_d(*q) - r) / r;
     const double ef = fabs((double)f[0] - r) / r;
     const double el = fabs(qf_d(*l) - r) / r;
@@ -1491,9 +1453,9 @@ static void check_sampson(const scene_t *sc, const spvs_real H[9], const uint8_t
     st->worst_f = fmax(st->worst_f, ef);
     st->worst_lin = fmax(st->worst_lin, el);
     st->sums++;
-    assert_true(eq <= TOL_SAMPSON_Q);
-    assert_true(ef <= TOL_SAMPSON_F);
-    assert_true(el <= TOL_SAMPSON_Q);
+    TEST_ASSERT_TRUE(eq <= TOL_SAMPSON_Q);
+    TEST_ASSERT_TRUE(ef <= TOL_SAMPSON_F);
+    TEST_ASSERT_TRUE(el <= TOL_SAMPSON_Q);
 }
 
 /* The final refit's test (plane_h.c, final_refit): is the candidate's
@@ -1507,7 +1469,7 @@ static void check_refit_decision(double ref_cur, spvs_qf_t lin_cur, double ref_c
         return;
     }
     const int lower_q = spvs_qf_le(samp_cand, lin_cur) && !spvs_qf_le(lin_cur, samp_cand);
-    assert_int_equal(lower_q, ref_cand < ref_cur);
+    TEST_ASSERT_EQUAL_INT64(ref_cand < ref_cur, lower_q);
     st->decisions++;
 }
 
@@ -1527,9 +1489,8 @@ static void perturb_h(const spvs_real H[9], double rel, uint64_t *rng, spvs_real
  * inliers, under the true H and a model 1e-3 off it) and the golden
  * vectors (their true H and least-squares H); the final refit's decision
  * between each pair; a point behind the camera fails the sum. */
-static void test_q_sampson(void **state)
+static void test_q_sampson(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 808;
     samp_stats_t st = {0};
@@ -1557,9 +1518,9 @@ static void test_q_sampson(void **state)
             /* The inliers (residuals under 16 px) of a set on the fast
              * path: the Sampson sum and term 24 are the same bits. */
             int32_t Hq[9];
-            assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+            TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(sc.Hs, Hq));
             if (m == 1 && spvs_q_sum_fast(SPVS_T_SAMPSON, &sc.qst, Hq, sc.n)) {
-                assert_true(q0.m == l0.m && q0.e == l0.e);
+                TEST_ASSERT_TRUE(q0.m == l0.m && q0.e == l0.e);
                 st.same_bits++;
             }
         }
@@ -1595,20 +1556,18 @@ static void test_q_sampson(void **state)
     uint8_t use[NMAX];
     memset(use, 1, sizeof use);
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
     spvs_q_sums_t q;
     spvs_real f[SPVS_H_LIN_SUMS];
     const spvs_pts_in_t in = {0, &sc.fst};
-    assert_int_equal(spvs_pts_sum(SPVS_T_SAMPSON, H, &in, use, sc.n, f), -1);
-    assert_int_equal(spvs_q_pts_sum(SPVS_T_SAMPSON, Hq, &sc.qst, use, sc.n, &q), -1);
-    print_message("sampson: %ld sums; largest error / sum: Q %.3g, float %.3g (tolerances %.0e, "
+    TEST_ASSERT_EQUAL_INT64(-1, spvs_pts_sum(SPVS_T_SAMPSON, H, &in, use, sc.n, f));
+    TEST_ASSERT_EQUAL_INT64(-1, spvs_q_pts_sum(SPVS_T_SAMPSON, Hq, &sc.qst, use, sc.n, &q));
+    UNIT_NOTE("sampson: %ld sums; largest error / sum: Q %.3g, float %.3g (tolerances %.0e, "
                   "%.0e), Q's SPVS_T_LIN term 24 %.3g (%.0e); %ld refit decisions, all as "
-                  "double; %ld inlier sets on the fast path, term 24 the same bits\n",
-                  st.sums, st.worst_q, st.worst_f, TOL_SAMPSON_Q, TOL_SAMPSON_F, st.worst_lin,
-                  TOL_SAMPSON_Q, st.decisions, st.same_bits);
-    assert_true(st.sums > 400);
-    assert_true(st.decisions > 100);
-    assert_true(st.same_bits > 50);
+                  "double; %ld inlier sets on the fast path, term 24 the same bits\n", st.sums, st.worst_q, st.worst_f, TOL_SAMPSON_Q, TOL_SAMPSON_F, st.worst_lin, TOL_SAMPSON_Q, st.decisions, st.same_bits);
+    TEST_ASSERT_TRUE(st.sums > 400);
+    TEST_ASSERT_TRUE(st.decisions > 100);
+    TEST_ASSERT_TRUE(st.same_bits > 50);
 }
 
 /* The double SPVS_T_LIN terms of point i of the scene under H into t. */
@@ -1635,8 +1594,8 @@ static double repeat_add(const scene_t *sc, const int32_t Hq[9], const int32_t p
     uint8_t none[NMAX];
     memset(none, 0, sizeof none);
     spvs_q_sums_t s, one;
-    assert_int_equal(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, none, sc->n, &s), 0);
-    assert_int_equal(spvs_q_lin_move(Hq, p, 1, &s), 1);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, none, sc->n, &s));
+    TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, p, 1, &s));
     memcpy(&one, &s, sizeof one);
     /* The path taken, from the first add's units: the fast path's formats
      * keep a term below 2^53, the exact path puts the first term's 31-bit
@@ -1645,11 +1604,11 @@ static double repeat_add(const scene_t *sc, const int32_t Hq[9], const int32_t p
     for (int j = 0; j < one.split; j++) {
         m0 = spvs_q_abs64(one.m[j]) > m0 ? spvs_q_abs64(one.m[j]) : m0;
     }
-    assert_true(fast ? m0 < ((uint64_t)1 << 53) : m0 >= ((uint64_t)1 << 60));
+    TEST_ASSERT_TRUE(fast ? m0 < ((uint64_t)1 << 53) : m0 >= ((uint64_t)1 << 60));
     for (int k = 1; k < REPEAT_ADDS; k++) {
-        assert_int_equal(spvs_q_lin_move(Hq, p, 1, &s), 1);
+        TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, p, 1, &s));
     }
-    assert_true(s.e[0] > one.e[0]);
+    TEST_ASSERT_TRUE(s.e[0] > one.e[0]);
     double big[3] = {0, 0, 0};
     for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
         const int b = (j >= s.split) + (j >= s.split2);
@@ -1657,7 +1616,7 @@ static double repeat_add(const scene_t *sc, const int32_t Hq[9], const int32_t p
     }
     double worst = 0;
     for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
-        assert_true(spvs_q_abs64(s.m[j]) < ((uint64_t)1 << 62));
+        TEST_ASSERT_TRUE(spvs_q_abs64(s.m[j]) < ((uint64_t)1 << 62));
         const int b = (j >= s.split) + (j >= s.split2);
         if (big[b] == 0) {
             continue;
@@ -1665,7 +1624,7 @@ static double repeat_add(const scene_t *sc, const int32_t Hq[9], const int32_t p
         const double o = REPEAT_ADDS * qf_d(spvs_q_sums_term(&one, j));
         const double e = fabs(qf_d(spvs_q_sums_term(&s, j)) - o) / big[b];
         worst = fmax(worst, e);
-        assert_true(e <= REPEAT_ADDS * 0x1p-61 + 2 * TOL_QF_MUL);
+        TEST_ASSERT_TRUE(e <= REPEAT_ADDS * 0x1p-61 + 2 * TOL_QF_MUL);
     }
     return worst;
 }
@@ -1682,15 +1641,15 @@ static void check_move(const scene_t *sc, const spvs_real Hw[9], const uint8_t *
                        const uint8_t *b, move_stats_t *st)
 {
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(Hw, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(Hw, Hq));
     spvs_q_sums_t s, d;
-    assert_true(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, a, sc->n, &s) >= 0);
+    TEST_ASSERT_TRUE(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, a, sc->n, &s) >= 0);
     double ref[SPVS_H_LIN_SUMS] = {0}, mag[SPVS_H_LIN_SUMS] = {0};
     for (uint16_t i = 0; i < sc->n; i++) {
         int32_t row[4];
         spvs_q_pts_row(&sc->qst, i, row);
         if (a[i] != b[i]) {
-            assert_int_equal(spvs_q_lin_move(Hq, row, b[i], &s), 1);
+            TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, row, b[i], &s));
             st->moves++;
         }
         if (a[i] || b[i]) {
@@ -1702,9 +1661,9 @@ static void check_move(const scene_t *sc, const spvs_real Hw[9], const uint8_t *
             }
         }
     }
-    assert_true(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, b, sc->n, &d) >= 0);
+    TEST_ASSERT_TRUE(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, b, sc->n, &d) >= 0);
     for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
-        assert_true(spvs_q_abs64(s.m[j]) < ((uint64_t)1 << 62));
+        TEST_ASSERT_TRUE(spvs_q_abs64(s.m[j]) < ((uint64_t)1 << 62));
         if (mag[j] == 0) {
             continue;
         }
@@ -1713,8 +1672,8 @@ static void check_move(const scene_t *sc, const spvs_real Hw[9], const uint8_t *
         const double e2 = fabs(mv - ref[j]) / mag[j];
         st->worst_direct = fmax(st->worst_direct, e1);
         st->worst_ref = fmax(st->worst_ref, e2);
-        assert_true(e1 <= TOL_MOVE);
-        assert_true(e2 <= TOL_MOVE);
+        TEST_ASSERT_TRUE(e1 <= TOL_MOVE);
+        TEST_ASSERT_TRUE(e2 <= TOL_MOVE);
     }
     /* Adding a point and removing it: the sums exactly as they were while
      * no block's exponent rose, otherwise within a unit of the new one. */
@@ -1726,17 +1685,17 @@ static void check_move(const scene_t *sc, const spvs_real Hw[9], const uint8_t *
         spvs_q_pts_row(&sc->qst, i, row);
         spvs_q_sums_t t;
         memcpy(&t, &s, sizeof t);
-        assert_int_equal(spvs_q_lin_move(Hq, row, 1, &t), 1);
-        assert_int_equal(spvs_q_lin_move(Hq, row, 0, &t), 1);
+        TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, row, 1, &t));
+        TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, row, 0, &t));
         st->trips++;
         if (memcmp(t.e, s.e, sizeof t.e) == 0) {
-            assert_memory_equal(t.m, s.m, sizeof t.m);
+            TEST_ASSERT_EQUAL_MEMORY(s.m, t.m, sizeof t.m);
             st->trips_exact++;
         } else {
             for (int j = 0; j < SPVS_H_LIN_SUMS; j++) {
                 const int blk = (j >= t.split) + (j >= t.split2);
                 const double unit = ldexp(1.0, t.e[blk]);
-                assert_true(fabs(qf_d(spvs_q_sums_term(&t, j)) -
+                TEST_ASSERT_TRUE(fabs(qf_d(spvs_q_sums_term(&t, j)) -
                                  qf_d(spvs_q_sums_term(&s, j))) <= 2 * unit +
                             TOL_QF_MUL * fabs(qf_d(spvs_q_sums_term(&s, j))));
             }
@@ -1751,9 +1710,8 @@ static void check_move(const scene_t *sc, const spvs_real Hw[9], const uint8_t *
  * mismatches among them); one point added REPEAT_ADDS times on each path
  * (the exponents rise, no mantissa overflows); points behind the camera
  * refused. */
-static void test_q_lin_move(void **state)
+static void test_q_lin_move(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 4242;
     move_stats_t st = {0};
@@ -1776,7 +1734,7 @@ static void test_q_lin_move(void **state)
     /* One point added REPEAT_ADDS times, with a mismatch's residual (the
      * exact path) and on the model (the fast path). */
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(sc.Hs, Hq));
     const int32_t far[4] = {sc.qst.v[0], sc.qst.v[1], sc.qst.v[2] + (1 << 24),
                             sc.qst.v[3] - (1 << 24)};
     const double x = ldexp(sc.qst.v[0], -SPVS_QC), y = ldexp(sc.qst.v[1], -SPVS_QC);
@@ -1790,37 +1748,34 @@ static void test_q_lin_move(void **state)
     /* Behind the camera under Hw: w = h31 x + h33 = 0 at x = -2 and -1 at
      * x = -4 (scaled units); the sums are left as they were. */
     const spvs_real Hb[9] = {1, 0, 0, 0, 1, 0, 0.5f, 0, 1};
-    assert_int_equal(spvs_q_h_from_real(Hb, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(Hb, Hq));
     uint8_t all[NMAX];
     memset(all, 1, sizeof all);
-    assert_int_equal(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc.qst, all, sc.n, &s), sc.n);
+    TEST_ASSERT_EQUAL_INT64(sc.n, spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc.qst, all, sc.n, &s));
     memcpy(&s0, &s, sizeof s0);
     const int32_t behind[2][4] = {{-2 * (1 << 26), 0, 0, 0}, {-4 * (1 << 26), 1 << 20, 0, 0}};
     for (int k = 0; k < 2; k++) {
-        assert_int_equal(spvs_q_lin_move(Hq, behind[k], 1, &s), 0);
-        assert_int_equal(spvs_q_lin_move(Hq, behind[k], 0, &s), 0);
-        assert_memory_equal(&s, &s0, sizeof s);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_lin_move(Hq, behind[k], 1, &s));
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_lin_move(Hq, behind[k], 0, &s));
+        TEST_ASSERT_EQUAL_MEMORY(&s0, &s, sizeof s);
     }
     /* Just in front (w = 2^-19 > SPVS_W_EPS) it is taken. */
     const int32_t front[4] = {-2 * (1 << 26) + (1 << 8), 0, 0, 0};
-    assert_int_equal(spvs_q_lin_move(Hq, front, 1, &s), 1);
-    print_message("lin_move: %ld sets, %ld points moved; largest error / sum of |terms| over A "
+    TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, front, 1, &s));
+    UNIT_NOTE("lin_move: %ld sets, %ld points moved; largest error / sum of |terms| over A "
                   "and B: against the sums over B %.3g, against double %.3g (tolerance %.0e); "
                   "%ld add-remove trips, %ld exactly back (the others within 2 units); one "
-                  "point added %d times: within %.3g of its block's largest sum\n",
-                  st.sets, st.moves, st.worst_direct, st.worst_ref, TOL_MOVE, st.trips,
-                  st.trips_exact, REPEAT_ADDS, worst_rep);
-    assert_true(st.sets > 40 && st.moves > 500);
+                  "point added %d times: within %.3g of its block's largest sum\n", st.sets, st.moves, st.worst_direct, st.worst_ref, TOL_MOVE, st.trips, st.trips_exact, REPEAT_ADDS, worst_rep);
+    TEST_ASSERT_TRUE(st.sets > 40 && st.moves > 500);
     /* Both cases met: most trips leave the exponents as they were; a
      * mismatch's terms, far above an inlier set's, raise them. */
-    assert_true(st.trips_exact * 2 > st.trips && st.trips_exact < st.trips);
+    TEST_ASSERT_TRUE(st.trips_exact * 2 > st.trips && st.trips_exact < st.trips);
 }
 
 /* ---- kernels: the loader's checks ----------------------------------------- */
 
-static void test_q_load_checks(void **state)
+static void test_q_load_checks(void)
 {
-    (void)state;
     static scene_t sc;
     static spvs_q_store_t qs;
     uint16_t feat[NMAX];
@@ -1830,52 +1785,59 @@ static void test_q_load_checks(void **state)
     /* In range: the limit itself is accepted, as in float. */
     sc.m[3].x_cur = (spvs_real)SPVS_MAX_COORD_PX;
     sc.m[4].y_tgt = -(spvs_real)SPVS_MAX_COORD_PX;
-    assert_int_equal(spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1), 0);
-    assert_int_equal(qs.cur_max[0], 1 << 30);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1));
+    TEST_ASSERT_EQUAL_INT64(1 << 30, qs.cur_max[0]);
     spvs_match_t keep = sc.m[5];
     sc.m[5].x_tgt = zero / zero;
-    assert_int_equal(spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1), SPVS_Q_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_NONFINITE, spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1));
     sc.m[5] = keep;
     sc.m[5].y_cur = -1.0f / zero;
-    assert_int_equal(spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1), SPVS_Q_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_NONFINITE, spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1));
     sc.m[5] = keep;
     /* Just above the limit (the next float), and far above. */
     sc.m[5].x_cur = nextafterf((float)SPVS_MAX_COORD_PX, 1e30f);
-    assert_int_equal(spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1), SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1));
     sc.m[5].x_cur = 1e20f;
-    assert_int_equal(spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1), SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1));
     sc.m[5] = keep;
     sc.m[6].feature = SPVS_MAX_FEATURES;
-    assert_int_equal(spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1), SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, spvs_q_pts_load(&qs, feat, sc.m, sc.n, sc.n, NULL, 1));
     /* The float loader agrees on each of these being bad. */
     static spvs_point_store_t fs;
-    assert_true(spvs_pts_load(&fs, feat, sc.m, sc.n, sc.n, NULL, 1) != 0);
+    TEST_ASSERT_TRUE(spvs_pts_load(&fs, feat, sc.m, sc.n, sc.n, NULL, 1) != 0);
     /* H outside (-16, 16) scaled units is refused by the conversion. */
     spvs_real H[9] = {1, 0, 16.0f, 0, 1, 0, 0, 0, 1};
     int32_t Hq[9];
-    assert_int_equal(spvs_q_h_from_real(H, Hq), SPVS_Q_SAT);
+    TEST_ASSERT_EQUAL_INT64(SPVS_Q_SAT, spvs_q_h_from_real(H, Hq));
     H[2] = 15.99f;
-    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
     H[2] = zero / zero;
-    assert_true((spvs_q_h_from_real(H, Hq) & SPVS_Q_NONFINITE) != 0);
+    TEST_ASSERT_TRUE((spvs_q_h_from_real(H, Hq) & SPVS_Q_NONFINITE) != 0);
 }
 
-int main(void)
+void suite_fixed_q(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_q_shifts),        cmocka_unit_test(test_q_saturation),
-        cmocka_unit_test(test_q_div_sqrt),      cmocka_unit_test(test_q_recip),
-        cmocka_unit_test(test_qf_ops),          cmocka_unit_test(test_q_ieee),
-        cmocka_unit_test(test_q_load_checks),   cmocka_unit_test(test_q_score_random),
-        cmocka_unit_test(test_q_sums_random),   cmocka_unit_test(test_q_lin_fast_edges),
-        cmocka_unit_test(test_q_sums_behind),
-        cmocka_unit_test(test_q_golden),        cmocka_unit_test(test_q_inlier_arith),
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_q_shifts);
+    RUN_TEST(test_q_saturation);
+    RUN_TEST(test_q_div_sqrt);
+    RUN_TEST(test_q_recip);
+    RUN_TEST(test_qf_ops);
+    RUN_TEST(test_q_ieee);
+    RUN_TEST(test_q_load_checks);
+    RUN_TEST(test_q_score_random);
+    RUN_TEST(test_q_sums_random);
+    RUN_TEST(test_q_lin_fast_edges);
+    RUN_TEST(test_q_sums_behind);
+    RUN_TEST(test_q_golden);
+    RUN_TEST(test_q_inlier_arith);
 #if SPVS_ACCEL
-        cmocka_unit_test(test_q_sampson30),
-        cmocka_unit_test(test_q_band),
+    RUN_TEST(test_q_sampson30);
+    RUN_TEST(test_q_band);
 #endif
-        cmocka_unit_test(test_q_extremes),      cmocka_unit_test(test_q_sampson),
-        cmocka_unit_test(test_q_lin_move),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    RUN_TEST(test_q_extremes);
+    RUN_TEST(test_q_sampson);
+    RUN_TEST(test_q_lin_move);
 }
+
+UNIT_MAIN(suite_fixed_q)

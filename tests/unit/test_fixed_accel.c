@@ -19,14 +19,11 @@
  *           over the frame, docs/FIXED.md), and the same return values.
  */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
-#include <stdio.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unit_support.h"
 
 #include "fixed/points_q.h"
 #include "fixed/sums_q.h"
@@ -76,16 +73,15 @@ static void check_load(const spvs_match_t *m, uint16_t n, uint16_t stride)
     memset(&b, 0x55, sizeof b);
     const uint32_t ra = spvs_q_pts_load(&a, fa, m, n, n, NULL, stride);
     const uint32_t rb = ref_q_pts_load(&b, fb, m, n, n, NULL, stride);
-    assert_int_equal(ra, rb);
-    assert_memory_equal(a.v, b.v, 4u * n * sizeof a.v[0]);
-    assert_memory_equal(a.cur_max, b.cur_max, sizeof a.cur_max);
-    assert_memory_equal(a.tgt_max, b.tgt_max, sizeof a.tgt_max);
-    assert_memory_equal(fa, fb, n * sizeof fa[0]);
+    TEST_ASSERT_EQUAL_INT64(ra, rb);
+    TEST_ASSERT_EQUAL_MEMORY(a.v, b.v, 4u * n * sizeof a.v[0]);
+    TEST_ASSERT_EQUAL_MEMORY(a.cur_max, b.cur_max, sizeof a.cur_max);
+    TEST_ASSERT_EQUAL_MEMORY(a.tgt_max, b.tgt_max, sizeof a.tgt_max);
+    TEST_ASSERT_EQUAL_MEMORY(fa, fb, n * sizeof fa[0]);
 }
 
-static void test_accel_load(void **state)
+static void test_accel_load(void)
 {
-    (void)state;
     uint64_t rng = 0x10adu;
     static scene_t sc;
     long frames = 0;
@@ -122,8 +118,8 @@ static void test_accel_load(void **state)
         check_load(sc.m, sc.n, 1);
         frames++;
     }
-    print_message("loader: %ld frames, accelerated = reference bit for bit\n", frames);
-    assert_int_equal(frames, SCENES * 14);
+    UNIT_NOTE("loader: %ld frames, accelerated = reference bit for bit\n", frames);
+    TEST_ASSERT_EQUAL_INT64(frames, SCENES * 14);
 }
 
 /* A 3-point model of the scene from random points (Q27), or the true H
@@ -139,19 +135,18 @@ static void some_model(const scene_t *sc, uint64_t *rng, int32_t Hq[9])
             return;
         }
     }
-    assert_int_equal(spvs_q_h_from_real(sc->Hs, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(spvs_q_h_from_real(sc->Hs, Hq), 0);
 }
 
-static void test_accel_score(void **state)
+static void test_accel_score(void)
 {
-    (void)state;
     uint64_t rng = 0x5c0eu;
     static scene_t sc;
     long counts = 0, models = 0;
     const double t = INLIER_PX / S;
     uint32_t sat = 0;
     const spvs_qf_t t2 = spvs_q_t2_from_real((spvs_real)(t * t), &sat);
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(sat, 0);
     const spvs_q_thr_t thr_a = spvs_q_thr(t2);
     const spvs_q_thr_t thr_r = ref_q_thr(t2);
     for (int s = 0; s < SCENES; s++) {
@@ -160,7 +155,7 @@ static void test_accel_score(void **state)
         for (int m = 0; m < 12; m++) {
             int32_t Hq[9];
             if (m == 0) {
-                assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+                TEST_ASSERT_EQUAL_INT64(spvs_q_h_from_real(sc.Hs, Hq), 0);
             } else {
                 some_model(&sc, &rng, Hq);
             }
@@ -173,25 +168,24 @@ static void test_accel_score(void **state)
                 memset(mr, 7, sizeof mr);
                 const uint16_t ca = spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr_a, needs[k], ma);
                 const uint16_t cr = ref_q_pts_score(&sc.qst, sc.n, Hq, &thr_r, needs[k], mr);
-                assert_int_equal(ca, cr);
+                TEST_ASSERT_EQUAL_INT64(ca, cr);
                 /* The masks agree wherever both counts wrote them: the
                  * reference writes every point up to its stop, as the
                  * filters do. */
-                assert_memory_equal(ma, mr, sc.n);
+                TEST_ASSERT_EQUAL_MEMORY(ma, mr, sc.n);
                 const uint16_t na = spvs_q_pts_score(&sc.qst, sc.n, Hq, &thr_a, needs[k], NULL);
-                assert_int_equal(na, cr);
+                TEST_ASSERT_EQUAL_INT64(na, cr);
                 counts += 2;
             }
         }
     }
-    print_message("inlier counts: %ld counts of %ld models, accelerated = reference\n", counts,
+    UNIT_NOTE("inlier counts: %ld counts of %ld models, accelerated = reference\n", counts,
                   models);
-    assert_int_equal(models, SCENES * 12);
+    TEST_ASSERT_EQUAL_INT64(models, SCENES * 12);
 }
 
-static void test_accel_cost_sums(void **state)
+static void test_accel_cost_sums(void)
 {
-    (void)state;
     uint64_t rng = 0xc057u;
     static scene_t sc;
     double worst_cost = 0, worst_sum = 0;
@@ -201,7 +195,7 @@ static void test_accel_cost_sums(void **state)
         make_scene(&sc, &rng, 40 + (int)(synth_uniform(&rng) * 200), 1.0, 0.2);
         load_both(&sc);
         int32_t Hq[9];
-        assert_int_equal(spvs_q_h_from_real(sc.Hs, Hq), 0);
+        TEST_ASSERT_EQUAL_INT64(spvs_q_h_from_real(sc.Hs, Hq), 0);
         uint8_t use[NMAX];
         for (uint16_t i = 0; i < sc.n; i++) {
             use[i] = (uint8_t)(synth_uniform(&rng) < 0.8);
@@ -209,16 +203,16 @@ static void test_accel_cost_sums(void **state)
         uint32_t sa = 0, sr = 0;
         const uint64_t ca = spvs_q_pts_cost(&sc.qst, sc.n, Hq, use, &sa);
         const uint64_t cr = ref_q_pts_cost(&sc.qst, sc.n, Hq, use, &sr);
-        assert_int_equal(sa, sr);
+        TEST_ASSERT_EQUAL_INT64(sa, sr);
         const double dc = fabs((double)ca - (double)cr);
         worst_cost = dc > worst_cost ? dc : worst_cost;
-        assert_true(dc <= TOL_COST_PER_POINT * sc.n);
+        TEST_ASSERT_TRUE(dc <= TOL_COST_PER_POINT * sc.n);
         for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
             spvs_q_sums_t a, r;
             const int32_t na = spvs_q_pts_sum(kinds[k], Hq, &sc.qst, use, sc.n, &a);
             const int32_t nr = ref_q_pts_sum(kinds[k], Hq, &sc.qst, use, sc.n, &r);
-            assert_int_equal(na, nr);
-            assert_int_equal(a.nt, r.nt);
+            TEST_ASSERT_EQUAL_INT64(na, nr);
+            TEST_ASSERT_EQUAL_INT64(a.nt, r.nt);
             /* Each term against its block's largest reference term. */
             double big[3] = {0, 0, 0};
             for (int j = 0; j < r.nt; j++) {
@@ -231,23 +225,24 @@ static void test_accel_cost_sums(void **state)
                 const double d = fabs(ldexp((double)va.m, va.e) - ldexp((double)vr.m, vr.e)) /
                                  big[blk_of(&r, j)];
                 worst_sum = d > worst_sum ? d : worst_sum;
-                assert_true(d <= TOL_SUM);
+                TEST_ASSERT_TRUE(d <= TOL_SUM);
             }
             sums++;
         }
     }
-    print_message("cost: worst difference %.0f units of Q52 (tolerance %.0f a point); sums: %ld, "
+    UNIT_NOTE("cost: worst difference %.0f units of Q52 (tolerance %.0f a point); sums: %ld, "
                   "worst %.3g of the block's largest term (tolerance %.3g)\n",
                   worst_cost, TOL_COST_PER_POINT, sums, worst_sum, TOL_SUM);
-    assert_int_equal(sums, SCENES * 4);
+    TEST_ASSERT_EQUAL_INT64(sums, SCENES * 4);
 }
 
-int main(void)
+void suite_fixed_accel(void);
+void suite_fixed_accel(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_accel_load),
-        cmocka_unit_test(test_accel_score),
-        cmocka_unit_test(test_accel_cost_sums),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_accel_load);
+    RUN_TEST(test_accel_score);
+    RUN_TEST(test_accel_cost_sums);
 }
+
+UNIT_MAIN(suite_fixed_accel)

@@ -21,14 +21,13 @@
  */
 #include <float.h>
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "spvs/spvs.h"
 #include "synth.h"
@@ -156,8 +155,8 @@ static void readback_run(spvs_method_t method, const double start[3], uint64_t s
     scene_default(&sc, &rng, SIGMA_PX);
     spvs_params_t prm;
     params(&prm, method);
-    assert_int_equal(q_init(&a, &prm), SPVS_OK);
-    assert_int_equal(q_init(&b, &prm), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_init(&a, &prm));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_init(&b, &prm));
     synth_pose_t pose = {start[0], start[1], start[2] * DEG};
     const spvs_real nan_h[9] = {nan_real(), 0, 0, 0, 1, 0, 0, 0, 1};
     spvs_output_t oa, ob;
@@ -170,8 +169,8 @@ static void readback_run(spvs_method_t method, const double start[3], uint64_t s
             readback_frame(r, rc_a, &oa, rc_b, &ob);
         } else {
             const int rc_b = q_update_with_h(&b, m, n, t, nan_h, &ob);
-            assert_true(rc_a != SPVS_OK && rc_b == SPVS_E_DEGENERATE);
-            assert_true(oa.v == 0 && oa.w == 0 && ob.v == 0 && ob.w == 0);
+            TEST_ASSERT_TRUE(rc_a != SPVS_OK && rc_b == SPVS_E_DEGENERATE);
+            TEST_ASSERT_TRUE(oa.v == 0 && oa.w == 0 && ob.v == 0 && ob.w == 0);
             r->failed++;
         }
         plant(&pose, &oa);
@@ -182,9 +181,8 @@ static void readback_run(spvs_method_t method, const double start[3], uint64_t s
     r->done += oa.step == SPVS_STEP_DONE;
 }
 
-static void test_readback_closed_loop(void **state)
+static void test_readback_closed_loop(void)
 {
-    (void)state;
     readback_t r;
     memset(&r, 0, sizeof r);
     for (int method = 1; method <= 3; method++) {
@@ -192,24 +190,21 @@ static void test_readback_closed_loop(void **state)
             readback_run((spvs_method_t)method, starts[i], (uint64_t)(10 * method + i), &r);
         }
     }
-    printf("readback: %d runs, %d done; %d frames compared (%d moving, %d without H), "
+    UNIT_NOTE("readback: %d runs, %d done; %d frames compared (%d moving, %d without H), "
            "commands equal bit for bit on %d, |dv| %.3g m/s, |dw| %.3g rad/s; inlier counts "
-           "differ on %d, steps or statuses on %d\n",
-           12, r.done, r.frames, r.moving, r.failed, r.cmd_equal, r.dv, r.dw, r.inl_differ,
-           r.step_differ);
-    assert_int_equal(r.step_differ, 0);
-    assert_true(r.dv <= TOL_READBACK && r.dw <= TOL_READBACK);
-    assert_true(r.moving > 1000);
-    assert_true(r.done >= 10);
+           "differ on %d, steps or statuses on %d\n", 12, r.done, r.frames, r.moving, r.failed, r.cmd_equal, r.dv, r.dw, r.inl_differ, r.step_differ);
+    TEST_ASSERT_EQUAL_INT64(0, r.step_differ);
+    TEST_ASSERT_TRUE(r.dv <= TOL_READBACK && r.dw <= TOL_READBACK);
+    TEST_ASSERT_TRUE(r.moving > 1000);
+    TEST_ASSERT_TRUE(r.done >= 10);
 }
 
 /* Two fresh controllers at poses along the way from each start: three
  * frames 0.1 s apart (a controller commands a stop on its first two
  * frames, while the epipole's side and the gain signs settle), A
  * estimating, B given A's estimate of each. */
-static void test_readback_fresh(void **state)
+static void test_readback_fresh(void)
 {
-    (void)state;
     static q_inst_t a, b;
     static synth_scene_t sc;
     static spvs_match_t m[SPVS_MAX_MATCHES];
@@ -224,30 +219,29 @@ static void test_readback_fresh(void **state)
             for (int j = 0; j < 10; j++) {
                 const double f = 1.0 - j / 10.0;
                 synth_pose_t pose = {starts[i][0] * f, starts[i][1] * f, starts[i][2] * f * DEG};
-                assert_int_equal(q_init(&a, &prm), SPVS_OK);
-                assert_int_equal(q_init(&b, &prm), SPVS_OK);
+                TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_init(&a, &prm));
+                TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_init(&b, &prm));
                 for (int k = 0; k < 3; k++) {
                     const uint16_t n =
                         synth_scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, FRAME_LIM_PX, &rng, m);
                     const spvs_real t = (spvs_real)(1.0 + k * DT_S);
                     spvs_output_t oa, ob;
                     const int rc_a = q_update(&a, m, n, t, &oa);
-                    assert_true(oa.h_valid);
+                    TEST_ASSERT_TRUE(oa.h_valid);
                     const int rc_b = q_update_with_h(&b, m, n, t, oa.H, &ob);
                     readback_frame(&r, rc_a, &oa, rc_b, &ob);
-                    assert_int_equal(ob.h_valid, 1);
-                    assert_int_equal(ob.ransac_iters, 0);
+                    TEST_ASSERT_EQUAL_INT64(1, ob.h_valid);
+                    TEST_ASSERT_EQUAL_INT64(0, ob.ransac_iters);
                     plant(&pose, &oa);
                 }
             }
         }
     }
-    printf("fresh: %d frames (%d moving): commands equal bit for bit on %d, |dv| %.3g m/s, "
-           "|dw| %.3g rad/s; inlier counts differ on %d, steps or statuses on %d\n",
-           r.frames, r.moving, r.cmd_equal, r.dv, r.dw, r.inl_differ, r.step_differ);
-    assert_int_equal(r.step_differ, 0);
-    assert_true(r.dv <= TOL_READBACK && r.dw <= TOL_READBACK);
-    assert_true(r.moving >= 100);
+    UNIT_NOTE("fresh: %d frames (%d moving): commands equal bit for bit on %d, |dv| %.3g m/s, "
+           "|dw| %.3g rad/s; inlier counts differ on %d, steps or statuses on %d\n", r.frames, r.moving, r.cmd_equal, r.dv, r.dw, r.inl_differ, r.step_differ);
+    TEST_ASSERT_EQUAL_INT64(0, r.step_differ);
+    TEST_ASSERT_TRUE(r.dv <= TOL_READBACK && r.dw <= TOL_READBACK);
+    TEST_ASSERT_TRUE(r.moving >= 100);
 }
 
 /* ---- bad H: its status and a stop ------------------------------------- */
@@ -263,7 +257,7 @@ static void bad_h_case(const spvs_real H[9], int expect)
     scene_default(&sc, &rng, 0.0);
     spvs_params_t prm;
     params(&prm, SPVS_METHOD_I);
-    assert_int_equal(q_init(&q, &prm), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_init(&q, &prm));
     const synth_pose_t pose = {-3, -10, -30 * DEG};
     double Hd[9];
     synth_plane_t pl;
@@ -276,22 +270,21 @@ static void bad_h_case(const spvs_real H[9], int expect)
     const uint16_t n = synth_scene_frame(&sc, &pose, 0.0, 0.0, FRAME_LIM_PX, &rng, m);
     spvs_output_t out;
     for (int k = 1; k <= 3; k++) {
-        assert_int_equal(q_update_with_h(&q, m, n, (spvs_real)(k * DT_S), Ht, &out), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_update_with_h(&q, m, n, (spvs_real)(k * DT_S), Ht, &out));
     }
-    assert_true(out.v != 0 || out.w != 0);
+    TEST_ASSERT_TRUE(out.v != 0 || out.w != 0);
     out.v = out.w = SPVS_R(9.0);
     const int rc = q_update_with_h(&q, m, n, SPVS_R(0.4), H, &out);
-    assert_int_equal(rc, expect);
-    assert_int_equal(out.status, expect);
-    assert_true(out.v == 0 && out.w == 0);
-    assert_int_equal(out.h_valid, 0);
+    TEST_ASSERT_EQUAL_INT64(expect, rc);
+    TEST_ASSERT_EQUAL_INT64(expect, out.status);
+    TEST_ASSERT_TRUE(out.v == 0 && out.w == 0);
+    TEST_ASSERT_EQUAL_INT64(0, out.h_valid);
     /* The next frame with a good H runs again. */
-    assert_int_equal(q_update_with_h(&q, m, n, SPVS_R(0.5), Ht, &out), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_update_with_h(&q, m, n, SPVS_R(0.5), Ht, &out));
 }
 
-static void test_bad_h(void **state)
+static void test_bad_h(void)
 {
-    (void)state;
     const spvs_real good[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     /* NaN and infinity in each entry of rows 1 and 3: float's status. */
     const int rows13[6] = {0, 1, 2, 6, 7, 8};
@@ -323,7 +316,7 @@ static void test_bad_h(void **state)
     static q_inst_t q;
     spvs_params_t prm;
     params(&prm, SPVS_METHOD_II);
-    assert_int_equal(q_init(&q, &prm), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_init(&q, &prm));
     static spvs_match_t m[SPVS_MAX_MATCHES];
     static synth_scene_t sc;
     uint64_t rng = 5;
@@ -334,25 +327,24 @@ static void test_bad_h(void **state)
     H[3] = nan_real();
     H[4] = SPVS_R(3.0);
     spvs_output_t out;
-    assert_int_equal(q_update_with_h(&q, m, n, SPVS_R(0.1), H, &out), SPVS_OK);
-    assert_true(out.H[3] == 0 && out.H[4] == 1 && out.H[5] == 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, q_update_with_h(&q, m, n, SPVS_R(0.1), H, &out));
+    TEST_ASSERT_TRUE(out.H[3] == 0 && out.H[4] == 1 && out.H[5] == 0);
     /* At the target every match, off the plane or not, fits H = I. */
-    assert_int_equal(out.n_inliers, n);
+    TEST_ASSERT_EQUAL_INT64(n, out.n_inliers);
     /* NULL H, and NULL output. */
     out.v = SPVS_R(9.0);
-    assert_int_equal(q_update_with_h(&q, m, n, SPVS_R(0.2), 0, &out), SPVS_E_ARG);
-    assert_true(out.v == 0 && out.w == 0 && out.status == SPVS_E_ARG);
-    assert_int_equal(q_update_with_h(&q, m, n, SPVS_R(0.2), good, 0), SPVS_E_ARG);
-    assert_int_equal(q_update_with_h(0, m, n, SPVS_R(0.2), good, &out), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, q_update_with_h(&q, m, n, SPVS_R(0.2), 0, &out));
+    TEST_ASSERT_TRUE(out.v == 0 && out.w == 0 && out.status == SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, q_update_with_h(&q, m, n, SPVS_R(0.2), good, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, q_update_with_h(0, m, n, SPVS_R(0.2), good, &out));
 }
 
 /* ---- spvs_inlier_px ---------------------------------------------------- */
 
 /* Relative error against noise sqrt(chi2 / 100) in long double, over
  * random noise values of every exponent of the scalar's normal range. */
-static void test_inlier_px(void **state)
+static void test_inlier_px(void)
 {
-    (void)state;
     const long double c = sqrtl((long double)SPVS_INLIER_CHI2_X100 / 100.0L);
     uint64_t rng = 99;
     double worst = 0;
@@ -386,38 +378,37 @@ static void test_inlier_px(void **state)
             differ++;
         }
 #if !SPVS_USE_FIXED
-        assert_true(memcmp(&f, &(spvs_real){spvs_inlier_px(&p)}, sizeof f) == 0);
+        TEST_ASSERT_TRUE(memcmp(&f, &(spvs_real){spvs_inlier_px(&p)}, sizeof f) == 0);
 #endif
 #endif
     }
-    printf("spvs_inlier_px: %d values with a normal result, largest relative error %.3g "
-           "(2^%.1f); %d subnormal, infinite or near it",
-           n, worst, log2(worst), n_edge);
+    UNIT_NOTE("spvs_inlier_px: %d values with a normal result, largest relative error %.3g "
+           "(2^%.1f); %d subnormal, infinite or near it", n, worst, log2(worst), n_edge);
 #if SPVS_USE_DOUBLE
-    printf("\n");
+    UNIT_NOTE("\n");
 #else
-    printf("; %d of all differ from the float arithmetic's bits\n", differ);
+    UNIT_NOTE("; %d of all differ from the float arithmetic's bits\n", differ);
 #endif
-    assert_int_equal(differ, 0);
+    TEST_ASSERT_EQUAL_INT64(0, differ);
 #if SPVS_USE_DOUBLE
     /* 2^-28 of the computation, half an ulp of the scalar's rounding. */
-    assert_true(worst <= ldexp(1.0, -28) + DBL_EPSILON / 2);
+    TEST_ASSERT_TRUE(worst <= ldexp(1.0, -28) + DBL_EPSILON / 2);
 #else
     /* The float arithmetic's: chi2 / 100 rounded (2^-24, halved by the
      * root), the root rounded (2^-24), the product rounded (2^-24). */
-    assert_true(worst <= 2.5 * ldexp(1.0, -24));
+    TEST_ASSERT_TRUE(worst <= 2.5 * ldexp(1.0, -24));
 #endif
     /* The default's threshold: 3.03 px at 1 px, exact where float is. */
     spvs_params_t p;
     spvs_params_default(&p, SPVS_METHOD_I);
     p.noise_px = SPVS_R(1.0);
-    assert_true(fabs((double)q_inlier_px(&p) - 3.0347981810) < 1e-6);
+    TEST_ASSERT_TRUE(fabs((double)q_inlier_px(&p) - 3.0347981810) < 1e-6);
     p.noise_px = nan_real();
-    assert_true(isnan((double)q_inlier_px(&p)));
+    TEST_ASSERT_TRUE(isnan((double)q_inlier_px(&p)));
     p.noise_px = inf_real();
-    assert_true(isinf((double)q_inlier_px(&p)));
+    TEST_ASSERT_TRUE(isinf((double)q_inlier_px(&p)));
     p.noise_px = SPVS_R(0.0);
-    assert_true(q_inlier_px(&p) == 0);
+    TEST_ASSERT_TRUE(q_inlier_px(&p) == 0);
 }
 
 #if !SPVS_USE_FIXED
@@ -442,9 +433,9 @@ static void twin_run(spvs_method_t method, const double start[3], uint64_t seed,
     scene_default(&sc, &rng, SIGMA_PX);
     spvs_params_t prm;
     params(&prm, method);
-    assert_int_equal(spvs_init(&e, &prm), SPVS_OK);
-    assert_int_equal(spvs_init(&f, &prm), SPVS_OK);
-    assert_int_equal(spvs_q_init(&q, &prm), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&e, &prm));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&f, &prm));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_init(&q, &prm));
     synth_pose_t pose = {start[0], start[1], start[2] * DEG};
     const spvs_real nan_h[9] = {nan_real(), 0, 0, 0, 1, 0, 0, 0, 1};
     spvs_output_t oe, of, oq;
@@ -453,7 +444,7 @@ static void twin_run(spvs_method_t method, const double start[3], uint64_t seed,
         const uint16_t n = synth_scene_frame(&sc, &pose, SIGMA_PX, MISMATCH, FRAME_LIM_PX, &rng, m);
         const spvs_real t = (spvs_real)(k * DT_S);
         const int rc_e = spvs_update(&e, m, n, t, &oe);
-        assert_int_equal(rc_e, oe.status);
+        TEST_ASSERT_EQUAL_INT64(oe.status, rc_e);
         const spvs_real *H = oe.h_valid ? oe.H : nan_h;
         const int rc_f = spvs_update_with_h(&f, m, n, t, H, &of);
         const int rc_q = spvs_q_update_with_h(&q, m, n, t, H, &oq);
@@ -474,9 +465,8 @@ static void twin_run(spvs_method_t method, const double start[3], uint64_t seed,
     r->done_q += oq.step == SPVS_STEP_DONE;
 }
 
-static void test_twin_float(void **state)
+static void test_twin_float(void)
 {
-    (void)state;
     twin_t r;
     memset(&r, 0, sizeof r);
     for (int method = 1; method <= 3; method++) {
@@ -484,22 +474,19 @@ static void test_twin_float(void **state)
             twin_run((spvs_method_t)method, starts[i], (uint64_t)(100 * method + i), &r);
         }
     }
-    printf("float vs Q, the float estimate given to both: 12 runs, %d frames (%d moving, %d "
+    UNIT_NOTE("float vs Q, the float estimate given to both: 12 runs, %d frames (%d moving, %d "
            "step changes); |dv| %.3g m/s, |dw| %.3g rad/s; statuses differ on %d, steps on "
-           "%d; done %d (float) %d (Q)\n",
-           r.frames, r.moving, r.switches, r.dv, r.dw, r.status_differ, r.step_differ,
-           r.done_f, r.done_q);
-    assert_int_equal(r.status_differ, 0);
-    assert_int_equal(r.step_differ, 0);
-    assert_true(r.dv <= TOL_TWIN_V && r.dw <= TOL_TWIN_W);
-    assert_true(r.moving > 1000);
-    assert_int_equal(r.done_f, r.done_q);
+           "%d; done %d (float) %d (Q)\n", r.frames, r.moving, r.switches, r.dv, r.dw, r.status_differ, r.step_differ, r.done_f, r.done_q);
+    TEST_ASSERT_EQUAL_INT64(0, r.status_differ);
+    TEST_ASSERT_EQUAL_INT64(0, r.step_differ);
+    TEST_ASSERT_TRUE(r.dv <= TOL_TWIN_V && r.dw <= TOL_TWIN_W);
+    TEST_ASSERT_TRUE(r.moving > 1000);
+    TEST_ASSERT_EQUAL_INT64(r.done_q, r.done_f);
 }
 
 /* A non-finite H: the same status in both cores. */
-static void test_twin_bad_h(void **state)
+static void test_twin_bad_h(void)
 {
-    (void)state;
     static spvs_t f;
     static spvs_q_t q;
     static synth_scene_t sc;
@@ -514,29 +501,29 @@ static void test_twin_bad_h(void **state)
     for (int i = 0; i < 6; i++) {
         spvs_real H[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
         H[rows13[i]] = i & 1 ? nan_real() : inf_real();
-        assert_int_equal(spvs_init(&f, &prm), SPVS_OK);
-        assert_int_equal(spvs_q_init(&q, &prm), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&f, &prm));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_init(&q, &prm));
         spvs_output_t of, oq;
         const int rc_f = spvs_update_with_h(&f, m, n, SPVS_R(0.1), H, &of);
         const int rc_q = spvs_q_update_with_h(&q, m, n, SPVS_R(0.1), H, &oq);
-        assert_int_equal(rc_f, SPVS_E_DEGENERATE);
-        assert_int_equal(rc_q, rc_f);
-        assert_true(of.v == 0 && of.w == 0 && oq.v == 0 && oq.w == 0);
+        TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, rc_f);
+        TEST_ASSERT_EQUAL_INT64(rc_f, rc_q);
+        TEST_ASSERT_TRUE(of.v == 0 && of.w == 0 && oq.v == 0 && oq.w == 0);
     }
 }
 #endif
 
-int main(void)
+void suite_fixed_spvs(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_readback_fresh),
-        cmocka_unit_test(test_readback_closed_loop),
-        cmocka_unit_test(test_bad_h),
-        cmocka_unit_test(test_inlier_px),
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_readback_fresh);
+    RUN_TEST(test_readback_closed_loop);
+    RUN_TEST(test_bad_h);
+    RUN_TEST(test_inlier_px);
 #if !SPVS_USE_FIXED
-        cmocka_unit_test(test_twin_float),
-        cmocka_unit_test(test_twin_bad_h),
+    RUN_TEST(test_twin_float);
+    RUN_TEST(test_twin_bad_h);
 #endif
-    };
-    return cmocka_run_group_tests(tests, 0, 0);
 }
+
+UNIT_MAIN(suite_fixed_spvs)

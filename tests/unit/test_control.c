@@ -1,12 +1,11 @@
 /* test_control.c - the Shortest Path Control laws, gain signs, step logic
  * and latched failures (control.h), fed with exact geometry. */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "spvs/control.h"
 #include "synth.h"
@@ -61,7 +60,7 @@ static void run_loop(spvs_method_t m, synth_pose_t pose, const synth_plane_t *pl
 {
     spvs_control_params_t p;
     spvs_control_params_default(&p, m);
-    assert_int_equal(spvs_control_params_check(&p), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_control_params_check(&p));
     spvs_control_t c;
     spvs_control_reset(&c);
     res->min_v = 1e9;
@@ -78,9 +77,9 @@ static void run_loop(spvs_method_t m, synth_pose_t pose, const synth_plane_t *pl
         int rc = spvs_control_step(&c, &p, &in, &v, &w);
         res->status = rc;
         if (rc != SPVS_OK) {
-            assert_true(v == 0 && w == 0);
+            TEST_ASSERT_TRUE(v == 0 && w == 0);
         }
-        assert_true(fabs((double)v) <= (double)p.v_max && fabs((double)w) <= (double)p.w_max);
+        TEST_ASSERT_TRUE(fabs((double)v) <= (double)p.v_max && fabs((double)w) <= (double)p.w_max);
         if (c.step != before && before >= SPVS_STEP_ROTATE && before <= SPVS_STEP_ALIGN) {
             res->t_end[before] = k * dt;
             res->phi_end[before] = pose.phi;
@@ -114,9 +113,8 @@ static void run_loop(spvs_method_t m, synth_pose_t pose, const synth_plane_t *pl
 /* All three methods, from the paper's first pose and from behind the target:
  * step 1 ends facing the target line (phi_t = -atan(x / z)), step 2 drives
  * forwards or backwards as needed, and the robot ends at the target. */
-static void test_closed_loop_law(void **state)
+static void test_closed_loop_law(void)
 {
-    (void)state;
     synth_plane_t pl = default_plane();
     const double poses[][3] = {{-3, -10, -30}, {5, 2, -50}, {6, -6, 0}, {-6, 4, 20}};
     for (int m = 1; m <= 3; m++) {
@@ -125,21 +123,19 @@ static void test_closed_loop_law(void **state)
             double phit = -atan(p.x / p.z);
             loop_result_t r;
             run_loop((spvs_method_t)m, p, &pl, &r);
-            print_message("method %d from (%g,%g,%g): step ends %.1f %.1f %.1f s, final (%.4f, %.4f, %.3f deg)\n",
-                          m, poses[i][0], poses[i][1], poses[i][2], r.t_end[1], r.t_end[2], r.t_end[3],
-                          r.pose.x, r.pose.z, r.pose.phi / DEG);
-            assert_int_equal(r.step, SPVS_STEP_DONE);
-            assert_int_equal(r.status, SPVS_OK);
+            UNIT_NOTE("method %d from (%g,%g,%g): step ends %.1f %.1f %.1f s, final (%.4f, %.4f, %.3f deg)\n", m, poses[i][0], poses[i][1], poses[i][2], r.t_end[1], r.t_end[2], r.t_end[3], r.pose.x, r.pose.z, r.pose.phi / DEG);
+            TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, r.step);
+            TEST_ASSERT_EQUAL_INT64(SPVS_OK, r.status);
             /* Facing the target line within 0.1 deg when step 1 ends. */
-            print_message("  step-1 end heading error %.3f deg\n", (r.phi_end[1] - phit) / DEG);
-            assert_true(fabs(r.phi_end[1] - phit) < 0.1 * DEG);
-            assert_true(r.t_end[1] > 0 && r.t_end[2] > r.t_end[1] && r.t_end[3] > r.t_end[2]);
-            assert_true(fabs(r.pose.x) < 0.02 && fabs(r.pose.z) < 0.02);
-            assert_true(fabs(r.pose.phi) < 0.1 * DEG);
+            UNIT_NOTE("  step-1 end heading error %.3f deg\n", (r.phi_end[1] - phit) / DEG);
+            TEST_ASSERT_TRUE(fabs(r.phi_end[1] - phit) < 0.1 * DEG);
+            TEST_ASSERT_TRUE(r.t_end[1] > 0 && r.t_end[2] > r.t_end[1] && r.t_end[3] > r.t_end[2]);
+            TEST_ASSERT_TRUE(fabs(r.pose.x) < 0.02 && fabs(r.pose.z) < 0.02);
+            TEST_ASSERT_TRUE(fabs(r.pose.phi) < 0.1 * DEG);
             if (p.z < 0) {
-                assert_true(r.min_v >= 0 && r.max_v > 0.1); /* forwards */
+                TEST_ASSERT_TRUE(r.min_v >= 0 && r.max_v > 0.1); /* forwards */
             } else {
-                assert_true(r.max_v <= 0 && r.min_v < -0.1); /* backwards */
+                TEST_ASSERT_TRUE(r.max_v <= 0 && r.min_v < -0.1); /* backwards */
             }
         }
     }
@@ -158,18 +154,17 @@ static void start_frames(spvs_control_t *c, const spvs_control_params_t *p,
         make_input(pose, pl, 0.1 * k, &in);
         int rc = spvs_control_step(c, p, &in, v, w);
         if (k + 1u < p->hold_frames) {
-            assert_int_equal(rc, SPVS_OK);
-            assert_true(*v == 0 && *w == 0);
-            assert_int_equal(c->step, SPVS_STEP_ROTATE);
+            TEST_ASSERT_EQUAL_INT64(SPVS_OK, rc);
+            TEST_ASSERT_TRUE(*v == 0 && *w == 0);
+            TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, c->step);
         } else {
-            assert_int_equal(rc, expect_last);
+            TEST_ASSERT_EQUAL_INT64(expect_last, rc);
         }
     }
 }
 
-static void test_first_command_signs(void **state)
+static void test_first_command_signs(void)
 {
-    (void)state;
     synth_plane_t pl = default_plane();
     for (int m = 1; m <= 3; m++) {
         spvs_control_params_t p;
@@ -179,21 +174,20 @@ static void test_first_command_signs(void **state)
         synth_pose_t a = {-3, -10, -30 * DEG};
         spvs_control_reset(&c);
         start_frames(&c, &p, &a, &pl, SPVS_OK, &v, &w);
-        assert_true(v == 0 && w > 0);
-        assert_int_equal(c.ahead, 1);
+        TEST_ASSERT_TRUE(v == 0 && w > 0);
+        TEST_ASSERT_EQUAL_INT64(1, c.ahead);
         synth_pose_t b = {5, 2, -50 * DEG};
         spvs_control_reset(&c);
         start_frames(&c, &p, &b, &pl, SPVS_OK, &v, &w);
-        assert_true(v == 0 && w < 0);
-        assert_int_equal(c.ahead, -1);
+        TEST_ASSERT_TRUE(v == 0 && w < 0);
+        TEST_ASSERT_EQUAL_INT64(-1, c.ahead);
     }
 }
 
 /* Table 1's failures, said by a status: Methods I and III need n_z, Method
  * II needs n_y.  The failure is latched and commands a stop. */
-static void test_plane_check(void **state)
+static void test_plane_check(void)
 {
-    (void)state;
     synth_plane_t wall, floor_pl;
     synth_plane(&wall, 1.0, 0.0, 0.0, 45);       /* n_z = 0, n_y = 0 */
     synth_plane(&floor_pl, 0.8, -0.6, 0.0, 45);  /* n_z = 0          */
@@ -215,19 +209,18 @@ static void test_plane_check(void **state)
         spvs_real v = 1, w = 1;
         start_frames(&c, &prm, &p, cases[i].pl, cases[i].expect, &v, &w);
         if (cases[i].expect != SPVS_OK) {
-            assert_true(v == 0 && w == 0);
-            assert_int_equal(c.step, SPVS_STEP_FAILED);
+            TEST_ASSERT_TRUE(v == 0 && w == 0);
+            TEST_ASSERT_EQUAL_INT64(SPVS_STEP_FAILED, c.step);
             spvs_control_input_t in;
             make_input(&p, cases[i].pl, 1.0, &in);
-            assert_int_equal(spvs_control_step(&c, &prm, &in, &v, &w), cases[i].expect);
-            assert_true(v == 0 && w == 0);
+            TEST_ASSERT_EQUAL_INT64(cases[i].expect, spvs_control_step(&c, &prm, &in, &v, &w));
+            TEST_ASSERT_TRUE(v == 0 && w == 0);
         }
     }
 }
 
-static void test_no_parallax_and_timeout(void **state)
+static void test_no_parallax_and_timeout(void)
 {
-    (void)state;
     synth_plane_t pl = default_plane();
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_III);
@@ -238,8 +231,8 @@ static void test_no_parallax_and_timeout(void **state)
     make_input(&a, &pl, 0, &in);
     in.e_valid = 0;
     spvs_real v = 1, w = 1;
-    assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_E_NO_PARALLAX);
-    assert_true(v == 0 && w == 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, spvs_control_step(&c, &p, &in, &v, &w));
+    TEST_ASSERT_TRUE(v == 0 && w == 0);
     /* A robot that never turns (stuck wheels): the step times out. */
     in.e_valid = 1;
     int rc = SPVS_OK;
@@ -247,17 +240,16 @@ static void test_no_parallax_and_timeout(void **state)
         in.t_s = (spvs_real)(0.1 * k);
         rc = spvs_control_step(&c, &p, &in, &v, &w);
     }
-    assert_int_equal(rc, SPVS_E_STEP_TIMEOUT);
-    assert_true(v == 0 && w == 0);
-    assert_true((double)in.t_s > (double)p.step_timeout_s);
-    assert_true((double)in.t_s < (double)p.step_timeout_s + 0.25);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_STEP_TIMEOUT, rc);
+    TEST_ASSERT_TRUE(v == 0 && w == 0);
+    TEST_ASSERT_TRUE((double)in.t_s > (double)p.step_timeout_s);
+    TEST_ASSERT_TRUE((double)in.t_s < (double)p.step_timeout_s + 0.25);
 }
 
 /* Method III: near the target the parallax falls under 5 px and the rotation
  * switches to eq. (11) with cos(phi_t) learnt on the line (eq. 8). */
-static void test_method3_eq11(void **state)
+static void test_method3_eq11(void)
 {
-    (void)state;
     synth_plane_t pl = default_plane();
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_III);
@@ -271,7 +263,7 @@ static void test_method3_eq11(void **state)
         spvs_control_input_t in;
         make_input(&pose, &pl, 0.1 * k, &in);
         spvs_real v, w;
-        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_control_step(&c, &p, &in, &v, &w));
         if (c.use_eq11 && switched_at < 0) {
             switched_at = k;
             /* The parallax model here is 20 px per metre: 5 px at 0.25 m;
@@ -279,15 +271,15 @@ static void test_method3_eq11(void **state)
              * hold_frames frames (the robot moves 0.031 m per frame here). */
             double r = sqrt(pose.x * pose.x + pose.z * pose.z);
             double r_expect = 0.25 - (p.hold_frames - 1) * 0.0313;
-            assert_true(r < 0.25 && fabs(r - r_expect) < 0.032);
+            TEST_ASSERT_TRUE(r < 0.25 && fabs(r - r_expect) < 0.032);
         }
         if (c.step == SPVS_STEP_ALIGN) {
             break;
         }
     }
-    assert_true(switched_at > 0);
-    assert_true(fabs((double)c.cos_phit - cos(phit)) < 1e-4);
-    assert_int_equal(c.sign_sin_phit, -1);
+    TEST_ASSERT_TRUE(switched_at > 0);
+    TEST_ASSERT_TRUE(fabs((double)c.cos_phit - cos(phit)) < 1e-4);
+    TEST_ASSERT_EQUAL_INT64(-1, c.sign_sin_phit);
 }
 
 /* The arrival check: a controller that has just ended step 3 at pose, fed
@@ -315,7 +307,7 @@ static int arrival_at_par(spvs_control_t *c, const spvs_control_params_t *p,
         in.parallax_px = (spvs_real)par_px;
         spvs_real v = 1, w = 1;
         rc = spvs_control_step(c, p, &in, &v, &w);
-        assert_true(v == 0 && w == 0);
+        TEST_ASSERT_TRUE(v == 0 && w == 0);
     }
     return rc;
 }
@@ -348,20 +340,19 @@ static double corner_px(const synth_pose_t *pose)
  * 0.3 m sideways facing the target heading's h13 = 0 (step 1's verdict:
  * the robot backs off, in step 2, for a new start) and 0.5 deg off the
  * heading (step 3 again), each with the figures of that pose's exact H. */
-static void test_arrival_check(void **state)
+static void test_arrival_check(void)
 {
-    (void)state;
     for (int m = 1; m <= 3; m++) {
         spvs_control_params_t p;
         spvs_control_params_default(&p, (spvs_method_t)m);
         spvs_control_t c;
         spvs_control_reset(&c);
         synth_pose_t home = {0, 0, 0};
-        assert_int_equal(arrival_at(&c, &p, &home, 0), SPVS_OK);
-        assert_int_equal(c.step, SPVS_STEP_DONE);
-        assert_true(fabs((double)c.arrival_bound_px - 0.61311) < 1e-4);
-        assert_true(c.arrival_corner_px < 1e-3);
-        assert_int_equal(c.reentries, 0);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &home, 0));
+        TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, c.step);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_bound_px - 0.61311) < 1e-4);
+        TEST_ASSERT_TRUE(c.arrival_corner_px < 1e-3);
+        TEST_ASSERT_EQUAL_INT64(0, c.reentries);
 
         const double nz = -0.75 / sqrt(0.3 * 0.3 + 0.6 * 0.6 + 0.75 * 0.75);
         const struct {
@@ -372,17 +363,14 @@ static void test_arrival_check(void **state)
                      {{0, 0, 0.5 * DEG}, SPVS_STEP_ALIGN, SPVS_STEP_ALIGN}};
         for (int i = 0; i < 3; i++) {
             spvs_control_reset(&c);
-            assert_int_equal(arrival_at(&c, &p, &cases[i].pose, 0), SPVS_OK);
-            print_message("method %d case %d: corner %.3f px (bound %.3f), lateral %.3f, depth %.3f, h13 %.3f\n",
-                          m, i, (double)c.arrival_corner_px, (double)c.arrival_bound_px,
-                          (double)c.arrival_lateral_px, (double)c.arrival_depth_px,
-                          (double)c.arrival_h13_px);
-            assert_int_equal(c.step, cases[i].step);
-            assert_int_equal(c.arrival_next, cases[i].verdict);
-            assert_int_equal(c.backing, cases[i].verdict == SPVS_STEP_ROTATE);
-            assert_int_equal(c.reentries, 1);
-            assert_true(c.arrival_corner_px > c.arrival_bound_px);
-            assert_true(fabs((double)c.arrival_corner_px - corner_px(&cases[i].pose)) <
+            TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &cases[i].pose, 0));
+            UNIT_NOTE("method %d case %d: corner %.3f px (bound %.3f), lateral %.3f, depth %.3f, h13 %.3f\n", m, i, (double)c.arrival_corner_px, (double)c.arrival_bound_px, (double)c.arrival_lateral_px, (double)c.arrival_depth_px, (double)c.arrival_h13_px);
+            TEST_ASSERT_EQUAL_INT64(cases[i].step, c.step);
+            TEST_ASSERT_EQUAL_INT64(cases[i].verdict, c.arrival_next);
+            TEST_ASSERT_EQUAL_INT64(cases[i].verdict == SPVS_STEP_ROTATE, c.backing);
+            TEST_ASSERT_EQUAL_INT64(1, c.reentries);
+            TEST_ASSERT_TRUE(c.arrival_corner_px > c.arrival_bound_px);
+            TEST_ASSERT_TRUE(fabs((double)c.arrival_corner_px - corner_px(&cases[i].pose)) <
                         1e-3 * corner_px(&cases[i].pose));
         }
     }
@@ -394,24 +382,23 @@ static void test_arrival_check(void **state)
  * one over it is a sideways offset: the robot backs off at -v_max, straight,
  * for SPVS_CTL_ARRIVAL_BACKOFF_DM decimetres by odometry, then starts over
  * (step 1, signs not chosen) with the re-entry counted. */
-static void test_arrival_parallax(void **state)
+static void test_arrival_parallax(void)
 {
-    (void)state;
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_I);
     spvs_control_t c;
     const synth_pose_t home = {0, 0, 0};
     spvs_control_reset(&c);
-    assert_int_equal(arrival_at_par(&c, &p, &home, 0, 2.90), SPVS_OK);
-    assert_int_equal(c.step, SPVS_STEP_DONE);
-    assert_true(fabs((double)c.arrival_parallax_px - 2.90) < 1e-5);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at_par(&c, &p, &home, 0, 2.90));
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, c.step);
+    TEST_ASSERT_TRUE(fabs((double)c.arrival_parallax_px - 2.90) < 1e-5);
 
     spvs_control_reset(&c);
-    assert_int_equal(arrival_at_par(&c, &p, &home, 0, 2.93), SPVS_OK);
-    assert_int_equal(c.step, SPVS_STEP_TRANSLATE);
-    assert_int_equal(c.arrival_next, SPVS_STEP_ROTATE);
-    assert_int_equal(c.backing, 1);
-    assert_int_equal(c.reentries, 1);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at_par(&c, &p, &home, 0, 2.93));
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, c.arrival_next);
+    TEST_ASSERT_EQUAL_INT64(1, c.backing);
+    TEST_ASSERT_EQUAL_INT64(1, c.reentries);
 
     /* Backing off: v = -v_max, w = 0, until the odometry says 5 m. */
     const synth_plane_t pl = default_plane();
@@ -423,22 +410,22 @@ static void test_arrival_parallax(void **state)
         spvs_control_input_t in;
         synth_pose_t at = {0, -driven, 0};
         make_input(&at, &pl, t, &in);
-        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_control_step(&c, &p, &in, &v, &w));
         if (c.backing) {
-            assert_true(v == -p.v_max && w == 0);
+            TEST_ASSERT_TRUE(v == -p.v_max && w == 0);
         }
         driven += -(double)v * 0.1;
         t += 0.1;
     }
-    assert_int_equal(c.backing, 0);
-    assert_true(driven >= dist - 1e-6 && driven < dist + (double)p.v_max * 0.1 + 1e-6);
+    TEST_ASSERT_EQUAL_INT64(0, c.backing);
+    TEST_ASSERT_TRUE(driven >= dist - 1e-6 && driven < dist + (double)p.v_max * 0.1 + 1e-6);
     /* The new start: as after a reset, with the count kept. */
-    assert_int_equal(c.step, SPVS_STEP_ROTATE);
-    assert_int_equal(c.checked_plane, 0);
-    assert_int_equal(c.sign_w, 0);
-    assert_int_equal(c.reentries, 1);
-    assert_int_equal(c.arrival_next, SPVS_STEP_ROTATE);
-    assert_true(fabs((double)c.arrival_parallax_px - 2.93) < 1e-5);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, c.step);
+    TEST_ASSERT_EQUAL_INT64(0, c.checked_plane);
+    TEST_ASSERT_EQUAL_INT64(0, c.sign_w);
+    TEST_ASSERT_EQUAL_INT64(1, c.reentries);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, c.arrival_next);
+    TEST_ASSERT_TRUE(fabs((double)c.arrival_parallax_px - 2.93) < 1e-5);
 
     /* A step 2 of the new homing that drives on past twice the back-off is
      * going the wrong way: a latched SPVS_E_NOT_AT_TARGET with a stop. */
@@ -451,35 +438,34 @@ static void test_arrival_parallax(void **state)
     make_input(&away, &pl, t, &in);
     v = 1;
     w = 1;
-    assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_E_NOT_AT_TARGET);
-    assert_true(v == 0 && w == 0);
-    assert_int_equal(c.step, SPVS_STEP_FAILED);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NOT_AT_TARGET, spvs_control_step(&c, &p, &in, &v, &w));
+    TEST_ASSERT_TRUE(v == 0 && w == 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_FAILED, c.step);
 }
 
 /* The re-entries are bounded: a robot that stays 0.3 m short is sent back
  * SPVS_CTL_ARRIVAL_MAX_REENTRIES times, then the run ends with
  * SPVS_E_NOT_AT_TARGET, latched with a stop, never converged. */
-static void test_arrival_bound_spent(void **state)
+static void test_arrival_bound_spent(void)
 {
-    (void)state;
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_II);
     spvs_control_t c;
     spvs_control_reset(&c);
     synth_pose_t shortp = {0, 0.3, 0};
     for (int k = 0; k < SPVS_CTL_ARRIVAL_MAX_REENTRIES; k++) {
-        assert_int_equal(arrival_at(&c, &p, &shortp, 10.0 * k), SPVS_OK);
-        assert_int_equal(c.step, SPVS_STEP_TRANSLATE);
-        assert_int_equal(c.reentries, k + 1);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &shortp, 10.0 * k));
+        TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
+        TEST_ASSERT_EQUAL_INT64(k + 1, c.reentries);
     }
-    assert_int_equal(arrival_at(&c, &p, &shortp, 100.0), SPVS_E_NOT_AT_TARGET);
-    assert_int_equal(c.step, SPVS_STEP_FAILED);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NOT_AT_TARGET, arrival_at(&c, &p, &shortp, 100.0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_FAILED, c.step);
     spvs_control_input_t in;
     synth_plane_t pl = default_plane();
     make_input(&shortp, &pl, 200.0, &in);
     spvs_real v = 1, w = 1;
-    assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_E_NOT_AT_TARGET);
-    assert_true(v == 0 && w == 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NOT_AT_TARGET, spvs_control_step(&c, &p, &in, &v, &w));
+    TEST_ASSERT_TRUE(v == 0 && w == 0);
 }
 
 /* Method II's depth re-entry reads the distance from h33 with the first
@@ -491,9 +477,8 @@ static void test_arrival_bound_spent(void **state)
  * rotation law keeps correcting: the slope kept must be n_z / d all the
  * same.  The test also fits h33 alone along the same line, to show that
  * the disturbance is there to be rejected. */
-static void test_reentry_slope_slip(void **state)
+static void test_reentry_slope_slip(void)
 {
-    (void)state;
     synth_plane_t pl = default_plane();
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_II);
@@ -507,7 +492,7 @@ static void test_reentry_slope_slip(void **state)
         spvs_control_input_t in;
         make_input(&pose, &pl, k * dt, &in);
         spvs_real v, w;
-        assert_int_equal(spvs_control_step(&c, &p, &in, &v, &w), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_control_step(&c, &p, &in, &v, &w));
         if (c.step == SPVS_STEP_TRANSLATE) {
             const double s = (double)c.odo_s, h33 = (double)in.H[SPVS_H33];
             n += 1;
@@ -526,49 +511,47 @@ static void test_reentry_slope_slip(void **state)
                         fabs(vv) * dt;
         }
     }
-    assert_int_equal(c.step, SPVS_STEP_ALIGN);
-    assert_true(fabs(phi_line) > 65 * DEG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ALIGN, c.step);
+    TEST_ASSERT_TRUE(fabs(phi_line) > 65 * DEG);
     const double nz_d = fabs(pl.n[2]) / pl.d;
     const double h33_slope = (n * SSh - S * Sh) / (n * SS - S * S);
-    printf("slope of h33 - h11 %.5f, of h33 %.5f, n_z / d %.5f per metre\n",
-           fabs((double)c.slope_ax), fabs(h33_slope), nz_d);
-    assert_true(fabs(fabs((double)c.slope_ax) / nz_d - 1.0) < 0.02);
-    assert_true(fabs(fabs(h33_slope) / nz_d - 1.0) > 0.1);
+    UNIT_NOTE("slope of h33 - h11 %.5f, of h33 %.5f, n_z / d %.5f per metre\n", fabs((double)c.slope_ax), fabs(h33_slope), nz_d);
+    TEST_ASSERT_TRUE(fabs(fabs((double)c.slope_ax) / nz_d - 1.0) < 0.02);
+    TEST_ASSERT_TRUE(fabs(fabs(h33_slope) / nz_d - 1.0) > 0.1);
     /* The same sign as the step-2 signal's: n_y and n_z are both negative. */
-    assert_true((c.slope_ax > 0) == (c.slope_sig > 0));
+    TEST_ASSERT_TRUE((c.slope_ax > 0) == (c.slope_sig > 0));
 }
 
-static void test_params_check(void **state)
+static void test_params_check(void)
 {
-    (void)state;
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_II);
-    assert_int_equal(spvs_control_params_check(&p), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_control_params_check(&p));
     volatile spvs_real zero = 0;
     p.k_w = zero / zero; /* NaN, made at run time */
-    assert_int_equal(spvs_control_params_check(&p), SPVS_E_CONFIG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_control_params_check(&p));
     spvs_control_params_default(&p, SPVS_METHOD_II);
     p.v_max = -1;
-    assert_int_equal(spvs_control_params_check(&p), SPVS_E_CONFIG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_control_params_check(&p));
     spvs_control_params_default(&p, SPVS_METHOD_II);
     p.method = (spvs_method_t)7;
-    assert_int_equal(spvs_control_params_check(&p), SPVS_E_CONFIG);
-    assert_int_equal(spvs_control_params_check(NULL), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_control_params_check(&p));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_control_params_check(NULL));
 }
 
-int main(void)
+void suite_control(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_closed_loop_law),
-        cmocka_unit_test(test_first_command_signs),
-        cmocka_unit_test(test_plane_check),
-        cmocka_unit_test(test_no_parallax_and_timeout),
-        cmocka_unit_test(test_method3_eq11),
-        cmocka_unit_test(test_arrival_check),
-        cmocka_unit_test(test_arrival_parallax),
-        cmocka_unit_test(test_arrival_bound_spent),
-        cmocka_unit_test(test_reentry_slope_slip),
-        cmocka_unit_test(test_params_check),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_closed_loop_law);
+    RUN_TEST(test_first_command_signs);
+    RUN_TEST(test_plane_check);
+    RUN_TEST(test_no_parallax_and_timeout);
+    RUN_TEST(test_method3_eq11);
+    RUN_TEST(test_arrival_check);
+    RUN_TEST(test_arrival_parallax);
+    RUN_TEST(test_arrival_bound_spent);
+    RUN_TEST(test_reentry_slope_slip);
+    RUN_TEST(test_params_check);
 }
+
+UNIT_MAIN(suite_control)

@@ -6,14 +6,13 @@
  * mean transfer of the image corners in pixels, against each other and
  * against the true H (docs/FIXED.md). */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "core_util.h"
 #include "fixed/plane_h_q.h"
@@ -92,7 +91,7 @@ static void run_both(const spvs_match_t *m, uint16_t n, uint32_t seed, both_t *r
     memset(r, 0, sizeof *r);
     r->rc_f = spvs_plane_h_load(&g_ef, m, n, NULL, 0);
     r->rc_q = spvs_q_plane_h_load(&g_eq, m, n, NULL, 0);
-    assert_int_equal(r->rc_f, r->rc_q);
+    TEST_ASSERT_EQUAL_INT64(r->rc_q, r->rc_f);
     if (r->rc_f != SPVS_OK) {
         return;
     }
@@ -100,7 +99,7 @@ static void run_both(const spvs_match_t *m, uint16_t n, uint32_t seed, both_t *r
     uint32_t sat = 0;
     const spvs_real t = inlier_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
     const spvs_qf_t t2 = spvs_q_t2_from_real(t * t, &sat);
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     /* The confidence 2^-32, as the fixed build reads it. */
     const uint32_t conf_q32 = (uint32_t)((double)p.confidence * 4294967296.0);
     r->rc_q = spvs_q_plane_h_estimate(&g_eq, t2, conf_q32, p.max_iters, &rq, &r->it_q);
@@ -116,9 +115,8 @@ static void run_both(const spvs_match_t *m, uint16_t n, uint32_t seed, both_t *r
 
 #define N_SCENES 300
 
-static void test_plane_h_random(void **state)
+static void test_plane_h_random(void)
 {
-    (void)state;
     static scene_t sc;
     static double ef[N_SCENES], eq[N_SCENES];
     uint64_t rng = 2718;
@@ -160,16 +158,14 @@ static void test_plane_h_random(void **state)
     qsort(ef, (size_t)compared, sizeof ef[0], cmp_double);
     qsort(eq, (size_t)compared, sizeof eq[0], cmp_double);
     const double med_f = ef[compared / 2], med_q = eq[compared / 2];
-    print_message("plane_h random: %d estimates, statuses differ in %d; corner error against the "
+    UNIT_NOTE("plane_h random: %d estimates, statuses differ in %d; corner error against the "
                   "true H, median float %.4f px, Q %.4f px, 90th %.4f / %.4f px; the two apart by "
                   "more than %.2f px in %d (largest below it %.2g px); inlier counts differ in %d; "
-                  "hypotheses float %ld, Q %ld\n",
-                  compared, status_differ, med_f, med_q, ef[compared * 9 / 10],
-                  eq[compared * 9 / 10], TOL_AGREE_PX, apart, worst_agree, inl_differ, it_f, it_q);
-    assert_true(compared > N_SCENES / 2);
-    assert_true(status_differ <= TOL_STATUS_DIFFER);
-    assert_true(med_q <= med_f + TOL_MEDIAN_EXCESS_PX);
-    assert_true((double)apart <= TOL_AGREE_SHARE * compared);
+                  "hypotheses float %ld, Q %ld\n", compared, status_differ, med_f, med_q, ef[compared * 9 / 10], eq[compared * 9 / 10], TOL_AGREE_PX, apart, worst_agree, inl_differ, it_f, it_q);
+    TEST_ASSERT_TRUE(compared > N_SCENES / 2);
+    TEST_ASSERT_TRUE(status_differ <= TOL_STATUS_DIFFER);
+    TEST_ASSERT_TRUE(med_q <= med_f + TOL_MEDIAN_EXCESS_PX);
+    TEST_ASSERT_TRUE((double)apart <= TOL_AGREE_SHARE * compared);
 }
 
 /* ---- the golden vectors ---------------------------------------------------- */
@@ -189,9 +185,8 @@ static void golden_matches(const spvs_golden_h_t *g, spvs_match_t *m)
 /* Every golden case (40 plane matches, 0.5 px noise in both images): both
  * estimators find every point an inlier, and the Q estimate is as near the
  * least-squares optimum as the float one. */
-static void test_plane_h_golden(void **state)
+static void test_plane_h_golden(void)
 {
-    (void)state;
     static spvs_match_t m[SPVS_GOLDEN_N_NOISY];
     double worst_f = 0, worst_q = 0, worst_fq = 0;
     for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
@@ -199,10 +194,10 @@ static void test_plane_h_golden(void **state)
         golden_matches(g, m);
         both_t r;
         run_both(m, SPVS_GOLDEN_N_NOISY, 7u + (uint32_t)c, &r);
-        assert_int_equal(r.rc_f, SPVS_OK);
-        assert_int_equal(r.rc_q, SPVS_OK);
-        assert_int_equal(r.inl_q, SPVS_GOLDEN_N_NOISY);
-        assert_int_equal(r.inl_f, SPVS_GOLDEN_N_NOISY);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, r.rc_f);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, r.rc_q);
+        TEST_ASSERT_EQUAL_INT64(SPVS_GOLDEN_N_NOISY, r.inl_q);
+        TEST_ASSERT_EQUAL_INT64(SPVS_GOLDEN_N_NOISY, r.inl_f);
         spvs_real Hs[9];
         double Hfit[9];
         rescale_scaled(g->H_fit, Hs);
@@ -213,11 +208,10 @@ static void test_plane_h_golden(void **state)
         worst_q = fmax(worst_q, corner_px(r.Hq, Hfit));
         worst_fq = fmax(worst_fq, corner_px(r.Hf, r.Hq));
     }
-    print_message("plane_h golden: largest corner distance to the least-squares optimum float "
-                  "%.4f px, Q %.4f px; float to Q %.4f px\n",
-                  worst_f, worst_q, worst_fq);
-    assert_true(worst_q <= worst_f + TOL_MEDIAN_EXCESS_PX);
-    assert_true(worst_fq <= TOL_AGREE_PX);
+    UNIT_NOTE("plane_h golden: largest corner distance to the least-squares optimum float "
+                  "%.4f px, Q %.4f px; float to Q %.4f px\n", worst_f, worst_q, worst_fq);
+    TEST_ASSERT_TRUE(worst_q <= worst_f + TOL_MEDIAN_EXCESS_PX);
+    TEST_ASSERT_TRUE(worst_fq <= TOL_AGREE_PX);
 }
 
 /* ---- the pipeline's estimation stage (spvs_q_estimate_h) ------------------- */
@@ -248,49 +242,47 @@ static spvs_q_t g_sq;
  * match an inlier, the command (0, 0), and H in pixels within
  * TOL_AGREE_PX (corner transfer) of the float pipeline's; the input
  * statuses as the float pipeline's. */
-static void test_estimate_h_pipeline(void **state)
+static void test_estimate_h_pipeline(void)
 {
-    (void)state;
     spvs_params_t p;
     spvs_params_default(&p, SPVS_METHOD_III);
-    assert_int_equal(spvs_init(&g_sf, &p), SPVS_OK);
-    assert_int_equal(spvs_q_init(&g_sq, &p), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&g_sf, &p));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_init(&g_sq, &p));
     static spvs_match_t m[SPVS_GOLDEN_N_NOISY];
     double worst = 0;
     for (int c = 0; c < SPVS_GOLDEN_N_H; c++) {
         const spvs_golden_h_t *g = &spvs_golden_h[c];
         golden_matches(g, m);
         spvs_output_t of, oq;
-        assert_int_equal(spvs_estimate_h(&g_sf, m, SPVS_GOLDEN_N_NOISY, &of), SPVS_OK);
-        assert_int_equal(spvs_q_estimate_h(&g_sq, m, SPVS_GOLDEN_N_NOISY, &oq), SPVS_OK);
-        assert_int_equal(oq.status, SPVS_OK);
-        assert_int_equal(oq.h_valid, 1);
-        assert_int_equal(oq.n_matches, SPVS_GOLDEN_N_NOISY);
-        assert_int_equal(oq.n_inliers, SPVS_GOLDEN_N_NOISY);
-        assert_int_equal(of.n_inliers, SPVS_GOLDEN_N_NOISY);
-        assert_true(oq.ransac_iters >= 1);
-        assert_true(oq.v == SPVS_R(0.0) && oq.w == SPVS_R(0.0));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_estimate_h(&g_sf, m, SPVS_GOLDEN_N_NOISY, &of));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_estimate_h(&g_sq, m, SPVS_GOLDEN_N_NOISY, &oq));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, oq.status);
+        TEST_ASSERT_EQUAL_INT64(1, oq.h_valid);
+        TEST_ASSERT_EQUAL_INT64(SPVS_GOLDEN_N_NOISY, oq.n_matches);
+        TEST_ASSERT_EQUAL_INT64(SPVS_GOLDEN_N_NOISY, oq.n_inliers);
+        TEST_ASSERT_EQUAL_INT64(SPVS_GOLDEN_N_NOISY, of.n_inliers);
+        TEST_ASSERT_TRUE(oq.ransac_iters >= 1);
+        TEST_ASSERT_TRUE(oq.v == SPVS_R(0.0) && oq.w == SPVS_R(0.0));
         worst = fmax(worst, corner_px_px(of.H, oq.H));
     }
-    print_message("estimate_h golden: float and Q pipelines' H at most %.4f px apart\n", worst);
-    assert_true(worst <= TOL_AGREE_PX);
+    UNIT_NOTE("estimate_h golden: float and Q pipelines' H at most %.4f px apart\n", worst);
+    TEST_ASSERT_TRUE(worst <= TOL_AGREE_PX);
     spvs_output_t o;
-    assert_int_equal(spvs_q_estimate_h(NULL, m, 10, &o), SPVS_E_ARG);
-    assert_int_equal(spvs_q_estimate_h(&g_sq, m, 10, NULL), SPVS_E_ARG);
-    assert_int_equal(spvs_q_estimate_h(&g_sq, m, 2, &o), SPVS_E_TOO_FEW);
-    assert_int_equal(spvs_estimate_h(&g_sf, m, 2, &o), SPVS_E_TOO_FEW);
-    assert_int_equal(o.h_valid, 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_estimate_h(NULL, m, 10, &o));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_estimate_h(&g_sq, m, 10, NULL));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, spvs_q_estimate_h(&g_sq, m, 2, &o));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, spvs_estimate_h(&g_sf, m, 2, &o));
+    TEST_ASSERT_EQUAL_INT64(0, o.h_valid);
     m[3].x_cur = (spvs_real)NAN;
-    assert_int_equal(spvs_q_estimate_h(&g_sq, m, 20, &o), SPVS_E_NONFINITE);
-    assert_int_equal(o.status, SPVS_E_NONFINITE);
-    assert_int_equal(spvs_estimate_h(&g_sf, m, 20, &o), SPVS_E_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, spvs_q_estimate_h(&g_sq, m, 20, &o));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, o.status);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, spvs_estimate_h(&g_sf, m, 20, &o));
 }
 
 /* ---- the input checks ------------------------------------------------------ */
 
-static void test_plane_h_load_statuses(void **state)
+static void test_plane_h_load_statuses(void)
 {
-    (void)state;
     static spvs_match_t m[SPVS_MAX_MATCHES + 1];
     for (int i = 0; i <= SPVS_MAX_MATCHES; i++) {
         m[i].x_tgt = (spvs_real)(i % 17);
@@ -299,22 +291,21 @@ static void test_plane_h_load_statuses(void **state)
         m[i].y_cur = SPVS_R(2.0);
         m[i].feature = (uint16_t)i;
     }
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, SPVS_MAX_MATCHES + 1, NULL, 0),
-                     SPVS_E_CAPACITY);
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, NULL, 5, NULL, 0), SPVS_E_ARG);
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 2, NULL, 0), SPVS_E_TOO_FEW);
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 7, NULL, 0), SPVS_E_TOO_FEW);
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CAPACITY, spvs_q_plane_h_load(&g_eq, m, SPVS_MAX_MATCHES + 1, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_plane_h_load(&g_eq, NULL, 5, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, spvs_q_plane_h_load(&g_eq, m, 2, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, spvs_q_plane_h_load(&g_eq, m, 7, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0));
     m[3].x_cur = (spvs_real)NAN;
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_NONFINITE);
-    assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, spvs_plane_h_load(&g_ef, m, 20, NULL, 0));
     m[3].x_cur = (spvs_real)(SPVS_MAX_COORD_PX + 1);
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_RANGE);
-    assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_RANGE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_plane_h_load(&g_ef, m, 20, NULL, 0));
     m[3].x_cur = SPVS_R(0.0);
     m[4].feature = SPVS_MAX_FEATURES;
-    assert_int_equal(spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0), SPVS_E_RANGE);
-    assert_int_equal(spvs_plane_h_load(&g_ef, m, 20, NULL, 0), SPVS_E_RANGE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_q_plane_h_load(&g_eq, m, 20, NULL, 0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_plane_h_load(&g_ef, m, 20, NULL, 0));
     m[4].feature = 4;
     /* Several kinds of bad value: the first in match order decides, in
      * both cores. */
@@ -342,29 +333,29 @@ static void test_plane_h_load_statuses(void **state)
         if (mixed[k].feature_at >= 0) {
             b[mixed[k].feature_at].feature = SPVS_MAX_FEATURES;
         }
-        assert_int_equal(spvs_plane_h_load(&g_ef, b, 20, NULL, 0), mixed[k].want);
-        assert_int_equal(spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0), mixed[k].want);
+        TEST_ASSERT_EQUAL_INT64(mixed[k].want, spvs_plane_h_load(&g_ef, b, 20, NULL, 0));
+        TEST_ASSERT_EQUAL_INT64(mixed[k].want, spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0));
     }
     /* Exactly at the limit is in range, one float above it is not. */
     {
         static spvs_match_t b[20];
         memcpy(b, m, sizeof b);
         b[5].x_tgt = (spvs_real)SPVS_MAX_COORD_PX;
-        assert_int_equal(spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0));
         b[5].x_tgt = nextafterf((float)SPVS_MAX_COORD_PX, 1e9f);
         b[6].x_cur = (spvs_real)NAN;
-        assert_int_equal(spvs_plane_h_load(&g_ef, b, 20, NULL, 0), SPVS_E_RANGE);
-        assert_int_equal(spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0), SPVS_E_RANGE);
+        TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_plane_h_load(&g_ef, b, 20, NULL, 0));
+        TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_q_plane_h_load(&g_eq, b, 20, NULL, 0));
     }
 }
 
-int main(void)
+void suite_fixed_plane_h(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_plane_h_load_statuses),
-        cmocka_unit_test(test_plane_h_golden),
-        cmocka_unit_test(test_plane_h_random),
-        cmocka_unit_test(test_estimate_h_pipeline),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_plane_h_load_statuses);
+    RUN_TEST(test_plane_h_golden);
+    RUN_TEST(test_plane_h_random);
+    RUN_TEST(test_estimate_h_pipeline);
 }
+
+UNIT_MAIN(suite_fixed_plane_h)

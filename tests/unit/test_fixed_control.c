@@ -16,14 +16,13 @@
  */
 #include <float.h>
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "fixed/control_q.h"
 #include "spvs/spvs.h"
@@ -160,11 +159,11 @@ static void twin_run(spvs_method_t method, synth_pose_t pose, double sigma, uint
 
     spvs_params_t prm;
     spvs_params_default(&prm, method);
-    assert_int_equal(spvs_init(&s, &prm), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&s, &prm));
     spvs_control_t cf;
     spvs_control_reset(&cf);
     spvs_q_ctl_params_t qp;
-    assert_int_equal(spvs_q_ctl_params_from_real(&qp, &prm.ctl), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_params_from_real(&qp, &prm.ctl));
     spvs_q_ctl_t cq;
     spvs_q_ctl_reset(&cq);
 
@@ -199,7 +198,7 @@ static void twin_run(spvs_method_t method, synth_pose_t pose, double sigma, uint
             r->replay_diff++;
         }
         spvs_q_ctl_input_t qi;
-        assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_input_from_real(&qi, &in));
         int32_t v_q = 0, w_q = 0;
         const int step_before = (int)cf.step;
         const int rc_q = spvs_q_ctl_step(&cq, &qp, &qi, &v_q, &w_q);
@@ -251,52 +250,42 @@ static void twin_all(double sigma, int *n_done)
             const int ok = r.step_diff == 0 && r.status_diff == 0 && r.replay_diff == 0 &&
                            r.diverged == 0 && r.max_dv <= TOL_CMD && r.max_dw <= TOL_CMD &&
                            same_switch;
-            print_message("  M%d (%+.0f, %+.0f, %+.0f) %.0f px: %4d frames (%4d ctl), steps "
+            UNIT_NOTE("  M%d (%+.0f, %+.0f, %+.0f) %.0f px: %4d frames (%4d ctl), steps "
                           "from %d/%d/%d/%d (Q %d/%d/%d/%d), end step %d status %d at "
-                          "(%+.3f, %+.3f, %+.2f deg), |dv| %.1e |dw| %.1e%s\n",
-                          method, fig5[i][0], fig5[i][1], fig5[i][2], sigma, r.frames,
-                          r.frames_ctl, r.switch_f[1], r.switch_f[2], r.switch_f[3],
-                          r.switch_f[4], r.switch_q[1], r.switch_q[2], r.switch_q[3],
-                          r.switch_q[4], r.final_step, r.final_status, r.err_x, r.err_z,
-                          r.err_phi_deg, r.max_dv, r.max_dw, ok ? "" : "  MISMATCH");
+                          "(%+.3f, %+.3f, %+.2f deg), |dv| %.1e |dw| %.1e%s\n", method, fig5[i][0], fig5[i][1], fig5[i][2], sigma, r.frames, r.frames_ctl, r.switch_f[1], r.switch_f[2], r.switch_f[3], r.switch_f[4], r.switch_q[1], r.switch_q[2], r.switch_q[3], r.switch_q[4], r.final_step, r.final_status, r.err_x, r.err_z, r.err_phi_deg, r.max_dv, r.max_dw, ok ? "" : "  MISMATCH");
             if (r.tie_frame >= 0) {
-                print_message("    a tie at the tolerance at frame %d: compared up to there\n",
-                              r.tie_frame);
+                UNIT_NOTE("    a tie at the tolerance at frame %d: compared up to there\n", r.tie_frame);
             }
             if (!ok) {
-                print_message("    step diffs %d, status diffs %d, replay diffs %d\n",
-                              r.step_diff, r.status_diff, r.replay_diff);
+                UNIT_NOTE("    step diffs %d, status diffs %d, replay diffs %d\n", r.step_diff, r.status_diff, r.replay_diff);
                 bad++;
             }
         }
     }
-    print_message("  largest |v_q - v_f| %.2e m/s, |w_q - w_f| %.2e rad/s (tolerance %.0e), "
-                  "%d of 18 runs with a tie\n",
-                  worst_v, worst_w, TOL_CMD, ties);
-    assert_int_equal(bad, 0);
+    UNIT_NOTE("  largest |v_q - v_f| %.2e m/s, |w_q - w_f| %.2e rad/s (tolerance %.0e), "
+                  "%d of 18 runs with a tie\n", worst_v, worst_w, TOL_CMD, ties);
+    TEST_ASSERT_EQUAL_INT64(0, bad);
     /* A tie needs a frame within TIE_CMD of a tolerance: rare. */
-    assert_true(ties <= 2);
+    TEST_ASSERT_TRUE(ties <= 2);
 }
 
 /* Noise-free, the six Figure 5 poses, every method: the same steps,
  * statuses and switch frames, commands within TOL_CMD; every run ends
  * converged (as docs/RESULTS.md's table). */
-static void test_twin_noise_free(void **state)
+static void test_twin_noise_free(void)
 {
-    (void)state;
     int done = 0;
     twin_all(0.0, &done);
-    assert_int_equal(done, 18);
+    TEST_ASSERT_EQUAL_INT64(18, done);
 }
 
 /* The same with 1 px image noise (the runs may end in any status: what is
  * asserted is that the two controllers agree on every frame). */
-static void test_twin_one_pixel(void **state)
+static void test_twin_one_pixel(void)
 {
-    (void)state;
     int done = 0;
     twin_all(1.0, &done);
-    print_message("  %d of 18 runs converged\n", done);
+    UNIT_NOTE("  %d of 18 runs converged\n", done);
 }
 
 /* ---- exact-geometry inputs ---------------------------------------------- */
@@ -335,7 +324,7 @@ typedef struct {
 static void pair_init(pair_t *pr, spvs_method_t m)
 {
     spvs_control_params_default(&pr->pf, m);
-    assert_int_equal(spvs_q_ctl_params_from_real(&pr->pq, &pr->pf), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_params_from_real(&pr->pq, &pr->pf));
     spvs_control_reset(&pr->f);
     spvs_q_ctl_reset(&pr->q);
 }
@@ -347,21 +336,20 @@ static int pair_step(pair_t *pr, const spvs_control_input_t *in)
     spvs_real vf = 1, wf = 1;
     int32_t vq = 1, wq = 1;
     spvs_q_ctl_input_t qi;
-    assert_int_equal(spvs_q_ctl_input_from_real(&qi, in), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_input_from_real(&qi, in));
     const int rf = spvs_control_step(&pr->f, &pr->pf, in, &vf, &wf);
     const int rq = spvs_q_ctl_step(&pr->q, &pr->pq, &qi, &vq, &wq);
-    assert_int_equal(rq, rf);
-    assert_int_equal(pr->q.step, pr->f.step);
-    assert_true(fabs((double)vq / CMD_ONE - (double)vf) <= TOL_CMD);
-    assert_true(fabs((double)wq / CMD_ONE - (double)wf) <= TOL_CMD);
+    TEST_ASSERT_EQUAL_INT64(rf, rq);
+    TEST_ASSERT_EQUAL_INT64(pr->f.step, pr->q.step);
+    TEST_ASSERT_TRUE(fabs((double)vq / CMD_ONE - (double)vf) <= TOL_CMD);
+    TEST_ASSERT_TRUE(fabs((double)wq / CMD_ONE - (double)wf) <= TOL_CMD);
     return rf;
 }
 
 /* Table 1's zero rows: Methods I and III need n_z, Method II n_y; the
  * plane check latches the same status in both, with a stop. */
-static void test_plane_zero_rows(void **state)
+static void test_plane_zero_rows(void)
 {
-    (void)state;
     synth_plane_t wall, floor_pl, front;
     synth_plane(&wall, 1.0, 0.0, 0.0, 45);      /* n_z = 0, n_y = 0 */
     synth_plane(&floor_pl, 0.8, -0.6, 0.0, 45); /* n_z = 0          */
@@ -383,9 +371,9 @@ static void test_plane_zero_rows(void **state)
             exact_input(&p, cases[i].pl, 0.1 * k, -1, &in);
             rc = pair_step(&pr, &in);
         }
-        assert_int_equal(rc, cases[i].expect);
-        assert_int_equal(pr.q.step, cases[i].expect == SPVS_OK ? SPVS_STEP_ROTATE
-                                                              : SPVS_STEP_FAILED);
+        TEST_ASSERT_EQUAL_INT64(cases[i].expect, rc);
+        TEST_ASSERT_EQUAL_INT64(cases[i].expect == SPVS_OK ? SPVS_STEP_ROTATE
+                                                              : SPVS_STEP_FAILED, pr.q.step);
     }
 }
 
@@ -443,9 +431,8 @@ static int stuck_at(pair_t *pr, const synth_pose_t *pose, double sigma, int *fra
  * axis it re-enters step 2 SPVS_CTL_ARRIVAL_MAX_REENTRIES times (the robot
  * never moves) and then latches SPVS_E_NOT_AT_TARGET; 0.3 m sideways it
  * backs off.  Each for every method, exact H and H with noise. */
-static void test_arrival_paths(void **state)
+static void test_arrival_paths(void)
 {
-    (void)state;
     const synth_pose_t home = {0, 0, 0}, shortp = {0, 0.3, 0}, side = {0.3, 0, 0};
     for (int m = 1; m <= 3; m++) {
         for (int noisy = 0; noisy < 2; noisy++) {
@@ -453,64 +440,60 @@ static void test_arrival_paths(void **state)
             int frames = 0;
             pair_init(&pr, (spvs_method_t)m);
             pair_arriving(&pr, 0);
-            assert_int_equal(stuck_at(&pr, &home, noisy, &frames), SPVS_OK);
-            assert_int_equal(pr.f.step, SPVS_STEP_DONE);
-            assert_true(fabs(pr.q.arrival_bound_px / 65536.0 - (double)pr.f.arrival_bound_px) < 1e-4);
-            assert_true(fabs(pr.q.arrival_corner_px / 65536.0 - (double)pr.f.arrival_corner_px) < 1e-4);
+            TEST_ASSERT_EQUAL_INT64(SPVS_OK, stuck_at(&pr, &home, noisy, &frames));
+            TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, pr.f.step);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_bound_px / 65536.0 - (double)pr.f.arrival_bound_px) < 1e-4);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_corner_px / 65536.0 - (double)pr.f.arrival_corner_px) < 1e-4);
 
             pair_init(&pr, (spvs_method_t)m);
             pair_arriving(&pr, 0);
-            assert_int_equal(stuck_at(&pr, &shortp, noisy, &frames), SPVS_E_NOT_AT_TARGET);
-            assert_int_equal(pr.q.reentries, pr.f.reentries);
-            assert_int_equal(pr.f.reentries, SPVS_CTL_ARRIVAL_MAX_REENTRIES);
-            print_message("  M%d short, noise %d: NOT_AT_TARGET after %d frames, %d re-entries, "
-                          "corner %.4f / %.4f px, depth %.4f / %.4f px (float / Q)\n",
-                          m, noisy, frames, pr.f.reentries, (double)pr.f.arrival_corner_px,
-                          pr.q.arrival_corner_px / 65536.0, (double)pr.f.arrival_depth_px,
-                          pr.q.arrival_depth_px / 65536.0);
-            assert_true(fabs(pr.q.arrival_depth_px / 65536.0 - (double)pr.f.arrival_depth_px) < 1e-4);
+            TEST_ASSERT_EQUAL_INT64(SPVS_E_NOT_AT_TARGET, stuck_at(&pr, &shortp, noisy, &frames));
+            TEST_ASSERT_EQUAL_INT64(pr.f.reentries, pr.q.reentries);
+            TEST_ASSERT_EQUAL_INT64(SPVS_CTL_ARRIVAL_MAX_REENTRIES, pr.f.reentries);
+            UNIT_NOTE("  M%d short, noise %d: NOT_AT_TARGET after %d frames, %d re-entries, "
+                          "corner %.4f / %.4f px, depth %.4f / %.4f px (float / Q)\n", m, noisy, frames, pr.f.reentries, (double)pr.f.arrival_corner_px, pr.q.arrival_corner_px / 65536.0, (double)pr.f.arrival_depth_px, pr.q.arrival_depth_px / 65536.0);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_depth_px / 65536.0 - (double)pr.f.arrival_depth_px) < 1e-4);
 
             pair_init(&pr, (spvs_method_t)m);
             pair_arriving(&pr, 0);
             (void)stuck_at(&pr, &side, noisy, &frames);
-            assert_int_equal(pr.q.arrival_next, pr.f.arrival_next);
-            assert_int_equal(pr.q.reentries, pr.f.reentries);
+            TEST_ASSERT_EQUAL_INT64(pr.f.arrival_next, pr.q.arrival_next);
+            TEST_ASSERT_EQUAL_INT64(pr.f.reentries, pr.q.reentries);
         }
     }
 }
 
 /* Out-of-range input and parameters are statuses. */
-static void test_conversions(void **state)
+static void test_conversions(void)
 {
-    (void)state;
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_I);
     spvs_q_ctl_params_t q;
-    assert_int_equal(spvs_q_ctl_params_from_real(&q, &p), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_params_from_real(&q, &p));
     p.v_max = 200; /* beyond Q24's 128 m/s */
-    assert_int_equal(spvs_q_ctl_params_from_real(&q, &p), SPVS_E_CONFIG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_q_ctl_params_from_real(&q, &p));
     spvs_control_params_default(&p, SPVS_METHOD_I);
     p.tol_align = 1e-12f; /* rounds to 0 in Q27 */
-    assert_int_equal(spvs_q_ctl_params_from_real(&q, &p), SPVS_E_CONFIG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_q_ctl_params_from_real(&q, &p));
     spvs_control_input_t in;
     const synth_plane_t pl = {{0, 0, -1}, 45};
     const synth_pose_t pose = {-3, -10, -0.5};
     exact_input(&pose, &pl, 1.0, -1, &in);
     spvs_q_ctl_input_t qi;
-    assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_OK);
-    assert_true(qi.e_side == (in.e_dir_z > 0 ? 1 : -1));
-    assert_true(qi.parallax > 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_input_from_real(&qi, &in));
+    TEST_ASSERT_TRUE(qi.e_side == (in.e_dir_z > 0 ? 1 : -1));
+    TEST_ASSERT_TRUE(qi.parallax > 0);
     in.parallax_px = -1e-30f;
-    assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_OK);
-    assert_true(qi.parallax < 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_input_from_real(&qi, &in));
+    TEST_ASSERT_TRUE(qi.parallax < 0);
     in.H[SPVS_H13] = 1e-12f; /* keeps its sign as one ulp */
-    assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_OK);
-    assert_int_equal(qi.H[SPVS_H13], 1);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_input_from_real(&qi, &in));
+    TEST_ASSERT_EQUAL_INT64(1, qi.H[SPVS_H13]);
     in.H[SPVS_H31] = 0.1f; /* 51 in scaled units */
-    assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_E_RANGE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, spvs_q_ctl_input_from_real(&qi, &in));
     volatile spvs_real zero = 0;
     in.H[SPVS_H31] = zero / zero;
-    assert_int_equal(spvs_q_ctl_input_from_real(&qi, &in), SPVS_E_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, spvs_q_ctl_input_from_real(&qi, &in));
 }
 
 /* ---- the parameter check on the bits ------------------------------------ */
@@ -595,7 +578,7 @@ static int real_values(spvs_real *v)
 #endif
     memcpy(&v[n], snan_bits, sizeof snan_bits);
     n += 2;
-    assert_int_equal(n, MAX_VALUES);
+    TEST_ASSERT_EQUAL_INT64(MAX_VALUES, n);
     return n;
 }
 
@@ -610,11 +593,11 @@ static void check_one(const spvs_control_params_t *p, check_count_t *c)
     const int rf = spvs_control_params_check(p);
     const int rq = spvs_q_ctl_params_check(p);
     if (rq != rf) {
-        fail_msg("check %d, float check %d", rq, rf);
+        UNIT_FAIL_NOTE("check %d, float check %d", rq, rf);
     }
     if (rf != SPVS_OK) {
         spvs_q_ctl_params_t q;
-        assert_int_equal(spvs_q_ctl_params_from_real(&q, p), SPVS_E_CONFIG);
+        TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_q_ctl_params_from_real(&q, p));
     }
     c->cases++;
     c->ok += rf == SPVS_OK;
@@ -626,9 +609,8 @@ static void check_one(const spvs_control_params_t *p, check_count_t *c)
  * turn to values at, just inside and just outside every bound (the next
  * float up and down), NaN and infinities; the counts at and around
  * theirs. */
-static void test_params_check(void **state)
+static void test_params_check(void)
 {
-    (void)state;
     static spvs_real vals[MAX_VALUES];
     const int nv = real_values(vals);
     const uint16_t counts[] = {0, 1, 2, 3, 9, 10, 11, 19, 20, 21, 79, 80, 81,
@@ -636,11 +618,11 @@ static void test_params_check(void **state)
                                SPVS_CTL_ARRIVAL_MAX_FRAMES + 1, UINT16_MAX};
     const int methods[] = {-1, 0, 1, 2, 3, 4, 255};
     check_count_t c = {0, 0, 0};
-    assert_int_equal(spvs_q_ctl_params_check(NULL), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_ctl_params_check(NULL));
     for (int m = SPVS_METHOD_I; m <= SPVS_METHOD_III; m++) {
         spvs_control_params_t d;
         spvs_control_params_default(&d, (spvs_method_t)m);
-        assert_int_equal(spvs_q_ctl_params_check(&d), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_ctl_params_check(&d));
         check_one(&d, &c);
         for (size_t f = 0; f < N_REAL_FIELDS; f++) {
             for (int i = 0; i < nv; i++) {
@@ -666,23 +648,22 @@ static void test_params_check(void **state)
                             (int)(sizeof u16_fields / sizeof u16_fields[0] *
                                   (sizeof counts / sizeof counts[0])) +
                             (int)(sizeof methods / sizeof methods[0]));
-    assert_int_equal(c.cases, expect);
-    assert_int_equal(c.ok + c.config, c.cases);
+    TEST_ASSERT_EQUAL_INT64(expect, c.cases);
+    TEST_ASSERT_EQUAL_INT64(c.cases, c.ok + c.config);
     /* Both answers are common: each field's bounds are straddled. */
-    assert_true(c.ok > c.cases / 10 && c.config > c.cases / 10);
-    print_message("  %d parameter sets compared with the float check: %d pass, %d refused\n",
-                  c.cases, c.ok, c.config);
+    TEST_ASSERT_TRUE(c.ok > c.cases / 10 && c.config > c.cases / 10);
+    UNIT_NOTE("  %d parameter sets compared with the float check: %d pass, %d refused\n", c.cases, c.ok, c.config);
 }
 
-int main(void)
+void suite_fixed_control(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_twin_noise_free),
-        cmocka_unit_test(test_twin_one_pixel),
-        cmocka_unit_test(test_plane_zero_rows),
-        cmocka_unit_test(test_arrival_paths),
-        cmocka_unit_test(test_conversions),
-        cmocka_unit_test(test_params_check),
-    };
-    return cmocka_run_group_tests_name("fixed_control", tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_twin_noise_free);
+    RUN_TEST(test_twin_one_pixel);
+    RUN_TEST(test_plane_zero_rows);
+    RUN_TEST(test_arrival_paths);
+    RUN_TEST(test_conversions);
+    RUN_TEST(test_params_check);
 }
+
+UNIT_MAIN(suite_fixed_control)

@@ -1,13 +1,12 @@
 /* test_spvs.c - the update pipeline: every status commands a stop, output
  * buffers are not overrun, off-plane features are remembered (spvs.h). */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "spvs/spvs.h"
 #include "synth.h"
@@ -28,7 +27,7 @@ static void init(spvs_method_t method)
 {
     spvs_params_t p;
     spvs_params_default(&p, method);
-    assert_int_equal(spvs_init(&s, &p), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&s, &p));
 }
 
 /* One update; checks the stop on error and the sentinel; records the status. */
@@ -38,12 +37,12 @@ static int update(uint16_t n, double t, guarded_out_t *g)
     g->out.v = SPVS_R(9.0);
     g->out.w = SPVS_R(9.0);
     int rc = spvs_update(&s, m, n, (spvs_real)t, &g->out);
-    assert_int_equal(g->guard, SENTINEL);
-    assert_int_equal(rc, g->out.status);
+    TEST_ASSERT_EQUAL_INT64(SENTINEL, g->guard);
+    TEST_ASSERT_EQUAL_INT64(g->out.status, rc);
     if (rc != SPVS_OK) {
-        assert_true(g->out.v == 0 && g->out.w == 0);
+        TEST_ASSERT_TRUE(g->out.v == 0 && g->out.w == 0);
     }
-    assert_true(rc <= 0 && rc > -SPVS_STATUS_COUNT);
+    TEST_ASSERT_TRUE(rc <= 0 && rc > -SPVS_STATUS_COUNT);
     seen[-rc] = 1;
     return rc;
 }
@@ -55,9 +54,8 @@ static uint16_t default_frame(const synth_pose_t *p, double sigma, uint64_t *rng
     return synth_frame(p, &pl, 800, 100, 25, sigma, rng, m, on_plane);
 }
 
-static void test_ok_and_remember(void **state)
+static void test_ok_and_remember(void)
 {
-    (void)state;
     init(SPVS_METHOD_III);
     uint64_t rng = 1;
     synth_pose_t p = {-3, -10, -30 * DEG};
@@ -67,32 +65,31 @@ static void test_ok_and_remember(void **state)
     for (int k = 0; k < 4; k++) {
         rng = 1; /* the same scene every frame */
         uint16_t n = default_frame(&p, 0.0, &rng, on_plane);
-        assert_int_equal(update(n, 0.1 * k, &g), SPVS_OK);
-        assert_true(g.out.h_valid && g.out.e_valid);
-        assert_int_equal(g.out.step, SPVS_STEP_ROTATE);
-        assert_true(g.out.v == 0);
-        assert_true(k < 2 ? g.out.w == 0 : g.out.w > 0);
-        assert_int_equal(g.out.n_offplane, 25);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, update(n, 0.1 * k, &g));
+        TEST_ASSERT_TRUE(g.out.h_valid && g.out.e_valid);
+        TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, g.out.step);
+        TEST_ASSERT_TRUE(g.out.v == 0);
+        TEST_ASSERT_TRUE(k < 2 ? g.out.w == 0 : g.out.w > 0);
+        TEST_ASSERT_EQUAL_INT64(25, g.out.n_offplane);
     }
     /* Every off-plane feature is remembered, no plane feature is. */
     for (int i = 0; i < 125; i++) {
-        assert_int_equal(spvs_offplane_known(&s.off, (uint16_t)i), i >= 100);
+        TEST_ASSERT_EQUAL_INT64(i >= 100, spvs_offplane_known(&s.off, (uint16_t)i));
     }
     /* ... and counted: the frame copy skips its counting pass only at 0. */
-    assert_int_equal(s.off.n_known, 25);
+    TEST_ASSERT_EQUAL_INT64(25, s.off.n_known);
     /* The epipole: alpha_x tan(phi - phi_t), phi_t = -atan(3/10). */
     double expect = 800 * tan(-30 * DEG + atan(0.3));
-    assert_true(fabs((double)g.out.e_x_px - expect) < 0.05);
+    TEST_ASSERT_TRUE(fabs((double)g.out.e_x_px - expect) < 0.05);
     /* A reset forgets everything. */
     spvs_reset(&s);
-    assert_int_equal(s.off.score[110], 0);
-    assert_int_equal(s.off.n_known, 0);
-    assert_int_equal(s.ctl.step, SPVS_STEP_ROTATE);
+    TEST_ASSERT_EQUAL_INT64(0, s.off.score[110]);
+    TEST_ASSERT_EQUAL_INT64(0, s.off.n_known);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, s.ctl.step);
 }
 
-static void test_every_status_stops(void **state)
+static void test_every_status_stops(void)
 {
-    (void)state;
     guarded_out_t g;
     uint64_t rng = 4;
     synth_pose_t p = {-3, -10, -30 * DEG};
@@ -100,25 +97,25 @@ static void test_every_status_stops(void **state)
 
     init(SPVS_METHOD_III);
     uint16_t n = default_frame(&p, 0.0, &rng, NULL);
-    assert_int_equal(update(2, 0.0, &g), SPVS_E_TOO_FEW);
-    assert_int_equal(update(SPVS_MAX_MATCHES + 1, 0.1, &g), SPVS_E_CAPACITY);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, update(2, 0.0, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CAPACITY, update(SPVS_MAX_MATCHES + 1, 0.1, &g));
     spvs_match_t keep = m[7];
     m[7].x_cur = zero / zero; /* NaN made at run time */
-    assert_int_equal(update(n, 0.2, &g), SPVS_E_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, update(n, 0.2, &g));
     m[7].x_cur = SPVS_R(1.0) / zero; /* +Inf */
-    assert_int_equal(update(n, 0.3, &g), SPVS_E_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, update(n, 0.3, &g));
     m[7] = keep;
     m[7].y_tgt = SPVS_R(1.0e6);
-    assert_int_equal(update(n, 0.4, &g), SPVS_E_RANGE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, update(n, 0.4, &g));
     m[7] = keep;
     m[7].feature = SPVS_MAX_FEATURES;
-    assert_int_equal(update(n, 0.5, &g), SPVS_E_RANGE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_RANGE, update(n, 0.5, &g));
     m[7] = keep;
     /* A good frame, then the same time again and an older time: stale. */
-    assert_int_equal(update(n, 0.6, &g), SPVS_OK);
-    assert_int_equal(update(n, 0.6, &g), SPVS_E_STALE);
-    assert_int_equal(update(n, 0.5, &g), SPVS_E_STALE);
-    assert_int_equal(update(n, zero / zero, &g), SPVS_E_NONFINITE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, update(n, 0.6, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_STALE, update(n, 0.6, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_STALE, update(n, 0.5, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NONFINITE, update(n, zero / zero, &g));
 
     /* All matches at one point: every sample is degenerate. */
     init(SPVS_METHOD_III);
@@ -127,7 +124,7 @@ static void test_every_status_stops(void **state)
         m[i].y_tgt = m[i].y_cur = SPVS_R(20.0);
         m[i].feature = (uint16_t)i;
     }
-    assert_int_equal(update(50, 0.0, &g), SPVS_E_DEGENERATE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, update(50, 0.0, &g));
 
     /* Random pairs: no homography explains 8 of them. */
     init(SPVS_METHOD_III);
@@ -138,15 +135,15 @@ static void test_every_status_stops(void **state)
         m[i].y_cur = (spvs_real)((synth_uniform(&rng) - 0.5) * 480);
         m[i].feature = (uint16_t)i;
     }
-    assert_int_equal(update(60, 0.0, &g), SPVS_E_NO_CONSENSUS);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_CONSENSUS, update(60, 0.0, &g));
 
     /* Plane points only, away from the target: no parallax, no signs. */
     init(SPVS_METHOD_III);
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
     n = synth_frame(&p, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
-    assert_int_equal(update(n, 0.0, &g), SPVS_E_NO_PARALLAX);
-    assert_true(g.out.h_valid); /* H was fine; the controller could not act */
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, update(n, 0.0, &g));
+    TEST_ASSERT_TRUE(g.out.h_valid); /* H was fine; the controller could not act */
 
     /* Table 1: a plane without n_z for Method I, without n_y for II. */
     synth_plane_t wall, front;
@@ -155,16 +152,16 @@ static void test_every_status_stops(void **state)
     /* (decided on the third frame, standing still until then) */
     init(SPVS_METHOD_I);
     n = synth_frame(&p, &wall, 800, 100, 25, 0.0, &rng, m, NULL);
-    assert_int_equal(update(n, 0.0, &g), SPVS_OK);
-    assert_int_equal(update(n, 0.1, &g), SPVS_OK);
-    assert_int_equal(update(n, 0.2, &g), SPVS_E_PLANE_NZ);
-    assert_int_equal(update(n, 0.3, &g), SPVS_E_PLANE_NZ); /* latched */
-    assert_int_equal(g.out.step, SPVS_STEP_FAILED);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, update(n, 0.0, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, update(n, 0.1, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_PLANE_NZ, update(n, 0.2, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_PLANE_NZ, update(n, 0.3, &g)); /* latched */
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_FAILED, g.out.step);
     init(SPVS_METHOD_II);
     n = synth_frame(&p, &front, 800, 100, 25, 0.0, &rng, m, NULL);
-    assert_int_equal(update(n, 0.0, &g), SPVS_OK);
-    assert_int_equal(update(n, 0.1, &g), SPVS_OK);
-    assert_int_equal(update(n, 0.2, &g), SPVS_E_PLANE_NY);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, update(n, 0.0, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, update(n, 0.1, &g));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_PLANE_NY, update(n, 0.2, &g));
 
     /* A robot that never turns: step 1 times out (latched). */
     init(SPVS_METHOD_III);
@@ -175,7 +172,7 @@ static void test_every_status_stops(void **state)
         n = default_frame(&p, 0.0, &rng, NULL);
         rc = update(n, 0.1 * k, &g);
     }
-    assert_int_equal(rc, SPVS_E_STEP_TIMEOUT);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_STEP_TIMEOUT, rc);
 
     /* The arrival check: 2 mm short of the target with plane points only,
      * the translation signals are under their tolerances and the controller
@@ -188,7 +185,7 @@ static void test_every_status_stops(void **state)
         spvs_params_t pa;
         spvs_params_default(&pa, SPVS_METHOD_III);
         pa.ctl.arrival_sigma_px = SPVS_R(1.0e-3);
-        assert_int_equal(spvs_init(&s, &pa), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&s, &pa));
         synth_pose_t home = {0, 0.002, 0};
         uint64_t r1 = rng;
         rc = SPVS_OK;
@@ -197,37 +194,36 @@ static void test_every_status_stops(void **state)
             n = synth_frame(&home, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
             rc = update(n, 0.1 * k, &g);
         }
-        assert_int_equal(rc, SPVS_E_NOT_AT_TARGET);
-        assert_int_equal(g.out.step, SPVS_STEP_FAILED);
-        assert_true(g.out.arrival_corner_px > g.out.arrival_bound_px);
+        TEST_ASSERT_EQUAL_INT64(SPVS_E_NOT_AT_TARGET, rc);
+        TEST_ASSERT_EQUAL_INT64(SPVS_STEP_FAILED, g.out.step);
+        TEST_ASSERT_TRUE(g.out.arrival_corner_px > g.out.arrival_bound_px);
     }
 
     /* Bad parameters and NULL arguments. */
     spvs_params_t bad;
     spvs_params_default(&bad, SPVS_METHOD_III);
     bad.noise_px = -1;
-    assert_int_equal(spvs_init(&s, &bad), SPVS_E_CONFIG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_CONFIG, spvs_init(&s, &bad));
     seen[-SPVS_E_CONFIG] = 1;
     init(SPVS_METHOD_III);
-    assert_int_equal(spvs_update(&s, NULL, 10, SPVS_R(0.0), &g.out), SPVS_E_ARG);
-    assert_true(g.out.v == 0 && g.out.w == 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_update(&s, NULL, 10, SPVS_R(0.0), &g.out));
+    TEST_ASSERT_TRUE(g.out.v == 0 && g.out.w == 0);
     seen[-SPVS_E_ARG] = 1;
-    assert_int_equal(spvs_update(NULL, m, 10, SPVS_R(0.0), &g.out), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_update(NULL, m, 10, SPVS_R(0.0), &g.out));
 
     /* Every status of the enum has been produced above. */
     for (int k = 0; k < SPVS_STATUS_COUNT; k++) {
         if (!seen[k]) {
-            print_message("status %d (%s) not produced\n", -k, spvs_status_str(-k));
+            UNIT_NOTE("status %d (%s) not produced\n", -k, spvs_status_str(-k));
         }
-        assert_true(seen[k]);
-        assert_string_not_equal(spvs_status_str(-k), "unknown_status");
+        TEST_ASSERT_TRUE(seen[k]);
+        TEST_ASSERT_TRUE(strcmp(spvs_status_str(-k), "unknown_status") != 0);
     }
 }
 
 /* spvs_estimate_h on exact matches with 20% mismatches: H to 0.05 px. */
-static void test_estimate_h(void **state)
+static void test_estimate_h(void)
 {
-    (void)state;
     init(SPVS_METHOD_II);
     uint64_t rng = 8;
     synth_plane_t pl;
@@ -240,16 +236,16 @@ static void test_estimate_h(void **state)
     }
     guarded_out_t g;
     g.guard = SENTINEL;
-    assert_int_equal(spvs_estimate_h(&s, m, n, &g.out), SPVS_OK);
-    assert_int_equal(g.guard, SENTINEL);
-    assert_int_equal(g.out.n_inliers, n - n / 5);
-    assert_true(g.out.v == 0 && g.out.w == 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_estimate_h(&s, m, n, &g.out));
+    TEST_ASSERT_EQUAL_INT64(SENTINEL, g.guard);
+    TEST_ASSERT_EQUAL_INT64(n - n / 5, g.out.n_inliers);
+    TEST_ASSERT_TRUE(g.out.v == 0 && g.out.w == 0);
     double Ht[9], He[9];
     synth_H(&p, &pl, 800, Ht);
     for (int k = 0; k < 9; k++) {
         He[k] = (double)g.out.H[k];
     }
-    assert_true(synth_corner_err(He, Ht) < 0.05);
+    TEST_ASSERT_TRUE(synth_corner_err(He, Ht) < 0.05);
 
     /* The matches are stored in a spread order: every match once, and the
      * run of 40 mismatches at the front of the input is spread so that
@@ -257,7 +253,7 @@ static void test_estimate_h(void **state)
      * and 6 of them (3.2 on average), which the count's bail-out test
      * relies on. */
     static spvs_plane_h_t e;
-    assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_plane_h_load(&e, m, n, NULL, n));
     static uint8_t bad[SPVS_MAX_FEATURES];
     static uint8_t stored[SPVS_MAX_FEATURES];
     memset(bad, 0, sizeof bad);
@@ -266,11 +262,11 @@ static void test_estimate_h(void **state)
         bad[m[i].feature] = (uint8_t)(i < n / 5);
     }
     for (int k = 0; k < n; k++) {
-        assert_true(e.feat[k] < SPVS_MAX_FEATURES);
+        TEST_ASSERT_TRUE(e.feat[k] < SPVS_MAX_FEATURES);
         stored[e.feat[k]]++;
     }
     for (int i = 0; i < n; i++) {
-        assert_int_equal(stored[m[i].feature], 1);
+        TEST_ASSERT_EQUAL_INT64(1, stored[m[i].feature]);
     }
     int lo = 16, hi = 0;
     for (int k = 0; k + 16 <= n; k++) {
@@ -281,16 +277,16 @@ static void test_estimate_h(void **state)
         lo = c < lo ? c : lo;
         hi = c > hi ? c : hi;
     }
-    print_message("spread order: %d-%d mismatches per 16 slots\n", lo, hi);
-    assert_true(lo >= 1 && hi <= 6);
+    UNIT_NOTE("spread order: %d-%d mismatches per 16 slots\n", lo, hi);
+    TEST_ASSERT_TRUE(lo >= 1 && hi <= 6);
 }
 
-int main(void)
+void suite_spvs(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_ok_and_remember),
-        cmocka_unit_test(test_every_status_stops),
-        cmocka_unit_test(test_estimate_h),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_ok_and_remember);
+    RUN_TEST(test_every_status_stops);
+    RUN_TEST(test_estimate_h);
 }
+
+UNIT_MAIN(suite_spvs)

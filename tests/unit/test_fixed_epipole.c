@@ -8,14 +8,13 @@
  * (transfer, square roots) against double.  Each test prints one line of
  * measured maxima (docs/FIXED.md). */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "fixed/offplane_q.h"
 #include "golden/golden_vectors.h"
@@ -82,7 +81,7 @@ static int32_t q_of_real(spvs_real v, int f)
     memcpy(&b, &v, sizeof b);
     const int32_t q = spvs_q_from_ieee(spvs_q_ieee_f32(b), f, &sat, NULL);
 #endif
-    assert_int_equal(sat, 0);
+    TEST_ASSERT_EQUAL_INT64(0, sat);
     return q;
 }
 
@@ -168,7 +167,7 @@ static void compare_candidates(double off_px, frame_res_t *r)
     spvs_real Hf[9];
     const int has_inv = spvs_h_inverse(g.ef.H_sc, Hf) == SPVS_OK;
     if (has_inv) {
-        assert_int_equal(spvs_q_h_from_real(Hf, Hi), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(Hf, Hi));
     }
     for (uint16_t i = 0; i < g.eq.n_pts; i++) {
         if (in_f[i] == in_q[i]) {
@@ -206,7 +205,7 @@ static void frame_both(const spvs_match_t *m, uint16_t n, uint32_t seed, const s
         ord_q = g.eq.idx;
     }
     r->rc_h = spvs_plane_h_load(&g.ef, m, n, ord_f, np_f);
-    assert_int_equal(spvs_q_plane_h_load(&g.eq, m, n, ord_q, np_q), r->rc_h);
+    TEST_ASSERT_EQUAL_INT64(r->rc_h, spvs_q_plane_h_load(&g.eq, m, n, ord_q, np_q));
     if (r->rc_h != SPVS_OK) {
         return;
     }
@@ -231,7 +230,7 @@ static void frame_both(const spvs_match_t *m, uint16_t n, uint32_t seed, const s
             return;
         }
     } else {
-        assert_int_equal(spvs_q_h_from_real(g.ef.H_sc, g.eq.H), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(g.ef.H_sc, g.eq.H));
         memcpy(g.eq.mask, g.ef.mask, sizeof g.eq.mask);
         g.eq.n_inliers = g.ef.n_inliers;
     }
@@ -295,9 +294,8 @@ static uint16_t random_frame(uint64_t *rng, int n_plane, int n_off, double sigma
 
 /* spvs_q_rsqrt / spvs_q_sqrt_q52_px16 over every bit length, and the
  * transfer against double on random rows and H. */
-static void test_helpers(void **state)
+static void test_helpers(void)
 {
-    (void)state;
     uint64_t rng = 77;
     double worst_rs = 0, worst_sq = 0;
     for (int t = 0; t < 200000; t++) {
@@ -332,26 +330,24 @@ static void test_helpers(void **state)
         }
         const double ref = transfer_px_d(H, p);
         const int64_t e2 = spvs_q_transfer_err2(H, p);
-        assert_true((e2 < 0) == (ref < 0));
+        TEST_ASSERT_TRUE((e2 < 0) == (ref < 0));
         if (e2 < 0) {
             continue;
         }
         const double got = sqrt(ldexp((double)e2, -52)) * S;
         worst_tr = fmax(worst_tr, fabs(got - ref));
     }
-    print_message("helpers: rsqrt relative error %.3g (2^%.1f); sqrt to Q16 px %.3g of its bound; "
-                  "transfer error in the image %.3g px\n",
-                  worst_rs, log2(worst_rs), worst_sq, worst_tr);
-    assert_true(worst_rs <= 0x1p-27);
-    assert_true(worst_sq <= 1.0);
-    assert_true(worst_tr <= TOL_TRANSFER_PX);
+    UNIT_NOTE("helpers: rsqrt relative error %.3g (2^%.1f); sqrt to Q16 px %.3g of its bound; "
+                  "transfer error in the image %.3g px\n", worst_rs, log2(worst_rs), worst_sq, worst_tr);
+    TEST_ASSERT_TRUE(worst_rs <= 0x1p-27);
+    TEST_ASSERT_TRUE(worst_sq <= 1.0);
+    TEST_ASSERT_TRUE(worst_tr <= TOL_TRANSFER_PX);
 }
 
 /* ---- the golden epipole cases ---------------------------------------------- */
 
-static void test_epipole_golden(void **state)
+static void test_epipole_golden(void)
 {
-    (void)state;
     static spvs_epipole_work_t wf;
     static spvs_q_epipole_work_t wq;
     double worst_truth = 0, worst_fq = 0, worst_truth_f = 0;
@@ -384,32 +380,30 @@ static void test_epipole_golden(void **state)
         const int rc_q = spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand,
                                                  SPVS_GOLDEN_N_OFF, tol_q, GOLDEN_EPI_MIN_SUPPORT,
                                                  &eq, sup_q, &wq);
-        assert_int_equal(rc_f, SPVS_OK);
-        assert_int_equal(rc_q, SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, rc_f);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, rc_q);
         const double truth = ge->e_x_px, exq = px_q16(eq.e_x_q16);
         const double tol_truth = fmax((double)GOLDEN_TOL_EX_PX, (double)GOLDEN_TOL_EX_REL * fabs(truth));
-        assert_true(fabs(exq - truth) <= tol_truth);
-        assert_true(fabs(exq - (double)ef.e_x_px) <= TOL_GOLD_FQ_PX + TOL_GOLD_FQ_REL * fabs(truth));
-        assert_int_equal(eq.dir_z > 0, ge->e_cam[2] > 0);
-        assert_int_equal(eq.n_support, ef.n_support);
-        assert_int_equal(eq.n_support, SPVS_GOLDEN_N_OFF);
-        assert_memory_equal(sup_f, sup_q, sizeof sup_f);
+        TEST_ASSERT_TRUE(fabs(exq - truth) <= tol_truth);
+        TEST_ASSERT_TRUE(fabs(exq - (double)ef.e_x_px) <= TOL_GOLD_FQ_PX + TOL_GOLD_FQ_REL * fabs(truth));
+        TEST_ASSERT_EQUAL_INT64(ge->e_cam[2] > 0, eq.dir_z > 0);
+        TEST_ASSERT_EQUAL_INT64(ef.n_support, eq.n_support);
+        TEST_ASSERT_EQUAL_INT64(SPVS_GOLDEN_N_OFF, eq.n_support);
+        TEST_ASSERT_EQUAL_MEMORY(sup_q, sup_f, sizeof sup_f);
         worst_truth = fmax(worst_truth, fabs(exq - truth));
         worst_truth_f = fmax(worst_truth_f, fabs((double)ef.e_x_px - truth));
         worst_fq = fmax(worst_fq, fabs(exq - (double)ef.e_x_px));
     }
-    print_message("epipole golden: %d cases, e_x against the truth: Q %.3g px, float %.3g px; Q "
-                  "against float %.3g px; signs and supports equal\n",
-                  SPVS_GOLDEN_N_E, worst_truth, worst_truth_f, worst_fq);
+    UNIT_NOTE("epipole golden: %d cases, e_x against the truth: Q %.3g px, float %.3g px; Q "
+                  "against float %.3g px; signs and supports equal\n", SPVS_GOLDEN_N_E, worst_truth, worst_truth_f, worst_fq);
 }
 
 /* ---- random frames --------------------------------------------------------- */
 
 #define N_FRAMES 600
 
-static void test_epipole_random(void **state)
+static void test_epipole_random(void)
 {
-    (void)state;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     spvs_params_t p;
     spvs_params_default(&p, SPVS_METHOD_III);
@@ -433,15 +427,15 @@ static void test_epipole_random(void **state)
         }
         frames++;
         n_cand += g.oq.n_cand;
-        assert_true(r.cand_at_threshold);
+        TEST_ASSERT_TRUE(r.cand_at_threshold);
         if (!r.cand_equal) {
             cand_differ++;
             cand_pts_differ += r.n_cand_diff;
             continue;
         }
-        assert_int_equal(r.rc_f, r.rc_q);
+        TEST_ASSERT_EQUAL_INT64(r.rc_q, r.rc_f);
         if (r.rc_f != SPVS_OK) {
-            assert_int_equal(r.rc_q, SPVS_E_NO_PARALLAX);
+            TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, r.rc_q);
             no_par++;
             continue;
         }
@@ -452,8 +446,8 @@ static void test_epipole_random(void **state)
             continue;
         }
         const double exf = (double)r.e_f.e_x_px, exq = px_q16(r.e_q.e_x_q16);
-        assert_true(fabs(exq - exf) <= TOL_EX_PX + TOL_EX_REL * fabs(exf));
-        assert_int_equal(r.e_q.dir_z > 0, r.e_f.dir_z > 0);
+        TEST_ASSERT_TRUE(fabs(exq - exf) <= TOL_EX_PX + TOL_EX_REL * fabs(exf));
+        TEST_ASSERT_EQUAL_INT64(r.e_f.dir_z > 0, r.e_q.dir_z > 0);
         clamped += fabs(exf) >= 20000;
         behind += r.e_q.dir_z < 0;
         if (fabs(exf) < 2000) {
@@ -465,18 +459,16 @@ static void test_epipole_random(void **state)
                                          fabs(q30(r.e_q.dir_z) - (double)r.e_f.dir_z)));
         worst_par = fmax(worst_par, fabs(px_q16(r.e_q.parallax_q16) - (double)r.e_f.parallax_px));
     }
-    print_message("epipole random: %d frames, %ld candidates; candidate lists differ in %d frames "
+    UNIT_NOTE("epipole random: %d frames, %ld candidates; candidate lists differ in %d frames "
                   "(%d points, all at the threshold); statuses equal: %d SPVS_OK, %d "
                   "SPVS_E_NO_PARALLAX; supporters differ in %d; e_x apart %.3g px (|e_x| < 2000 "
-                  "px), %.3g relative beyond; dir %.3g, parallax %.3g px; %d behind, %d clamped\n",
-                  frames, n_cand, cand_differ, cand_pts_differ, ok, no_par, sup_differ, worst_ex,
-                  worst_ex_rel, worst_dir, worst_par, behind, clamped);
-    assert_true(frames > N_FRAMES / 2);
-    assert_true(no_par >= N_FRAMES / 16);
-    assert_true(ok >= N_FRAMES / 2);
-    assert_true((double)sup_differ <= TOL_SUPPORT_DIFFER_SHARE * ok);
-    assert_true(worst_dir <= TOL_DIR);
-    assert_true(worst_par <= TOL_PARALLAX_PX);
+                  "px), %.3g relative beyond; dir %.3g, parallax %.3g px; %d behind, %d clamped\n", frames, n_cand, cand_differ, cand_pts_differ, ok, no_par, sup_differ, worst_ex, worst_ex_rel, worst_dir, worst_par, behind, clamped);
+    TEST_ASSERT_TRUE(frames > N_FRAMES / 2);
+    TEST_ASSERT_TRUE(no_par >= N_FRAMES / 16);
+    TEST_ASSERT_TRUE(ok >= N_FRAMES / 2);
+    TEST_ASSERT_TRUE((double)sup_differ <= TOL_SUPPORT_DIFFER_SHARE * ok);
+    TEST_ASSERT_TRUE(worst_dir <= TOL_DIR);
+    TEST_ASSERT_TRUE(worst_par <= TOL_PARALLAX_PX);
 }
 
 /* The collect at its threshold: offplane_px set to each rejected point's
@@ -484,9 +476,8 @@ static void test_epipole_random(void **state)
  * decision), so that the point lies on the threshold in float; the two
  * builds may decide it either way, and any other point only within
  * TOL_AT_THRESHOLD_REL of it. */
-static void test_collect_threshold(void **state)
+static void test_collect_threshold(void)
 {
-    (void)state;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     spvs_params_t p;
     spvs_params_default(&p, SPVS_METHOD_III);
@@ -499,7 +490,7 @@ static void test_collect_threshold(void **state)
         if (spvs_plane_h_load(&g.ef, m, n, NULL, 0) != SPVS_OK) {
             continue;
         }
-        assert_int_equal(spvs_q_plane_h_load(&g.eq, m, n, NULL, 0), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_plane_h_load(&g.eq, m, n, NULL, 0));
         spvs_rng_t r;
         spvs_rng_seed(&r, (uint32_t)c);
         uint32_t iters = 0;
@@ -508,7 +499,7 @@ static void test_collect_threshold(void **state)
             continue;
         }
         frames++;
-        assert_int_equal(spvs_q_h_from_real(g.ef.H_sc, g.eq.H), 0);
+        TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(g.ef.H_sc, g.eq.H));
         memcpy(g.eq.mask, g.ef.mask, sizeof g.eq.mask);
         for (uint16_t i = 0; i < g.ef.n_plane; i++) {
             spvs_real row[4];
@@ -524,18 +515,17 @@ static void test_collect_threshold(void **state)
             spvs_q_offplane_collect(&g.oq, &g.eq, q_of_real(off, 16));
             frame_res_t fr;
             compare_candidates((double)off, &fr);
-            assert_true(fr.cand_at_threshold);
+            TEST_ASSERT_TRUE(fr.cand_at_threshold);
             runs++;
             differ += !fr.cand_equal;
             pts_differ += fr.n_cand_diff;
             worst_dev = fmax(worst_dev, fr.at_dev);
         }
     }
-    print_message("collect at the threshold: %d frames, %d collects with offplane_px at a point's "
+    UNIT_NOTE("collect at the threshold: %d frames, %d collects with offplane_px at a point's "
                   "own transfer error; candidate lists differ in %d (%d points), the farthest "
-                  "%.2g of offplane_px from it\n",
-                  frames, runs, differ, pts_differ, worst_dev);
-    assert_true(runs >= 200);
+                  "%.2g of offplane_px from it\n", frames, runs, differ, pts_differ, worst_dev);
+    TEST_ASSERT_TRUE(runs >= 200);
 }
 
 /* The whole fixed-point chain (the Q estimator's H and inliers, then the Q
@@ -545,9 +535,8 @@ static void test_collect_threshold(void **state)
 #define TOL_CHAIN_AGREE_SHARE 0.9
 #define TOL_CHAIN_PX 0.5
 
-static void test_epipole_chain(void **state)
+static void test_epipole_chain(void)
 {
-    (void)state;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     spvs_params_t p;
     spvs_params_default(&p, SPVS_METHOD_III);
@@ -574,18 +563,16 @@ static void test_epipole_chain(void **state)
         agree += fabs(exq - exf) <= TOL_CHAIN_PX + TOL_EX_REL * fabs(exf) &&
                  (r.e_q.dir_z > 0) == (r.e_f.dir_z > 0);
     }
-    print_message("epipole chain: %d frames with an epipole in both, e_x within %.1f px (+ %.0e "
-                  "rel) and the same side in %d (%.1f %%); statuses differ in %d\n",
-                  both_ok, TOL_CHAIN_PX, TOL_EX_REL, agree, 100.0 * agree / both_ok, status_differ);
-    assert_true(both_ok >= N_FRAMES / 2);
-    assert_true(agree >= TOL_CHAIN_AGREE_SHARE * both_ok);
+    UNIT_NOTE("epipole chain: %d frames with an epipole in both, e_x within %.1f px (+ %.0e "
+                  "rel) and the same side in %d (%.1f %%); statuses differ in %d\n", both_ok, TOL_CHAIN_PX, TOL_EX_REL, agree, 100.0 * agree / both_ok, status_differ);
+    TEST_ASSERT_TRUE(both_ok >= N_FRAMES / 2);
+    TEST_ASSERT_TRUE(agree >= TOL_CHAIN_AGREE_SHARE * both_ok);
 }
 
 /* ---- statuses and the epipole at infinity ---------------------------------- */
 
-static void test_epipole_statuses(void **state)
+static void test_epipole_statuses(void)
 {
-    (void)state;
     static spvs_epipole_work_t wf;
     static spvs_q_epipole_work_t wq;
     static spvs_match_t m[64];
@@ -605,7 +592,7 @@ static void test_epipole_statuses(void **state)
         H[k] = (spvs_real)Hd[k];
     }
     spvs_h_rescale(H, SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
-    assert_int_equal(spvs_q_h_from_real(H, Hq), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H, Hq));
     for (uint16_t i = 0; i < n; i++) {
         const double v[4] = {m[i].x_tgt, m[i].y_tgt, m[i].x_cur, m[i].y_cur};
         for (int k = 0; k < 4; k++) {
@@ -617,46 +604,44 @@ static void test_epipole_statuses(void **state)
     const int32_t tol_q = q_of_real(SPVS_R(0.01), 30);
     spvs_epipole_t ef;
     spvs_q_epipole_t eq;
-    assert_int_equal(spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand, n, SPVS_R(0.01), 3,
-                                           &ef, NULL, &wf), SPVS_OK);
-    assert_int_equal(spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, n, tol_q, 3, &eq,
-                                             NULL, &wq), SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand, n, SPVS_R(0.01), 3,
+                                           &ef, NULL, &wf));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, n, tol_q, 3, &eq,
+                                             NULL, &wq));
     /* Clamped to the same side: e_x = -3 / 0 from the left (e1 < 0). */
-    assert_int_equal(eq.e_x_q16, ef.e_x_px > 0 ? SPVS_Q_EPIPOLE_MAX_Q16 : -SPVS_Q_EPIPOLE_MAX_Q16);
-    assert_true(fabs((double)ef.e_x_px) == 20000.0);
+    TEST_ASSERT_EQUAL_INT64(ef.e_x_px > 0 ? SPVS_Q_EPIPOLE_MAX_Q16 : -SPVS_Q_EPIPOLE_MAX_Q16, eq.e_x_q16);
+    TEST_ASSERT_TRUE(fabs((double)ef.e_x_px) == 20000.0);
     const double dz_inf = q30(eq.dir_z);
-    assert_true(fabs(dz_inf) < 1e-6);
-    assert_true(fabs(fabs(q30(eq.dir_x)) - 1) < 1e-7);
-    assert_int_equal(eq.n_support, ef.n_support);
+    TEST_ASSERT_TRUE(fabs(dz_inf) < 1e-6);
+    TEST_ASSERT_TRUE(fabs(fabs(q30(eq.dir_x)) - 1) < 1e-7);
+    TEST_ASSERT_EQUAL_INT64(ef.n_support, eq.n_support);
     const double ex_inf = px_q16(eq.e_x_q16);
 
     /* Two candidates with three supporters needed. */
-    assert_int_equal(spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand, 2, SPVS_R(0.01), 3,
-                                           &ef, NULL, &wf), SPVS_E_NO_PARALLAX);
-    assert_int_equal(spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, 2, tol_q, 3, &eq,
-                                             NULL, &wq), SPVS_E_NO_PARALLAX);
-    assert_int_equal(spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, 0, tol_q, 1, &eq,
-                                             NULL, &wq), SPVS_E_NO_PARALLAX);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand, 2, SPVS_R(0.01), 3,
+                                           &ef, NULL, &wf));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, 2, tol_q, 3, &eq,
+                                             NULL, &wq));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, 0, tol_q, 1, &eq,
+                                             NULL, &wq));
     /* All on the horizon row: no line says anything. */
     for (uint16_t i = 0; i < n; i++) {
         pts[i][1] = pts[i][3] = SPVS_R(0.0);
         qp[i][1] = qp[i][3] = 0;
     }
-    assert_int_equal(spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand, n, SPVS_R(0.01), 3,
-                                           &ef, NULL, &wf), SPVS_E_NO_PARALLAX);
-    assert_int_equal(spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, n, tol_q, 3, &eq,
-                                             NULL, &wq), SPVS_E_NO_PARALLAX);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, spvs_epipole_estimate(H, (const spvs_real(*)[4])pts, cand, n, SPVS_R(0.01), 3,
+                                           &ef, NULL, &wf));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, n, tol_q, 3, &eq,
+                                             NULL, &wq));
     /* Arguments. */
-    assert_int_equal(spvs_q_epipole_estimate(NULL, (const int32_t(*)[4])qp, cand, n, tol_q, 3, &eq,
-                                             NULL, &wq), SPVS_E_ARG);
-    assert_int_equal(spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand,
-                                             SPVS_MAX_OFFPLANE + 1, tol_q, 3, &eq, NULL, &wq),
-                     SPVS_E_ARG);
-    assert_int_equal(spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, n, tol_q, 0, &eq,
-                                             NULL, &wq), SPVS_E_ARG);
-    print_message("epipole statuses: at infinity both clamped to %+.0f px, Q dir_z %.2g; too few "
-                  "candidates and the horizon row SPVS_E_NO_PARALLAX in both\n",
-                  ex_inf, dz_inf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_epipole_estimate(NULL, (const int32_t(*)[4])qp, cand, n, tol_q, 3, &eq,
+                                             NULL, &wq));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand,
+                                             SPVS_MAX_OFFPLANE + 1, tol_q, 3, &eq, NULL, &wq));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_q_epipole_estimate(Hq, (const int32_t(*)[4])qp, cand, n, tol_q, 0, &eq,
+                                             NULL, &wq));
+    UNIT_NOTE("epipole statuses: at infinity both clamped to %+.0f px, Q dir_z %.2g; too few "
+                  "candidates and the horizon row SPVS_E_NO_PARALLAX in both\n", ex_inf, dz_inf);
 }
 
 /* ---- the memory over sequences --------------------------------------------- */
@@ -670,9 +655,8 @@ static void test_epipole_statuses(void **state)
  * seen from poses along a line towards the target, 0.7 px of noise in
  * the current image, 10 % of the plane matches mismatched each frame.
  * After every frame both memories must be equal. */
-static void test_memory_sequences(void **state)
+static void test_memory_sequences(void)
 {
-    (void)state;
     static spvs_match_t m[SPVS_MAX_MATCHES];
     static double X[SEQ_PLANE + SEQ_OFF][3], uv[SEQ_PLANE + SEQ_OFF][2];
     spvs_params_t p;
@@ -731,43 +715,41 @@ static void test_memory_sequences(void **state)
                 continue;
             }
             frames++;
-            assert_true(r.cand_at_threshold);
+            TEST_ASSERT_TRUE(r.cand_at_threshold);
             cand_differ += !r.cand_equal;
-            assert_int_equal(r.rc_f, r.rc_q);
-            assert_memory_equal(g.of.score, g.oq.score, sizeof g.of.score);
-            assert_int_equal(g.of.n_known, g.oq.n_known);
+            TEST_ASSERT_EQUAL_INT64(r.rc_q, r.rc_f);
+            TEST_ASSERT_EQUAL_MEMORY(g.oq.score, g.of.score, sizeof g.of.score);
+            TEST_ASSERT_EQUAL_INT64(g.oq.n_known, g.of.n_known);
             if (r.par_known_f < 0 && r.par_known_q < 0) {
                 /* None in view: -1 px in both. */
-                assert_true(r.par_known_f == -1.0 && r.par_known_q == -1.0);
+                TEST_ASSERT_TRUE(r.par_known_f == -1.0 && r.par_known_q == -1.0);
             } else {
-                assert_true(r.par_known_f >= 0 && r.par_known_q >= 0);
+                TEST_ASSERT_TRUE(r.par_known_f >= 0 && r.par_known_q >= 0);
                 worst_known_par = fmax(worst_known_par, fabs(r.par_known_q - r.par_known_f));
                 frames_known++;
             }
             known_max = g.oq.n_known > known_max ? g.oq.n_known : known_max;
         }
     }
-    print_message("memory: %d sequences, %d frames, memories equal after every frame; up to %d "
+    UNIT_NOTE("memory: %d sequences, %d frames, memories equal after every frame; up to %d "
                   "features known, %d frames with remembered candidates, their parallax apart "
-                  "%.3g px; candidate lists differ in %d frames; inverse out of Q27 range in %u\n",
-                  N_SEQ, frames, known_max, frames_known, worst_known_par, cand_differ,
-                  (unsigned)g.oq.hi_out_of_range);
-    assert_true(frames >= N_SEQ * SEQ_FRAMES / 2);
-    assert_true(known_max >= 5);
-    assert_true(frames_known >= frames / 2);
-    assert_true(worst_known_par <= TOL_PARALLAX_PX);
+                  "%.3g px; candidate lists differ in %d frames; inverse out of Q27 range in %u\n", N_SEQ, frames, known_max, frames_known, worst_known_par, cand_differ, (unsigned)g.oq.hi_out_of_range);
+    TEST_ASSERT_TRUE(frames >= N_SEQ * SEQ_FRAMES / 2);
+    TEST_ASSERT_TRUE(known_max >= 5);
+    TEST_ASSERT_TRUE(frames_known >= frames / 2);
+    TEST_ASSERT_TRUE(worst_known_par <= TOL_PARALLAX_PX);
 }
 
-int main(void)
+void suite_fixed_epipole(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_helpers),
-        cmocka_unit_test(test_epipole_golden),
-        cmocka_unit_test(test_epipole_statuses),
-        cmocka_unit_test(test_collect_threshold),
-        cmocka_unit_test(test_epipole_random),
-        cmocka_unit_test(test_epipole_chain),
-        cmocka_unit_test(test_memory_sequences),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_helpers);
+    RUN_TEST(test_epipole_golden);
+    RUN_TEST(test_epipole_statuses);
+    RUN_TEST(test_collect_threshold);
+    RUN_TEST(test_epipole_random);
+    RUN_TEST(test_epipole_chain);
+    RUN_TEST(test_memory_sequences);
 }
+
+UNIT_MAIN(suite_fixed_epipole)

@@ -1,13 +1,12 @@
 /* test_ransac.c - RANSAC's loop bound, adaptive count, tie-break, PRNG and
  * the planar estimator recovering the inlier set (ransac.h, spvs.h). */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "spvs/ransac.h"
 #include "spvs/spvs.h"
@@ -79,7 +78,7 @@ static spvs_real mock_cost(void *ctx, const spvs_real *model, const uint8_t *mas
 {
     mock_t *m = (mock_t *)ctx;
     m->costs++;
-    assert_int_equal(mock_mask_of(m, mask), (int)((uint32_t)model[0] % 100u));
+    TEST_ASSERT_EQUAL_INT64((int)((uint32_t)model[0] % 100u), mock_mask_of(m, mask));
     return m->cost_down ? SPVS_R(1000.0) - model[0] : model[0];
 }
 
@@ -126,40 +125,37 @@ static int run(const spvs_estimator_t *est, const spvs_ransac_opts_t *o, run_t *
 /* The LO step polishes a new best only when at least a fifth of the points
  * are its inliers: a model with fewer is almost surely a contaminated
  * sample's, and polishing it is wasted. */
-static void test_lo_only_plausible(void **state)
+static void test_lo_only_plausible(void)
 {
-    (void)state;
     mock_t mk = {0, 0, 19, 0, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, mock_refine};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 50, 8};
     run_t r;
     spvs_rng_seed(&r.rng, 1);
     /* 19 of 100: never polished, still a consensus. */
-    assert_int_equal(run(&est, &o, &r), SPVS_OK);
-    assert_int_equal(mk.refines, 0);
-    assert_int_equal(r.st.n_inliers, 19);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, run(&est, &o, &r));
+    TEST_ASSERT_EQUAL_INT64(0, mk.refines);
+    TEST_ASSERT_EQUAL_INT64(19, r.st.n_inliers);
     /* 20 of 100: the first model (the only new best; the others tie) is. */
     mk = (mock_t){0, 0, 20, 0, 0, 0, 0};
-    assert_int_equal(run(&est, &o, &r), SPVS_OK);
-    assert_int_equal(mk.refines, 1);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, run(&est, &o, &r));
+    TEST_ASSERT_EQUAL_INT64(1, mk.refines);
 }
 
-static void test_needed(void **state)
+static void test_needed(void)
 {
-    (void)state;
     /* log(0.01) / log(1 - 0.5^3) = 34.5 -> 35. */
-    assert_int_equal(spvs_ransac_needed(SPVS_R(0.5), 3, SPVS_R(0.99), 1000), 35);
+    TEST_ASSERT_EQUAL_INT64(35, spvs_ransac_needed(SPVS_R(0.5), 3, SPVS_R(0.99), 1000));
     /* log(0.001) / log(1 - 0.8^3) = 9.63 -> 10. */
-    assert_int_equal(spvs_ransac_needed(SPVS_R(0.8), 3, SPVS_R(0.999), 1000), 10);
-    assert_int_equal(spvs_ransac_needed(SPVS_R(1.0), 3, SPVS_R(0.99), 1000), 1);
-    assert_int_equal(spvs_ransac_needed(SPVS_R(0.0), 3, SPVS_R(0.99), 77), 77);
-    assert_int_equal(spvs_ransac_needed(SPVS_R(0.05), 3, SPVS_R(0.99), 200), 200);
+    TEST_ASSERT_EQUAL_INT64(10, spvs_ransac_needed(SPVS_R(0.8), 3, SPVS_R(0.999), 1000));
+    TEST_ASSERT_EQUAL_INT64(1, spvs_ransac_needed(SPVS_R(1.0), 3, SPVS_R(0.99), 1000));
+    TEST_ASSERT_EQUAL_INT64(77, spvs_ransac_needed(SPVS_R(0.0), 3, SPVS_R(0.99), 77));
+    TEST_ASSERT_EQUAL_INT64(200, spvs_ransac_needed(SPVS_R(0.05), 3, SPVS_R(0.99), 200));
 }
 
 /* With half the data inliers the loop stops at exactly the adaptive count. */
-static void test_exact_iterations(void **state)
+static void test_exact_iterations(void)
 {
-    (void)state;
     mock_t mk = {0, 0, 50, 0, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 200, 8};
@@ -178,110 +174,107 @@ static void test_exact_iterations(void **state)
     out.guard = SENTINEL;
     mk_out.guard = SENTINEL;
     spvs_ransac_stats_t st;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
-    assert_int_equal(st.iters, 35);
-    assert_int_equal(mk.fits, 35);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st));
+    TEST_ASSERT_EQUAL_INT64(35, st.iters);
+    TEST_ASSERT_EQUAL_INT64(35, mk.fits);
     /* One pass per hypothesis: the best's mask is kept, not scored again. */
-    assert_int_equal(mk.scores, 35);
-    assert_int_equal(st.n_inliers, 50);
-    assert_int_equal(out.guard, SENTINEL);
-    assert_int_equal(mk_out.guard, SENTINEL);
+    TEST_ASSERT_EQUAL_INT64(35, mk.scores);
+    TEST_ASSERT_EQUAL_INT64(50, st.n_inliers);
+    TEST_ASSERT_EQUAL_INT64(SENTINEL, out.guard);
+    TEST_ASSERT_EQUAL_INT64(SENTINEL, mk_out.guard);
     /* Ties (always 50 inliers): the first, cheapest model is kept, and
      * the mask is its own, not the last hypothesis'. */
-    assert_true(out.model[0] == SPVS_R(1.0));
-    assert_int_equal(mock_mask_of(&mk, mk_out.mask), 1);
+    TEST_ASSERT_TRUE(out.model[0] == SPVS_R(1.0));
+    TEST_ASSERT_EQUAL_INT64(1, mock_mask_of(&mk, mk_out.mask));
 
     /* The cap bounds the loop. */
     mk = (mock_t){0, 0, 10, 0, 0, 0, 0};
     o.max_iters = 20;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
-    assert_int_equal(st.iters, 20);
-    assert_int_equal(mk.fits, 20);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st));
+    TEST_ASSERT_EQUAL_INT64(20, st.iters);
+    TEST_ASSERT_EQUAL_INT64(20, mk.fits);
 
     /* Ties broken by the lower cost: here later models are cheaper.  The
      * cost is asked for only at ties: the first tie costs both models, each
      * later one only the newcomer (the best's cost is kept). */
     mk = (mock_t){0, 0, 10, 0, 1, 0, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
-    assert_true(out.model[0] == SPVS_R(20.0));
-    assert_int_equal(mock_mask_of(&mk, mk_out.mask), 20);
-    assert_int_equal(mk.costs, 20);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st));
+    TEST_ASSERT_TRUE(out.model[0] == SPVS_R(20.0));
+    TEST_ASSERT_EQUAL_INT64(20, mock_mask_of(&mk, mk_out.mask));
+    TEST_ASSERT_EQUAL_INT64(20, mk.costs);
     /* Later models costlier: the first stays. */
     mk = (mock_t){0, 0, 10, 0, 0, 0, 0};
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
-    assert_true(out.model[0] == SPVS_R(1.0));
-    assert_int_equal(mk.costs, 20);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st));
+    TEST_ASSERT_TRUE(out.model[0] == SPVS_R(1.0));
+    TEST_ASSERT_EQUAL_INT64(20, mk.costs);
     /* Without a cost callback a tie keeps the earlier model. */
     mk = (mock_t){0, 0, 10, 0, 1, 0, 0};
     est.cost = NULL;
-    assert_int_equal(spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st), SPVS_OK);
-    assert_true(out.model[0] == SPVS_R(1.0));
-    assert_int_equal(mk.costs, 0);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_ransac(&est, &o, &rng, idx, out.model, mk_out.mask, scratch, &st));
+    TEST_ASSERT_TRUE(out.model[0] == SPVS_R(1.0));
+    TEST_ASSERT_EQUAL_INT64(0, mk.costs);
     est.cost = mock_cost;
 }
 
-static void test_statuses(void **state)
+static void test_statuses(void)
 {
-    (void)state;
     mock_t mk = {0, 0, 50, 1, 0, 0, 0};
     spvs_estimator_t est = {3, 100, &mk, mock_fit, mock_score, mock_cost, NULL};
     spvs_ransac_opts_t o = {SPVS_R(1.0), SPVS_R(0.99), 30, 8};
     run_t r;
     spvs_rng_seed(&r.rng, 1);
     /* Every sample degenerate: the cap, then a status. */
-    assert_int_equal(run(&est, &o, &r), SPVS_E_DEGENERATE);
-    assert_int_equal(r.st.iters, 30);
-    assert_int_equal(r.st.degenerate, 30);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, run(&est, &o, &r));
+    TEST_ASSERT_EQUAL_INT64(30, r.st.iters);
+    TEST_ASSERT_EQUAL_INT64(30, r.st.degenerate);
     /* Too few inliers for a consensus. */
     mk = (mock_t){0, 0, 5, 0, 0, 0, 0};
-    assert_int_equal(run(&est, &o, &r), SPVS_E_NO_CONSENSUS);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_CONSENSUS, run(&est, &o, &r));
     /* Every model ties at 5 < min_inliers: no cost pass is spent on ties
      * that cannot make a consensus. */
-    assert_int_equal(mk.costs, 0);
+    TEST_ASSERT_EQUAL_INT64(0, mk.costs);
     /* Too few data. */
     est.n = 2;
-    assert_int_equal(run(&est, &o, &r), SPVS_E_TOO_FEW);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, run(&est, &o, &r));
     est.n = 100;
     /* Bad options. */
     o.confidence = SPVS_R(1.0);
-    assert_int_equal(run(&est, &o, &r), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, run(&est, &o, &r));
     o.confidence = SPVS_R(0.99);
     o.max_iters = SPVS_RANSAC_MAX_ITERS + 1;
-    assert_int_equal(run(&est, &o, &r), SPVS_E_ARG);
-    assert_int_equal(run(NULL, &o, &r), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, run(&est, &o, &r));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, run(NULL, &o, &r));
     /* With valid options again: the scratch mask missing, or the output
      * mask itself. */
     o.max_iters = 30;
     mk = (mock_t){0, 0, 50, 0, 0, 0, 0};
-    assert_int_equal(run(&est, &o, &r), SPVS_OK);
-    assert_int_equal(spvs_ransac(&est, &o, &r.rng, r.idx, r.model, r.mask, NULL, &r.st), SPVS_E_ARG);
-    assert_int_equal(spvs_ransac(&est, &o, &r.rng, r.idx, r.model, r.mask, r.mask, &r.st), SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, run(&est, &o, &r));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_ransac(&est, &o, &r.rng, r.idx, r.model, r.mask, NULL, &r.st));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_ransac(&est, &o, &r.rng, r.idx, r.model, r.mask, r.mask, &r.st));
 }
 
-static void test_rng(void **state)
+static void test_rng(void)
 {
-    (void)state;
     spvs_rng_t a, b;
     spvs_rng_seed(&a, 42);
     spvs_rng_seed(&b, 42);
     uint32_t hist[10] = {0};
     for (int i = 0; i < 100000; i++) {
         uint32_t x = spvs_rng_below(&a, 10);
-        assert_int_equal(x, spvs_rng_below(&b, 10));
-        assert_true(x < 10);
+        TEST_ASSERT_EQUAL_INT64(spvs_rng_below(&b, 10), x);
+        TEST_ASSERT_TRUE(x < 10);
         hist[x]++;
     }
     /* Uniform within 5 standard deviations (sd ~ 95). */
     for (int k = 0; k < 10; k++) {
-        assert_true(hist[k] > 10000 - 475 && hist[k] < 10000 + 475);
+        TEST_ASSERT_TRUE(hist[k] > 10000 - 475 && hist[k] < 10000 + 475);
     }
 }
 
 /* The planar estimator with 50% mismatches returns exactly the plane points,
  * and the same seed gives the same result. */
-static void test_planar_half_outliers(void **state)
+static void test_planar_half_outliers(void)
 {
-    (void)state;
     static spvs_plane_h_t e;
     uint64_t rng = 3;
     for (int t = 0; t < 10; t++) {
@@ -290,7 +283,7 @@ static void test_planar_half_outliers(void **state)
         synth_plane(&pl, 0.3, -0.6, -0.75, 45);
         spvs_match_t m[200];
         uint16_t n = synth_frame(&p, &pl, 800, 100, 0, 0.0, &rng, m, NULL);
-        assert_int_equal(n, 100);
+        TEST_ASSERT_EQUAL_INT64(100, n);
         n = add_mismatches(m, n, 100, &rng);
         spvs_params_t prm;
         spvs_params_default(&prm, SPVS_METHOD_III);
@@ -298,12 +291,12 @@ static void test_planar_half_outliers(void **state)
         spvs_rng_seed(&r1, (uint32_t)t);
         spvs_rng_seed(&r2, (uint32_t)t);
         uint32_t it1 = 0, it2 = 0;
-        assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
-        assert_int_equal(spvs_plane_h_estimate(&e, spvs_inlier_px(&prm), prm.confidence, prm.max_iters,
-                                               &r1, &it1), SPVS_OK);
-        assert_int_equal(e.n_inliers, 100);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_plane_h_load(&e, m, n, NULL, n));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_plane_h_estimate(&e, spvs_inlier_px(&prm), prm.confidence, prm.max_iters,
+                                               &r1, &it1));
+        TEST_ASSERT_EQUAL_INT64(100, e.n_inliers);
         for (int i = 0; i < n; i++) {
-            assert_int_equal(e.mask[i], e.feat[i] < 100 ? 1 : 0);
+            TEST_ASSERT_EQUAL_INT64(e.feat[i] < 100 ? 1 : 0, e.mask[i]);
         }
         double Ht[9], He[9];
         synth_H(&p, &pl, 800, Ht);
@@ -315,19 +308,19 @@ static void test_planar_half_outliers(void **state)
         for (int k = 0; k < 9; k++) {
             He[k] = (double)H1[k];
         }
-        assert_true(synth_corner_err(He, Ht) < 0.05);
+        TEST_ASSERT_TRUE(synth_corner_err(He, Ht) < 0.05);
         /* Determinism: same seed, same hypotheses, same H. */
-        assert_int_equal(spvs_plane_h_load(&e, m, n, NULL, n), SPVS_OK);
-        assert_int_equal(spvs_plane_h_estimate(&e, spvs_inlier_px(&prm), prm.confidence, prm.max_iters,
-                                               &r2, &it2), SPVS_OK);
-        assert_int_equal(it1, it2);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_plane_h_load(&e, m, n, NULL, n));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_plane_h_estimate(&e, spvs_inlier_px(&prm), prm.confidence, prm.max_iters,
+                                               &r2, &it2));
+        TEST_ASSERT_EQUAL_INT64(it2, it1);
         spvs_real H2[9];
         for (int k = 0; k < 9; k++) {
             H2[k] = e.H_sc[k];
         }
         spvs_h_rescale(H2, (spvs_real)SPVS_COORD_SCALE);
-        assert_memory_equal(H1, H2, sizeof H1);
-        assert_true(it1 <= SPVS_RANSAC_MAX_ITERS);
+        TEST_ASSERT_EQUAL_MEMORY(H2, H1, sizeof H1);
+        TEST_ASSERT_TRUE(it1 <= SPVS_RANSAC_MAX_ITERS);
     }
 }
 
@@ -337,9 +330,8 @@ static void test_planar_half_outliers(void **state)
  * benchmark's case, docs/BENCHMARKS.md).  There the plane points within
  * 3 px are about 0.71 of all, which asks for about 16 hypotheses; with one
  * pass of the LO step the mean was about 25. */
-static void test_lo_lifts_share(void **state)
+static void test_lo_lifts_share(void)
 {
-    (void)state;
     static spvs_t s;
     uint64_t rng = 17;
     double sum_iters = 0, sum_share = 0;
@@ -351,7 +343,7 @@ static void test_lo_lifts_share(void **state)
         synth_plane(&pl, 0.3, -0.6, -0.75, 45);
         spvs_match_t m[200];
         uint16_t n = synth_frame(&p, &pl, 800, 160, 0, 1.0, &rng, m, NULL);
-        assert_int_equal(n, 160);
+        TEST_ASSERT_EQUAL_INT64(160, n);
         for (int i = 0; i < n; i++) {
             m[i].x_tgt = (spvs_real)(m[i].x_tgt + synth_gauss(&rng));
             m[i].y_tgt = (spvs_real)(m[i].y_tgt + synth_gauss(&rng));
@@ -362,28 +354,27 @@ static void test_lo_lifts_share(void **state)
         prm.noise_px = 1;
         prm.confidence = SPVS_R(0.999);
         prm.seed = (uint32_t)(100 + t);
-        assert_int_equal(spvs_init(&s, &prm), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&s, &prm));
         spvs_output_t o;
-        assert_int_equal(spvs_estimate_h(&s, m, n, &o), SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_estimate_h(&s, m, n, &o));
         sum_iters += o.ransac_iters;
         sum_share += (double)o.n_inliers / n;
     }
-    print_message("LO: mean %.1f hypotheses, final inlier share %.3f\n", sum_iters / frames,
-                  sum_share / frames);
-    assert_true(sum_iters / frames < 23.0);
-    assert_true(sum_share / frames > 0.68);
+    UNIT_NOTE("LO: mean %.1f hypotheses, final inlier share %.3f\n", sum_iters / frames, sum_share / frames);
+    TEST_ASSERT_TRUE(sum_iters / frames < 23.0);
+    TEST_ASSERT_TRUE(sum_share / frames > 0.68);
 }
 
-int main(void)
+void suite_ransac(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_needed),
-        cmocka_unit_test(test_lo_only_plausible),
-        cmocka_unit_test(test_exact_iterations),
-        cmocka_unit_test(test_statuses),
-        cmocka_unit_test(test_rng),
-        cmocka_unit_test(test_planar_half_outliers),
-        cmocka_unit_test(test_lo_lifts_share),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_needed);
+    RUN_TEST(test_lo_only_plausible);
+    RUN_TEST(test_exact_iterations);
+    RUN_TEST(test_statuses);
+    RUN_TEST(test_rng);
+    RUN_TEST(test_planar_half_outliers);
+    RUN_TEST(test_lo_lifts_share);
 }
+
+UNIT_MAIN(suite_ransac)

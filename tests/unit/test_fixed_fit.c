@@ -8,14 +8,13 @@
  * Every tolerance is stated beside its macro with its reason; the figures
  * measured are printed in one line per test. */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "core_util.h"
 #include "fixed/fit_q.h"
@@ -367,7 +366,7 @@ static void check_solve(const ld *t, int lin, const int32_t *xq, const int32_t *
 {
     ld N[6][6], b[6], x[6], y[6], cond, mp;
     const int n = ld_system(lin, t, N, b);
-    assert_true(ld_solve(n, N, b, x, y, &cond, &mp));
+    TEST_ASSERT_TRUE(ld_solve(n, N, b, x, y, &cond, &mp));
     ld ymax = 0;
     for (int i = 0; i < n; i++) {
         ymax = fmaxl(ymax, fabsl(y[i]));
@@ -380,7 +379,7 @@ static void check_solve(const ld *t, int lin, const int32_t *xq, const int32_t *
         ss->worst = fmax(ss->worst, err / tol);
         ss->worst_abs = fmax(ss->worst_abs, err);
         ss->worst_rel = fmax(ss->worst_rel, (err - 0x1p-28) / (tol - TOL_SOLVE_ABS) * TOL_SOLVE_C);
-        assert_true(err <= tol);
+        TEST_ASSERT_TRUE(err <= tol);
     }
     ss->systems++;
     ss->max_cond = fmax(ss->max_cond, (double)cond);
@@ -402,7 +401,7 @@ static void check_refused(const ld *t, int lin, solve_stats_t *ss)
                            : N[0][0] * (N[1][1] * N[2][2] - N[1][2] * N[2][1]) -
                                  N[0][1] * (N[1][0] * N[2][2] - N[1][2] * N[2][0]) +
                                  N[0][2] * (N[1][0] * N[2][1] - N[1][1] * N[2][0]);
-        assert_true(mp < 0x1p-20 + 0x1p-26 || fabsl(det) <= 1e-7L * (1 + 1e-6L));
+        TEST_ASSERT_TRUE(mp < 0x1p-20 + 0x1p-26 || fabsl(det) <= 1e-7L * (1 + 1e-6L));
         if (!(mp < 0x1p-20 + 0x1p-26)) {
             ss->refused_det++;
         }
@@ -416,7 +415,7 @@ static void solve_set(scene_t *sc, const int32_t Hq[9], const uint8_t *use, solv
 {
     spvs_q_sums_t s;
     ld tt[24];
-    assert_true(spvs_q_pts_sum(SPVS_T_FIT_Y, Hq, &sc->qst, use, sc->n, &s) >= 8);
+    TEST_ASSERT_TRUE(spvs_q_pts_sum(SPVS_T_FIT_Y, Hq, &sc->qst, use, sc->n, &s) >= 8);
     int32_t h3[3], h1[3];
     ld_from_sums(&s, 9, tt);
     if (spvs_q_fit_solve(&s, h3) != SPVS_OK) {
@@ -425,14 +424,14 @@ static void solve_set(scene_t *sc, const int32_t Hq[9], const uint8_t *use, solv
     }
     check_solve(tt, 0, h3, NULL, ss);
     const int32_t Hw[9] = {0, 0, 0, 0, 0, 0, h3[0], h3[1], h3[2]};
-    assert_true(spvs_q_pts_sum(SPVS_T_FIT_X, Hw, &sc->qst, use, sc->n, &s) >= 0);
+    TEST_ASSERT_TRUE(spvs_q_pts_sum(SPVS_T_FIT_X, Hw, &sc->qst, use, sc->n, &s) >= 0);
     ld_from_sums(&s, 9, tt);
     if (spvs_q_fit_solve(&s, h1) != SPVS_OK) {
         check_refused(tt, 0, ss);
     } else {
         check_solve(tt, 0, h1, NULL, ss);
     }
-    assert_true(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, use, sc->n, &s) >= 8);
+    TEST_ASSERT_TRUE(spvs_q_pts_sum(SPVS_T_LIN, Hq, &sc->qst, use, sc->n, &s) >= 8);
     ld_from_sums(&s, 24, tt);
     int32_t Hn[9];
     if (spvs_q_lin_solve(&s, Hq, Hn) != SPVS_OK) {
@@ -440,17 +439,16 @@ static void solve_set(scene_t *sc, const int32_t Hq[9], const uint8_t *use, solv
         return;
     }
     /* Row 2 is Hw's. */
-    assert_int_equal(Hn[3], Hq[3]);
-    assert_int_equal(Hn[4], Hq[4]);
-    assert_int_equal(Hn[5], Hq[5]);
+    TEST_ASSERT_EQUAL_INT64(Hq[3], Hn[3]);
+    TEST_ASSERT_EQUAL_INT64(Hq[4], Hn[4]);
+    TEST_ASSERT_EQUAL_INT64(Hq[5], Hn[5]);
     const int32_t dq[6] = {Hn[0], Hn[1], Hn[2], Hn[6], Hn[7], Hn[8]};
     const int32_t bq[6] = {Hq[0], Hq[1], Hq[2], Hq[6], Hq[7], Hq[8]};
     check_solve(tt, 1, dq, bq, ss);
 }
 
-static void test_q_solves_ref(void **state)
+static void test_q_solves_ref(void)
 {
-    (void)state;
     static scene_t sc;
     static uint8_t mask[NMAX], disc[NMAX];
     solve_stats_t ss = {0, 0, 0, 0, 1e30, 0, 0, 0};
@@ -490,13 +488,11 @@ static void test_q_solves_ref(void **state)
             solve_set(&sc, Hq, disc, &ss);
         }
     }
-    print_message("solves vs long double: %ld systems (%ld refused, %ld of them by float's |det| test), largest error / tolerance "
+    UNIT_NOTE("solves vs long double: %ld systems (%ld refused, %ld of them by float's |det| test), largest error / tolerance "
                   "%.3g, beyond the Q27 rounding %.3g of cond 2^-28 max|y| / sqrt(N_ii); largest "
                   "entry error %.3g scaled units, cond(N') up to %.3g, smallest pivot of N' %.3g "
-                  "(floor 2^-20 = 9.5e-7)\n",
-                  ss.systems, ss.refused, ss.refused_det, ss.worst, ss.worst_rel, ss.worst_abs, ss.max_cond,
-                  ss.min_piv);
-    assert_true(ss.systems > 200);
+                  "(floor 2^-20 = 9.5e-7)\n", ss.systems, ss.refused, ss.refused_det, ss.worst, ss.worst_rel, ss.worst_abs, ss.max_cond, ss.min_piv);
+    TEST_ASSERT_TRUE(ss.systems > 200);
 }
 
 /* ---- the whole fits against float ------------------------------------------ */
@@ -516,9 +512,9 @@ static void fit_compare(const ld Hq[9], const ld Hf[9], const ld Hr[9], fit_stat
     fs->q_ref = fmax(fs->q_ref, qr);
     fs->f_ref = fmax(fs->f_ref, fr);
     fs->fits++;
-    assert_true(cq <= TOL_CORNER_PX);
-    assert_true(eq <= TOL_H_ENTRY);
-    assert_true(qr <= TOL_CORNER_Q_REF_PX);
+    TEST_ASSERT_TRUE(cq <= TOL_CORNER_PX);
+    TEST_ASSERT_TRUE(eq <= TOL_H_ENTRY);
+    TEST_ASSERT_TRUE(qr <= TOL_CORNER_Q_REF_PX);
 }
 
 /* Both fits of one set at the model Hs: the two-stage fit from Hs's
@@ -529,7 +525,7 @@ static void fits_of_set(scene_t *sc, const spvs_real Hs[9], const uint8_t *use, 
 {
     const spvs_pts_in_t in = {NULL, &sc->fst};
     int32_t Hq0[9];
-    assert_int_equal(spvs_q_h_from_real(Hs, Hq0), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(Hs, Hq0));
     ld Hr[9], Hq[9], Hf[9], H0[9];
     ld_from_q(Hq0, H0);
     /* The two-stage fit. */
@@ -539,10 +535,10 @@ static void fits_of_set(scene_t *sc, const spvs_real Hs[9], const uint8_t *use, 
     memcpy(Hqr, Hq0, sizeof Hqr);
     const int rf = spvs_hf_fit_linear(&in, use, sc->n, Hfr);
     const int rq = spvs_q_fit_linear(&sc->qst, use, sc->n, Hqr);
-    assert_int_equal(rq, rf);
+    TEST_ASSERT_EQUAL_INT64(rf, rq);
     memcpy(Hr, H0, sizeof Hr);
     if (rf == SPVS_OK) {
-        assert_true(ld_fit_linear(&sc->qst, use, sc->n, Hr));
+        TEST_ASSERT_TRUE(ld_fit_linear(&sc->qst, use, sc->n, Hr));
         ld_from_q(Hqr, Hq);
         ld_from_real(Hfr, Hf);
         fit_compare(Hq, Hf, Hr, two);
@@ -552,24 +548,23 @@ static void fits_of_set(scene_t *sc, const spvs_real Hs[9], const uint8_t *use, 
     const int sf = spvs_hf_lin_sums(&in, use, sc->n, Hs, sums);
     spvs_q_sums_t qs;
     const int32_t used = spvs_q_pts_sum(SPVS_T_LIN, Hq0, &sc->qst, use, sc->n, &qs);
-    assert_int_equal(sf == SPVS_OK, used >= 3);
+    TEST_ASSERT_EQUAL_INT64(used >= 3, sf == SPVS_OK);
     if (sf != SPVS_OK) {
         return;
     }
     const int lf = spvs_hf_lin_solve(sums, Hs, Hfr);
     const int lq = spvs_q_lin_solve(&qs, Hq0, Hqr);
-    assert_int_equal(lq, lf);
+    TEST_ASSERT_EQUAL_INT64(lf, lq);
     if (lf == SPVS_OK) {
-        assert_true(ld_lin_fit(&sc->qst, use, sc->n, H0, Hr));
+        TEST_ASSERT_TRUE(ld_lin_fit(&sc->qst, use, sc->n, H0, Hr));
         ld_from_q(Hqr, Hq);
         ld_from_real(Hfr, Hf);
         fit_compare(Hq, Hf, Hr, joint);
     }
 }
 
-static void test_q_fits_random(void **state)
+static void test_q_fits_random(void)
 {
-    (void)state;
     static scene_t sc;
     static uint8_t mask[NMAX];
     fit_stats_t two = {0}, joint = {0};
@@ -587,17 +582,14 @@ static void test_q_fits_random(void **state)
         (void)spvs_pts_score(&sc.fst, sc.n, sc.Hs, t * t, 0, mask);
         fits_of_set(&sc, sc.Hs, mask, &two, &joint);
     }
-    print_message("fits, random scenes: two-stage %ld: Q vs float corners %.3g px, entries %.3g; "
+    UNIT_NOTE("fits, random scenes: two-stage %ld: Q vs float corners %.3g px, entries %.3g; "
                   "against long double Q %.3g px, float %.3g px; joint %ld: Q vs float %.3g px, "
-                  "entries %.3g; against long double Q %.3g px, float %.3g px\n",
-                  two.fits, two.qf_corner, two.qf_entry, two.q_ref, two.f_ref, joint.fits,
-                  joint.qf_corner, joint.qf_entry, joint.q_ref, joint.f_ref);
-    assert_true(two.fits > 100 && joint.fits > 100);
+                  "entries %.3g; against long double Q %.3g px, float %.3g px\n", two.fits, two.qf_corner, two.qf_entry, two.q_ref, two.f_ref, joint.fits, joint.qf_corner, joint.qf_entry, joint.q_ref, joint.f_ref);
+    TEST_ASSERT_TRUE(two.fits > 100 && joint.fits > 100);
 }
 
-static void test_q_fits_golden(void **state)
+static void test_q_fits_golden(void)
 {
-    (void)state;
     static scene_t sc;
     fit_stats_t two = {0}, joint = {0};
     uint8_t all[NMAX];
@@ -621,13 +613,11 @@ static void test_q_fits_golden(void **state)
         rescale_scaled(g->H_fit, Hfit);
         fits_of_set(&sc, Hfit, all, &two, &joint);
     }
-    print_message("fits, golden: two-stage %ld: Q vs float corners %.3g px, entries %.3g; "
+    UNIT_NOTE("fits, golden: two-stage %ld: Q vs float corners %.3g px, entries %.3g; "
                   "against long double Q %.3g px, float %.3g px; joint %ld: Q vs float %.3g px, "
-                  "entries %.3g; against long double Q %.3g px, float %.3g px\n",
-                  two.fits, two.qf_corner, two.qf_entry, two.q_ref, two.f_ref, joint.fits,
-                  joint.qf_corner, joint.qf_entry, joint.q_ref, joint.f_ref);
-    assert_int_equal(two.fits, 2 * SPVS_GOLDEN_N_H);
-    assert_int_equal(joint.fits, 2 * SPVS_GOLDEN_N_H);
+                  "entries %.3g; against long double Q %.3g px, float %.3g px\n", two.fits, two.qf_corner, two.qf_entry, two.q_ref, two.f_ref, joint.fits, joint.qf_corner, joint.qf_entry, joint.q_ref, joint.f_ref);
+    TEST_ASSERT_EQUAL_INT64(2 * SPVS_GOLDEN_N_H, two.fits);
+    TEST_ASSERT_EQUAL_INT64(2 * SPVS_GOLDEN_N_H, joint.fits);
 }
 
 /* ---- degenerate and edge cases ----------------------------------------------- */
@@ -670,14 +660,14 @@ static void edge_fits(scene_t *sc, const spvs_real H0[9], const uint8_t *use, in
 {
     const spvs_pts_in_t in = {NULL, &sc->fst};
     int32_t Hq0[9], Hq[9];
-    assert_int_equal(spvs_q_h_from_real(H0, Hq0), 0);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_q_h_from_real(H0, Hq0));
     spvs_real Hf[9];
     memcpy(Hf, H0, sizeof Hf);
     memcpy(Hq, Hq0, sizeof Hq);
     *two_f = spvs_hf_fit_linear(&in, use, sc->n, Hf);
     *two_q = spvs_q_fit_linear(&sc->qst, use, sc->n, Hq);
     if (*two_q != SPVS_OK) {
-        assert_memory_equal(Hq, Hq0, sizeof Hq);
+        TEST_ASSERT_EQUAL_MEMORY(Hq0, Hq, sizeof Hq);
     }
     spvs_real sums[SPVS_H_LIN_SUMS];
     spvs_q_sums_t qs;
@@ -691,14 +681,13 @@ static void edge_fits(scene_t *sc, const spvs_real H0[9], const uint8_t *use, in
         memcpy(Hq, Hq0, sizeof Hq);
         *lin_q = spvs_q_lin_solve(&qs, Hq0, Hq);
         if (*lin_q != SPVS_OK) {
-            assert_memory_equal(Hq, Hq0, sizeof Hq);
+            TEST_ASSERT_EQUAL_MEMORY(Hq0, Hq, sizeof Hq);
         }
     }
 }
 
-static void test_q_fit_edges(void **state)
+static void test_q_fit_edges(void)
 {
-    (void)state;
     static scene_t sc;
     uint64_t rng = 11;
     uint8_t use[NMAX];
@@ -711,14 +700,14 @@ static void test_q_fit_edges(void **state)
     memset(use, 0, sizeof use);
     use[3] = use[17] = 1;
     edge_fits(&sc, H0, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(tf, SPVS_E_TOO_FEW);
-    assert_int_equal(tq, SPVS_E_TOO_FEW);
-    assert_int_equal(lf, SPVS_E_TOO_FEW);
-    assert_int_equal(lq, SPVS_E_TOO_FEW);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, tf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, tq);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, lf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, lq);
     memset(use, 0, sizeof use);
     edge_fits(&sc, H0, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(tq, SPVS_E_TOO_FEW);
-    assert_int_equal(tf, SPVS_E_TOO_FEW);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, tq);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_TOO_FEW, tf);
     /* Collinear and coincident target points: no system is positive
      * definite. */
     memset(use, 1, sizeof use);
@@ -733,7 +722,7 @@ static void test_q_fit_edges(void **state)
     }
     for (int k = 0; k < 3; k++) {
         for (int j = 0; j < 4; j++) {
-            assert_int_equal(st[k][j], SPVS_E_DEGENERATE);
+            TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, st[k][j]);
         }
     }
     /* A used point behind the camera at the start H (w = 1.9 x + 1 < 0 at
@@ -741,14 +730,14 @@ static void test_q_fit_edges(void **state)
     set_from_H(&sc, H, 40, 4, &rng);
     const spvs_real Hb[9] = {1, 0, 0, 0, 1, 0, 1.9f, 0, 1};
     edge_fits(&sc, Hb, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(tf, SPVS_E_DEGENERATE);
-    assert_int_equal(tq, SPVS_E_DEGENERATE);
-    assert_int_equal(lf, SPVS_E_DEGENERATE);
-    assert_int_equal(lq, SPVS_E_DEGENERATE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, tf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, tq);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, lf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, lq);
     use[0] = 0;
     edge_fits(&sc, Hb, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(tf, SPVS_OK);
-    assert_int_equal(tq, SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, tf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, tq);
     use[0] = 1;
     /* Solutions at the edge of the Q range: h11 = 15.9 is solved by both;
      * h11 = 17 only by float (an H outside the Q27 range is
@@ -763,30 +752,30 @@ static void test_q_fit_edges(void **state)
     edge_fits(&sc, Hs0, use, &tf, &tq, &lf, &lq);
     const int in_range[4] = {tf, tq, lf, lq};
     edge_fits(&sc, Hs1, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(lf, SPVS_OK);
-    assert_int_equal(lq, SPVS_OK);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, lf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, lq);
     Hr[0] = 17;
     set_from_H(&sc, Hr, 40, 0, &rng);
     edge_fits(&sc, Hs0, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(tf, SPVS_OK);
-    assert_int_equal(tq, SPVS_E_DEGENERATE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, tf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, tq);
     edge_fits(&sc, Hs1, use, &tf, &tq, &lf, &lq);
-    assert_int_equal(lf, SPVS_OK);
-    assert_int_equal(lq, SPVS_E_DEGENERATE);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, lf);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_DEGENERATE, lq);
     for (int k = 0; k < 4; k++) {
-        assert_int_equal(in_range[k], SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, in_range[k]);
     }
-    print_message("edges: fewer than 3, collinear (2 lines), coincident, behind the camera: "
+    UNIT_NOTE("edges: fewer than 3, collinear (2 lines), coincident, behind the camera: "
                   "float's statuses; h11 = 15.9 solved, 17 SPVS_E_DEGENERATE in Q only\n");
 }
 
-int main(void)
+void suite_fixed_fit(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_q_solves_ref),
-        cmocka_unit_test(test_q_fits_random),
-        cmocka_unit_test(test_q_fits_golden),
-        cmocka_unit_test(test_q_fit_edges),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_q_solves_ref);
+    RUN_TEST(test_q_fits_random);
+    RUN_TEST(test_q_fits_golden);
+    RUN_TEST(test_q_fit_edges);
 }
+
+UNIT_MAIN(suite_fixed_fit)

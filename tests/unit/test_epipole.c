@@ -1,11 +1,10 @@
 /* test_epipole.c - the epipole from plane plus parallax (epipole.h). */
 #include <math.h>
-#include <setjmp.h>
-#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 
-#include <cmocka.h>
+#include "unity.h"
+#include "unit_support.h"
 
 #include "spvs/epipole.h"
 #include "synth.h"
@@ -73,9 +72,8 @@ static double true_ex(const synth_pose_t *p, int *ahead)
 }
 
 /* On the line x = -z tan(phi_t) the epipole is alpha_x tan(phi - phi_t). */
-static void test_exact_on_line(void **state)
+static void test_exact_on_line(void)
 {
-    (void)state;
     uint64_t rng = 5;
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
@@ -92,23 +90,21 @@ static void test_exact_on_line(void **state)
         } sup;
         sup.guard = SENTINEL;
         spvs_epipole_t e;
-        assert_int_equal(estimate(&f, f.n, &e, sup.support),
-                         SPVS_OK);
-        assert_int_equal(sup.guard, SENTINEL);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, estimate(&f, f.n, &e, sup.support));
+        TEST_ASSERT_EQUAL_INT64(SENTINEL, sup.guard);
         double expect = 800 * tan(dphi);
-        assert_true(fabs((double)e.e_x_px - expect) <= TOL_EX_REL * (1 + fabs(expect)));
+        TEST_ASSERT_TRUE(fabs((double)e.e_x_px - expect) <= TOL_EX_REL * (1 + fabs(expect)));
         /* The target is in front (z < 0, facing it within 30 deg). */
-        assert_true(e.dir_z > 0);
-        assert_int_equal(e.n_support, f.n);
-        assert_true(e.parallax_px > 0);
+        TEST_ASSERT_TRUE(e.dir_z > 0);
+        TEST_ASSERT_EQUAL_INT64(f.n, e.n_support);
+        TEST_ASSERT_TRUE(e.parallax_px > 0);
     }
 }
 
 /* Anywhere (including behind the target): e_x = alpha_x e1 / e3 and the
  * sign of e_z says whether the target is in front. */
-static void test_exact_general_and_sign(void **state)
+static void test_exact_general_and_sign(void)
 {
-    (void)state;
     uint64_t rng = 9;
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
@@ -127,20 +123,18 @@ static void test_exact_general_and_sign(void **state)
         frame_t f;
         make_frame(&f, &p, &pl, 25, 0.0, &rng);
         spvs_epipole_t e;
-        assert_int_equal(estimate(&f, f.n, &e, NULL),
-                         SPVS_OK);
-        assert_true(fabs((double)e.e_x_px - expect) <= TOL_EX_REL * (1 + fabs(expect)));
-        assert_int_equal(e.dir_z > 0 ? 1 : -1, ahead);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, estimate(&f, f.n, &e, NULL));
+        TEST_ASSERT_TRUE(fabs((double)e.e_x_px - expect) <= TOL_EX_REL * (1 + fabs(expect)));
+        TEST_ASSERT_EQUAL_INT64(ahead, e.dir_z > 0 ? 1 : -1);
         behind += ahead < 0;
     }
-    assert_true(behind >= 10);
+    TEST_ASSERT_TRUE(behind >= 10);
 }
 
 /* 20% mismatches among the off-plane points move the estimate by under a
  * pixel; the mismatches get no support. */
-static void test_mismatches(void **state)
+static void test_mismatches(void)
 {
-    (void)state;
     uint64_t rng = 21;
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
@@ -158,8 +152,7 @@ static void test_mismatches(void **state)
         }
         uint8_t sup[64];
         spvs_epipole_t e;
-        assert_int_equal(estimate(&f, f.n, &e, sup),
-                         SPVS_OK);
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, estimate(&f, f.n, &e, sup));
         double expect = 800 * tan(dphi);
         double err = fabs((double)e.e_x_px - expect);
         if (err > worst) {
@@ -169,16 +162,15 @@ static void test_mismatches(void **state)
         for (int i = 5; i < f.n; i++) {
             sup_good += sup[i];
         }
-        assert_true(sup_good >= 18);
-        assert_true(e.dir_z > 0);
+        TEST_ASSERT_TRUE(sup_good >= 18);
+        TEST_ASSERT_TRUE(e.dir_z > 0);
     }
-    print_message("epipole with 20%% mismatches: worst error %.3f px\n", worst);
-    assert_true(worst < 1.0);
+    UNIT_NOTE("epipole with 20%% mismatches: worst error %.3f px\n", worst);
+    TEST_ASSERT_TRUE(worst < 1.0);
 }
 
-static void test_no_parallax_and_args(void **state)
+static void test_no_parallax_and_args(void)
 {
-    (void)state;
     uint64_t rng = 2;
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
@@ -188,25 +180,21 @@ static void test_no_parallax_and_args(void **state)
     make_frame(&f, &p, &pl, 25, 0.0, &rng);
     spvs_epipole_t e;
     /* Fewer candidates than the support needed. */
-    assert_int_equal(estimate(&f, 2, &e, NULL),
-                     SPVS_E_NO_PARALLAX);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, estimate(&f, 2, &e, NULL));
     /* Points on the plane (zero parallax): no line at all. */
     frame_t g;
     make_frame_mixed(&g, &p, &pl, 20, 0, 0.0, &rng);
-    assert_int_equal(estimate(&g, g.n, &e, NULL), SPVS_E_NO_PARALLAX);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_NO_PARALLAX, estimate(&g, g.n, &e, NULL));
     /* Argument errors. */
-    assert_int_equal(spvs_epipole_estimate(f.H, (const spvs_real(*)[4])f.pts, f.cand,
-                                           SPVS_MAX_OFFPLANE + 1, SPVS_R(0.01), 3, &e, NULL, &work),
-                     SPVS_E_ARG);
-    assert_int_equal(spvs_epipole_estimate(f.H, (const spvs_real(*)[4])f.pts, f.cand, f.n,
-                                           SPVS_R(0.01), 3, &e, NULL, NULL),
-                     SPVS_E_ARG);
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_epipole_estimate(f.H, (const spvs_real(*)[4])f.pts, f.cand,
+                                           SPVS_MAX_OFFPLANE + 1, SPVS_R(0.01), 3, &e, NULL, &work));
+    TEST_ASSERT_EQUAL_INT64(SPVS_E_ARG, spvs_epipole_estimate(f.H, (const spvs_real(*)[4])f.pts, f.cand, f.n,
+                                           SPVS_R(0.01), 3, &e, NULL, NULL));
 }
 
 /* Side-on to the line the epipole is at infinity: clamped, right sign. */
-static void test_clamp(void **state)
+static void test_clamp(void)
 {
-    (void)state;
     uint64_t rng = 4;
     synth_plane_t pl;
     synth_plane(&pl, 0.3, -0.6, -0.75, 45);
@@ -215,20 +203,19 @@ static void test_clamp(void **state)
     frame_t f;
     make_frame(&f, &p, &pl, 25, 0.0, &rng);
     spvs_epipole_t e;
-    assert_int_equal(estimate(&f, f.n, &e, NULL),
-                     SPVS_OK);
-    assert_true(fabs((double)e.e_x_px) <= (double)SPVS_EPIPOLE_MAX_PX);
-    assert_true(fabs((double)e.e_x_px) > 5000);
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, estimate(&f, f.n, &e, NULL));
+    TEST_ASSERT_TRUE(fabs((double)e.e_x_px) <= (double)SPVS_EPIPOLE_MAX_PX);
+    TEST_ASSERT_TRUE(fabs((double)e.e_x_px) > 5000);
 }
 
-int main(void)
+void suite_epipole(void)
 {
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_exact_on_line),
-        cmocka_unit_test(test_exact_general_and_sign),
-        cmocka_unit_test(test_mismatches),
-        cmocka_unit_test(test_no_parallax_and_args),
-        cmocka_unit_test(test_clamp),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    UNIT_SUITE_FILE();
+    RUN_TEST(test_exact_on_line);
+    RUN_TEST(test_exact_general_and_sign);
+    RUN_TEST(test_mismatches);
+    RUN_TEST(test_no_parallax_and_args);
+    RUN_TEST(test_clamp);
 }
+
+UNIT_MAIN(suite_epipole)
