@@ -53,6 +53,7 @@ typedef struct {
     int images;                 /* --frontend images                      */
     int focal_given;            /* --focal-mm was given                   */
     const char *save_frames_dir;
+    const char *texture;        /* --texture: the plane's photograph      */
     uint32_t save_every;        /* frames between saved PNGs              */
     long save_matches_frame;    /* -1: none                               */
     const char *mcu_image;      /* --mcu-image (NULL: the build's)        */
@@ -94,7 +95,10 @@ static const char *const usage_text =
     "  --realtime            pace frames at dt in wall-clock time\n"
     "  --frontend F          points (default): exact projected points;\n"
     "                        images: SIFT matches in rendered images\n"
+    "  --texture FILE        images: a photograph on the plane instead of\n"
+    "                        the procedural texture\n"
     "  --save-frames DIR     images: write every Nth frame as DIR/frame_NNNNN.png\n"
+    "                        and the target image as DIR/target.png\n"
     "  --save-every N        images: N for --save-frames (10)\n"
     "  --save-matches FRAME  images: write DIR/matches_FRAME.png (or ./)\n"
     "  --json                last stdout line: one JSON object with the result\n"
@@ -175,7 +179,8 @@ static void parse_options(int argc, char **argv, options_t *o)
             "--dt", "--max-time", "--trace", "--record", "--transport",
             "--lcm-url", "--zenoh-endpoint", "--timeout",
             "--lcm-matches-channel", "--keep-last", "--frontend",
-            "--save-frames", "--save-every", "--save-matches", "--mcu-image" };
+            "--save-frames", "--save-every", "--save-matches", "--mcu-image",
+            "--texture" };
         int known = 0;
         for (size_t k = 0; k < sizeof(valued) / sizeof(valued[0]); ++k) {
             if (strcmp(name, valued[k]) == 0) {
@@ -263,6 +268,8 @@ static void parse_options(int argc, char **argv, options_t *o)
             } else {
                 sim_cli_fail("--frontend: '%s' is not points or images", val);
             }
+        } else if (strcmp(name, "--texture") == 0) {
+            o->texture = val;
         } else if (strcmp(name, "--save-frames") == 0) {
             o->save_frames_dir = val;
         } else if (strcmp(name, "--save-every") == 0) {
@@ -283,8 +290,10 @@ static void parse_options(int argc, char **argv, options_t *o)
                                           SIM_CLI_OPEN_LO);
         }
     }
-    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
-        sim_cli_fail("--save-frames and --save-matches need --frontend images");
+    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0 ||
+                       o->texture)) {
+        sim_cli_fail("--save-frames, --save-matches and --texture need "
+                     "--frontend images");
     }
 #ifdef SPVS_HAVE_FRONTEND
     /* Images are taken with the front end's wide camera, and the
@@ -624,12 +633,21 @@ int main(int argc, char **argv)
         sim_frontend_params_t fp;
         sim_frontend_params_default(&fp);
         fp.seed = o.cfg.seed;
+        fp.texture = o.texture;
         images.fe = sim_frontend_create(&fp, &w.cam, &w.plane, ferr,
                                         sizeof(ferr));
         if (images.fe == NULL) {
             sim_cli_fail("%s", ferr);
         }
         images.o = &o;
+        if (o.save_frames_dir) {
+            char tpath[1200];
+            snprintf(tpath, sizeof(tpath), "%s/target.png", o.save_frames_dir);
+            if (sim_frontend_save_target(images.fe, tpath, ferr,
+                                         sizeof(ferr)) != 0) {
+                sim_cli_fail("--save-frames: %s", ferr);
+            }
+        }
         o.cfg.observe = observe_images;
         o.cfg.observe_user = &images;
     }

@@ -305,6 +305,7 @@ void sim_frontend_params_default(sim_frontend_params_t *p)
     p->detector = SIM_FRONTEND_SIFT;
     p->levels = kSiftLayers;
     p->detect_half = 1;
+    p->texture = nullptr;
 }
 
 sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
@@ -372,7 +373,8 @@ sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
         f = new sim_frontend();
         f->p = *p;
         std::string why = f->scene.build(*cam, *pl, p->seed, p->n_objects,
-                                         p->obj_zmin_m, p->obj_zmax_m);
+                                         p->obj_zmin_m, p->obj_zmax_m,
+                                         p->texture ? p->texture : "");
         if (!why.empty()) {
             std::snprintf(msg, sizeof(msg), "front end: %s", why.c_str());
             set_err(err, err_len, msg);
