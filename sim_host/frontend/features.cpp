@@ -110,4 +110,35 @@ void match_descriptors(const cv::Mat &desc_cur, const cv::Mat &desc_tgt,
     cand.resize(k);
 }
 
+std::vector<size_t> spread_best(const std::vector<cv::Point2f> &pt,
+                                size_t cap, cv::Size img, int cells_x,
+                                int cells_y)
+{
+    std::vector<size_t> out;
+    if (cap == 0 || pt.empty() || cells_x < 1 || cells_y < 1 ||
+        img.width < 1 || img.height < 1) {
+        return out;
+    }
+    const size_t cells = (size_t)cells_x * (size_t)cells_y;
+    const size_t per_cell = (cap + cells - 1) / cells;
+    std::vector<size_t> in_cell(cells, 0);
+    std::vector<uint8_t> taken(pt.size(), 0);
+    for (size_t i = 0; i < pt.size() && out.size() < cap; ++i) {
+        const int gx = std::min(cells_x - 1, std::max(0, (int)(pt[i].x * cells_x / img.width)));
+        const int gy = std::min(cells_y - 1, std::max(0, (int)(pt[i].y * cells_y / img.height)));
+        size_t &cnt = in_cell[(size_t)gy * (size_t)cells_x + (size_t)gx];
+        if (cnt < per_cell) {
+            ++cnt;
+            taken[i] = 1;
+            out.push_back(i);
+        }
+    }
+    for (size_t i = 0; i < pt.size() && out.size() < cap; ++i) {
+        if (!taken[i]) {
+            out.push_back(i);
+        }
+    }
+    return out;
+}
+
 } // namespace simfe

@@ -32,6 +32,17 @@ void match_descriptors(const cv::Mat &desc_cur, const cv::Mat &desc_tgt,
                        int norm, double ratio, bool cross_check,
                        std::vector<cv::DMatch> &cand);
 
+/* Spreading over the image: of n points given best first (pt[i], pixel
+ * coordinates in an image of size img), the indices of at most cap of
+ * them: first each cell of a cells_x x cells_y grid takes its best points
+ * up to an equal share (cap over the cells, rounded up), then the best
+ * points left fill what remains.  Features spread over the image keep the
+ * view's borders, which are all that stays in sight when the camera
+ * looks far to one side.  Bound: two passes over the n points. */
+std::vector<size_t> spread_best(const std::vector<cv::Point2f> &pt,
+                                size_t cap, cv::Size img, int cells_x,
+                                int cells_y);
+
 } // namespace simfe
 
 #endif /* SIM_FRONTEND_FEATURES_HPP */

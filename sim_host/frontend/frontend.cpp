@@ -139,25 +139,17 @@ bool describe_target(sim_frontend *f)
                      [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
                          return a.response > b.response;
                      });
-    const int cap = f->p.target_features;
-    const int per_cell = (cap + kGridX * kGridY - 1) / (kGridX * kGridY);
-    std::vector<int> in_cell(kGridX * kGridY, 0);
-    std::vector<uint8_t> taken(all.size(), 0);
-    std::vector<cv::KeyPoint> kp;
-    for (size_t i = 0; i < all.size() && (int)kp.size() < cap; ++i) {
-        int gx = std::min(kGridX - 1, (int)(all[i].pt.x * kGridX / SIM_FRONTEND_WIDTH));
-        int gy = std::min(kGridY - 1, (int)(all[i].pt.y * kGridY / SIM_FRONTEND_HEIGHT));
-        int &cnt = in_cell[(size_t)(gy * kGridX + gx)];
-        if (cnt < per_cell) {
-            ++cnt;
-            taken[i] = 1;
-            kp.push_back(all[i]);
-        }
+    std::vector<cv::Point2f> pts;
+    pts.reserve(all.size());
+    for (const cv::KeyPoint &k : all) {
+        pts.push_back(k.pt);
     }
-    for (size_t i = 0; i < all.size() && (int)kp.size() < cap; ++i) {
-        if (!taken[i]) {
-            kp.push_back(all[i]);
-        }
+    std::vector<cv::KeyPoint> kp;
+    for (size_t i : simfe::spread_best(pts, (size_t)f->p.target_features,
+                                       cv::Size(SIM_FRONTEND_WIDTH,
+                                                SIM_FRONTEND_HEIGHT),
+                                       kGridX, kGridY)) {
+        kp.push_back(all[i]);
     }
     keypoints_to_half(f, kp);
     f->det_tgt->compute(dimg, kp, f->desc_tgt);
