@@ -73,6 +73,8 @@ const char *const kUsage =
     "  --calib FILE.yml    OpenCV calibration (camera_matrix,\n"
     "                      distortion_coefficients); one of the two is needed\n"
     "  --json              one JSON object per frame on stdout, then a summary\n"
+    "  --json-matches      --json, each frame also with its kept matches \"m\":\n"
+    "                      [feature, x_goal, y_goal, x_cur, y_cur] (centred px)\n"
     "  --dt S              frame period of files and folders, seconds (0.1);\n"
     "                      a device's frames are timed by the clock\n"
     "  --max-frames N      stop after N frames (all)\n"
@@ -99,6 +101,7 @@ struct Options {
     int method = 0;
     std::string transport = "none";
     bool json = false;
+    bool json_matches = false;
     double dt_s = 0.1;
     long long max_frames = -1;
     long long teach_frame = 0;
@@ -183,6 +186,10 @@ Options parse_options(int argc, char **argv)
         }
         if (arg == "--json") {
             o.json = true;
+            continue;
+        }
+        if (arg == "--json-matches") {
+            o.json = o.json_matches = true;
             continue;
         }
         std::string name = arg;
@@ -468,6 +475,16 @@ void print_frame_json(const Options &o, long long frame, const std::string &name
         std::printf(",\"v\":%.9g,\"w\":%.9g,\"step\":%d,\"remote_status\":\"%s\"",
                     (double)remote.v, (double)remote.w, (int)remote.step,
                     spvs_status_str(remote.status));
+    }
+    if (o.json_matches) {
+        std::fputs(",\"m\":[", stdout);
+        for (size_t i = 0; i < fm.m.size(); ++i) {
+            const spvs_match_t &q = fm.m[i];
+            std::printf("%s[%u,%.4f,%.4f,%.4f,%.4f]", i ? "," : "",
+                        (unsigned)q.feature, (double)q.x_tgt, (double)q.y_tgt,
+                        (double)q.x_cur, (double)q.y_cur);
+        }
+        std::fputc(']', stdout);
     }
     std::printf(",\"ms\":{\"capture\":%.3f,\"detect\":%.3f,\"match\":%.3f,"
                 "\"core\":%.3f}}\n", ms[0], ms[1], ms[2], ms[3]);
