@@ -561,10 +561,11 @@ int run(const Options &o)
     spvscam::to_grey8(goal_raw, goal);
     spvscam::Intrinsics in;
     std::string why = intrinsics_for(o, goal.size(), in);
-    spvscam::Vision vis;
-    if (why.empty()) {
-        why = vis.set_goal(goal, in, o.vp);
+    if (!why.empty()) {
+        sim_cli_fail("--calib: %s", why.c_str());
     }
+    spvscam::Vision vis;
+    why = vis.set_goal(goal, in, o.vp);
     if (!why.empty()) {
         sim_cli_fail("--goal: %s", why.c_str());
     }

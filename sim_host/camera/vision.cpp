@@ -44,6 +44,11 @@ void Intrinsics::from_focal(double f_px, cv::Size sz)
 
 std::string Intrinsics::from_file(const std::string &path)
 {
+    std::FILE *probe = std::fopen(path.c_str(), "rb");
+    if (probe == nullptr) {
+        return "cannot read the calibration file '" + path + "'";
+    }
+    std::fclose(probe);
     try {
         cv::FileStorage fs(path, cv::FileStorage::READ);
         if (!fs.isOpened()) {
