@@ -57,3 +57,15 @@ if(TARGET spvs-camera AND TARGET spvs-sim)
                        SKIP_RETURN_CODE 77
                        ENVIRONMENT "OPENCV_FOR_THREADS_NUM=1")
 endif()
+
+# The matches over LCM to spvs-node: the node's commands equal the
+# in-process controller's, frame by frame.
+if(TARGET spvs-camera AND TARGET spvs-node)
+  add_test(NAME camera_lcm
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/camera_lcm.sh
+                   $<TARGET_FILE:spvs-node> $<TARGET_FILE:spvs-camera>
+                   /usr/share/visp-images-data/ViSP-images/mire-2)
+  set_tests_properties(camera_lcm PROPERTIES
+                       LABELS "${spvs_variant};camera;lcm;process"
+                       TIMEOUT 240 SKIP_RETURN_CODE 77)
+endif()
