@@ -5,7 +5,11 @@
 # node's answers must equal, frame by frame, the commands of spvs-camera
 # --method 1 running the same controller in-process (float build: the wire
 # carries the float32 the core computes with; 1e-6 m/s and rad/s allowed
-# for the frame time's trip through microseconds).  A frame dark, empty
+# for the frame time's trip through microseconds).  Then spvs-camera
+# --method 1 --transport lcm publishes its own commands and telemetry:
+# lcm-logger must see them on SPVS_CMD and SPVS_STATE (at least 30 of the
+# 40 each: the logger may miss datagrams on a busy machine) and nothing on
+# SPVS_MATCHES.  A frame dark, empty
 # of features or late gets its stop from the node like any other.  Missing
 # data: a failure under CI=true, else skipped (77).
 set -euo pipefail
@@ -47,6 +51,34 @@ spvs_in_netns '
   wait $pid || true
   exit $rc
 ' || { echo "LCM run failed"; cat "$work/node.err"; tail -3 "$work/lcm.json" 2>/dev/null; exit 1; }
+
+spvs_in_netns '
+  lcm-logger -q -f --lcm-url="$URL" "$WORK/pub.lcmlog" 2>"$WORK/logger.err" &
+  logger=$!
+  sleep 0.5
+  timeout 120 "$CAM" $COMMON --method 1 --transport lcm --lcm-url "$URL" \
+      >"$WORK/pub.json"; rc=$?
+  sleep 0.3
+  kill -INT $logger 2>/dev/null; wait $logger || true
+  exit $rc
+' || { echo "publishing run failed"; cat "$work/logger.err"; exit 1; }
+/usr/bin/python3 "$here/install/count_log.py" "$work/pub.lcmlog" >"$work/count.txt"
+cat "$work/count.txt"
+for ch in SPVS_CMD SPVS_STATE; do
+  n=$(awk -v c="$ch" '$1 == c { print $2 }' "$work/count.txt")
+  [ "${n:-0}" -ge 30 ] && [ "${n:-0}" -le 40 ] ||
+    { echo "FAIL: $ch: ${n:-0} messages for 40 frames"; exit 1; }
+done
+if grep -q "^SPVS_MATCHES " "$work/count.txt"; then
+  echo "FAIL: --method publishes commands, not matches"; exit 1
+fi
+/usr/bin/python3 - "$work/local.json" "$work/pub.json" <<'PY' || exit 1
+import json, sys
+rd = lambda p: [json.loads(l) for l in open(p) if l.startswith('{"frame"')]
+a, b = rd(sys.argv[1]), rd(sys.argv[2])
+if [(x["v"], x["w"]) for x in a] != [(y["v"], y["w"]) for y in b]:
+    sys.exit("FAIL: publishing changed the commands")
+PY
 
 /usr/bin/python3 - "$work/local.json" "$work/lcm.json" <<'PY'
 import json, sys
