@@ -69,3 +69,16 @@ if(TARGET spvs-camera AND TARGET spvs-node)
                        LABELS "${spvs_variant};camera;lcm;process"
                        TIMEOUT 240 SKIP_RETURN_CODE 77)
 endif()
+
+# The matches over Zenoh (spvs-zenoh-bridge to spvs-node), in the Zenoh
+# tests' namespace and venv (tests/zenoh.cmake's fixture).
+if(TARGET spvs-camera AND TARGET spvs-node AND TARGET spvs_zenoh_link)
+  add_test(NAME camera_zenoh
+           COMMAND sh ${CMAKE_CURRENT_SOURCE_DIR}/zenoh/netns.sh ${PROJECT_SOURCE_DIR} 180
+                   ${CMAKE_CURRENT_SOURCE_DIR}/camera_zenoh.sh ${PROJECT_SOURCE_DIR}
+                   ${CMAKE_BINARY_DIR} /usr/share/visp-images-data/ViSP-images/mire-2)
+  set_tests_properties(camera_zenoh PROPERTIES
+                       LABELS "${spvs_variant};camera;zenoh;process"
+                       TIMEOUT 240 SKIP_RETURN_CODE 77
+                       FIXTURES_REQUIRED zenoh_venv)
+endif()

@@ -400,15 +400,22 @@ void Core::frame(uint32_t seq, double t_s, const std::vector<spvs_match_t> &m,
     std::memset(&remote, 0, sizeof(remote));
     link_err.clear();
     const uint16_t n = usable ? (uint16_t)m.size() : 0;
-    if (o->method != 0) {
-        /* A frame that failed its checks goes in with no matches: the
-         * controller answers with a stop and keeps its timing. */
-        out.status = (int16_t)spvs_update(&g_core, m.data(), n,
-                                          (spvs_real)t_s, &out);
-    } else if (usable) {
-        out.status = (int16_t)spvs_estimate_h(&g_core, m.data(), n, &out);
-    } else {
-        out.status = SPVS_E_TOO_FEW;
+    /* The whole update runs with or without --method: the off-plane
+     * memory it keeps (the goal features once seen off the plane) is part
+     * of the estimate, since near the goal their parallax falls under the
+     * inlier threshold and, refitted as plane points, they would bias H.
+     * A frame that failed its checks goes in with no matches: the
+     * controller answers with a stop and keeps its timing. */
+    out.status = (int16_t)spvs_update(&g_core, m.data(), n, (spvs_real)t_s,
+                                      &out);
+    if (o->method == 0) {
+        /* Estimate only: no command, and the frame's status is the
+         * estimate's (the step logic's statuses mean nothing without a
+         * robot that follows the commands). */
+        out.v = out.w = 0;
+        if (out.h_valid) {
+            out.status = SPVS_OK;
+        }
     }
 #ifdef SPVS_HAVE_LCM
     if (lcm != nullptr) {
