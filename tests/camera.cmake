@@ -82,3 +82,22 @@ if(TARGET spvs-camera AND TARGET spvs-node AND TARGET spvs_zenoh_link)
                        TIMEOUT 240 SKIP_RETURN_CODE 77
                        FIXTURES_REQUIRED zenoh_venv)
 endif()
+
+# A video file as the source: mire-2 frames 1-30 written to an MJPEG AVI by
+# OpenCV's own writer (tests/camera_make_video.cpp).
+if(TARGET spvs-camera)
+  find_package(OpenCV QUIET COMPONENTS core imgcodecs videoio)
+  if(OpenCV_FOUND)
+    add_executable(camera_make_video camera_make_video.cpp)
+    target_include_directories(camera_make_video SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+    target_link_libraries(camera_make_video PRIVATE ${OpenCV_LIBS})
+    add_test(NAME camera_video
+             COMMAND ${camera_check} video $<TARGET_FILE:spvs-camera>
+                     $<TARGET_FILE:camera_make_video> ${camera_mire2}
+                     ${camera_work}/video)
+    set_tests_properties(camera_video PROPERTIES
+                         LABELS "${spvs_variant};camera" TIMEOUT 120
+                         SKIP_RETURN_CODE 77
+                         ENVIRONMENT "OPENCV_FOR_THREADS_NUM=1")
+  endif()
+endif()

@@ -29,6 +29,10 @@
       one line; teach keeps a good frame and refuses the uniform one with
       its reason.
 
+  check_camera.py video CAM MAKE_VIDEO FOLDER WORKDIR
+      mire-2 frames 1-30 as an MJPEG AVI: 30 frames, each ok with an
+      estimate and >= 30 matches, and the run ends with the video.
+
 Every figure measured is printed.  A missing input (photograph, sequence)
 is a failure when CI is set, else exit 77 (skipped).
 """
@@ -302,8 +306,29 @@ def bad(argv):
     print("PASS")
 
 
+def video(argv):
+    cam, make, folder, work = argv[:4]
+    names = [os.path.join(folder, f"image.{i:04d}.pgm") for i in range(1, 31)]
+    if not all(os.path.isfile(n) for n in names):
+        missing(f"{folder}/image.0001..0030.pgm")
+    os.makedirs(work, exist_ok=True)
+    avi = os.path.join(work, "mire2.avi")
+    run([make, avi, "10"] + names)
+    out = run([cam, "--goal", names[0], "--source", avi, "--focal-px", "600",
+               "--json"])
+    rows, summ = read_json_lines(out)
+    bad_rows = [(r["frame"], r["status"]) for r in rows
+                if r["status"] != "ok" or r["h"] is None or r["matches"] < 30]
+    print(f"video: {len(rows)} frames, end {summ['end']}, matches mean "
+          f"{summ['matches_mean']}, not ok {bad_rows[:5]}")
+    if len(rows) != 30 or summ["end"] != "source_ended" or bad_rows:
+        fail("want 30 frames, each ok with >= 30 matches, then the end")
+    print("PASS")
+
+
 def main():
-    modes = {"loop": loop, "mire": mire, "graf": graf, "bad": bad}
+    modes = {"loop": loop, "mire": mire, "graf": graf, "bad": bad,
+             "video": video}
     if len(sys.argv) < 2 or sys.argv[1] not in modes:
         print(__doc__)
         sys.exit(2)
