@@ -26,8 +26,8 @@
       ok-or-core, dark_frame, blank_frame, size_mismatch, unreadable_frame
       with (v, w) = (0, 0) on the bad ones, six frames and a summary, exit
       0; --transport dds and a missing source are refused with exit 2 and
-      one line; teach keeps a good frame and refuses the uniform one with
-      its reason.
+      one line; teach keeps a good frame and refuses the uniform one and
+      one textured only in its top-left quarter, each with its reason.
 
   check_camera.py video CAM MAKE_VIDEO FOLDER WORKDIR
       mire-2 frames 1-30 as an MJPEG AVI: 30 frames, each ok with an
@@ -245,6 +245,28 @@ def write_pgm(path, w, h, value):
         f.write(bytes([value]) * (w * h))
 
 
+def read_pgm(path):
+    """Width, height and pixels of an 8-bit binary PGM (P5)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    fields, pos = [], 0
+    while len(fields) < 4:
+        while data[pos:pos + 1].isspace():
+            pos += 1
+        if data[pos:pos + 1] == b"#":
+            pos = data.index(b"\n", pos) + 1
+            continue
+        end = pos
+        while not data[end:end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    if fields[0] != b"P5" or int(fields[3]) != 255:
+        fail(f"{path} is not an 8-bit P5 PGM")
+    w, h = int(fields[1]), int(fields[2])
+    return w, h, data[pos + 1:pos + 1 + w * h]
+
+
 def refused(cmd, what):
     r = subprocess.run(cmd, capture_output=True, text=True)
     lines = r.stderr.strip().splitlines()
@@ -293,6 +315,8 @@ def bad(argv):
     refused([cam, "--goal", goal, "--source", os.path.join(work, "nothing"),
              "--focal-px", "600"], "missing source")
     refused([cam, "--goal", goal, "--source", src], "no intrinsics")
+    refused([cam, "--goal", goal, "--source", "/dev/video99", "--focal-px",
+             "600"], "no such camera device")
     kept = os.path.join(work, "goal.png")
     r = subprocess.run([cam, "teach", "--source", src, "--out", kept],
                        capture_output=True, text=True)
@@ -303,6 +327,19 @@ def bad(argv):
                    os.path.join(work, "blank.png")], "teach on a uniform frame")
     if "uniform" not in why:
         fail("teach must say the frame is uniform")
+    # Texture in the top-left quarter only: bunched features.
+    w, h, px = read_pgm(good)
+    flat = bytearray(b"\x80" * (w * h))
+    for y in range(h // 2):
+        flat[y * w:y * w + w // 2] = px[y * w:y * w + w // 2]
+    corner = os.path.join(work, "corner")
+    os.makedirs(corner, exist_ok=True)
+    with open(os.path.join(corner, "a.pgm"), "wb") as f:
+        f.write(b"P5\n%d %d\n255\n" % (w, h) + bytes(flat))
+    why = refused([cam, "teach", "--source", corner, "--out",
+                   os.path.join(work, "corner.png")], "teach on a bunched frame")
+    if "cover only" not in why:
+        fail("teach must say the features are bunched")
     print("PASS")
 
 
