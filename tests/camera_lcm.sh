@@ -8,8 +8,9 @@
 # for the frame time's trip through microseconds).  Then spvs-camera
 # --method 1 --transport lcm publishes its own commands and telemetry:
 # lcm-logger must see them on SPVS_CMD and SPVS_STATE (at least 30 of the
-# 40 each: the logger may miss datagrams on a busy machine) and nothing on
-# SPVS_MATCHES.  A frame dark, empty
+# 40 each: the logger may miss datagrams on a busy machine), and nothing on
+# SPVS_MATCHES; the last command is a stop published at the end (seq -1,
+# v = w = 0, three times).  A frame dark, empty
 # of features or late gets its stop from the node like any other.  Missing
 # data: a failure under CI=true, else skipped (77).
 set -euo pipefail
@@ -64,11 +65,31 @@ spvs_in_netns '
 ' || { echo "publishing run failed"; cat "$work/logger.err"; exit 1; }
 /usr/bin/python3 "$here/install/count_log.py" "$work/pub.lcmlog" >"$work/count.txt"
 cat "$work/count.txt"
-for ch in SPVS_CMD SPVS_STATE; do
+for pair in SPVS_CMD:43 SPVS_STATE:40; do
+  ch=${pair%%:*} most=${pair#*:}
   n=$(awk -v c="$ch" '$1 == c { print $2 }' "$work/count.txt")
-  [ "${n:-0}" -ge 30 ] && [ "${n:-0}" -le 40 ] ||
+  [ "${n:-0}" -ge 30 ] && [ "${n:-0}" -le "$most" ] ||
     { echo "FAIL: $ch: ${n:-0} messages for 40 frames"; exit 1; }
 done
+/usr/bin/python3 - "$work/pub.lcmlog" <<'PY' || exit 1
+import struct, sys
+last = None
+with open(sys.argv[1], "rb") as f:
+    while True:
+        head = f.read(28)
+        if len(head) < 28:
+            break
+        _, _, _, clen, dlen = struct.unpack(">IqqII", head)
+        ch = f.read(clen).decode("ascii", "replace")
+        data = f.read(dlen)
+        if ch == "SPVS_CMD":
+            last = data
+# cmd_t: fingerprint, seq, utime, v, w, step, status (big-endian).
+_, seq, _, v, w, step, status = struct.unpack(">qqqddbh", last[:43])
+print(f"last SPVS_CMD: seq {seq}, v {v}, w {w}, step {step}, status {status}")
+if seq != -1 or v != 0 or w != 0:
+    sys.exit("FAIL: the run must end with a stop command (seq -1)")
+PY
 if grep -q "^SPVS_MATCHES " "$work/count.txt"; then
   echo "FAIL: --method publishes commands, not matches"; exit 1
 fi

@@ -48,6 +48,7 @@
 namespace {
 
 constexpr int kExitLink = 1;
+constexpr int kFinalStops = 3;
 /* The image noise the arrival check is told (as for the simulator's
  * image front end, sim/frontend.h: SIFT matches, not 1 px point noise). */
 constexpr double kArrivalSigmaPx = 1.5;
@@ -323,6 +324,7 @@ struct Core {
     spvs_params_t p{};
     bool have_link = false;
     sim_link_t link{};
+    int last_step = 0;      /* the controller's step after the last frame */
 #ifdef SPVS_HAVE_LCM
     lcm_t *lcm = nullptr;   /* --method with --transport lcm: publishing */
 #endif
@@ -338,6 +340,34 @@ struct Core {
 };
 
 spvs_t g_core; /* large: static, as the core expects */
+
+/* Set by SIGINT and SIGTERM: the run ends after the frame in hand, with
+ * its summary and a last stop command. */
+volatile std::sig_atomic_t g_stop = 0;
+
+void on_signal(int)
+{
+    g_stop = 1;
+}
+
+/* A string as JSON wants it inside quotes. */
+std::string json_escape(const std::string &in)
+{
+    std::string out;
+    for (unsigned char c : in) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += (char)c;
+        } else if (c < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof(buf), "\\u%04x", c);
+            out += buf;
+        } else {
+            out += (char)c;
+        }
+    }
+    return out;
+}
 
 std::string Core::open(const Options &opt, const spvscam::Intrinsics &in)
 {
@@ -380,6 +410,18 @@ std::string Core::open(const Options &opt, const spvscam::Intrinsics &in)
 
 void Core::close()
 {
+#ifdef SPVS_HAVE_LCM
+    /* The robot's last word from this program is a stop, sent
+     * kFinalStops times 10 ms apart since a datagram can be lost. */
+    if (lcm != nullptr) {
+        spvs_cmd_t cmd;
+        spvs_wire_cmd_stop(&cmd, -1, 0, SPVS_OK, last_step);
+        for (int k = 0; k < kFinalStops; ++k) {
+            (void)spvs_wire_publish_cmd(lcm, &cmd);
+            sim_clock_sleep_until(sim_clock_now_s() + 0.01);
+        }
+    }
+#endif
     if (have_link && link.close != nullptr) {
         link.close(link.ctx);
     }
@@ -408,6 +450,7 @@ void Core::frame(uint32_t seq, double t_s, const std::vector<spvs_match_t> &m,
      * controller answers with a stop and keeps its timing. */
     out.status = (int16_t)spvs_update(&g_core, m.data(), n, (spvs_real)t_s,
                                       &out);
+    last_step = out.step;
     if (o->method == 0) {
         /* Estimate only: no command, and the frame's status is the
          * estimate's (the step logic's statuses mean nothing without a
@@ -473,7 +516,7 @@ void print_frame_json(const Options &o, long long frame, const std::string &name
     std::printf("{\"frame\":%lld,\"file\":\"%s\",\"keypoints\":%d,"
                 "\"candidates\":%d,\"matches\":%zu,\"inliers\":%d,"
                 "\"status\":\"%s\",\"h\":",
-                frame, name.c_str(), fm.keypoints, fm.candidates, fm.m.size(),
+                frame, json_escape(name).c_str(), fm.keypoints, fm.candidates, fm.m.size(),
                 h_valid ? (int)out.n_inliers : 0, status.c_str());
     print_h(out, h_valid);
     if (o.method != 0) {
@@ -591,6 +634,8 @@ int run(const Options &o)
         return kExitLink;
     }
 
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
     Totals t;
     const double t_start = sim_clock_now_s();
     /* Processor time of all threads: the figure that does not depend on
@@ -600,6 +645,10 @@ int run(const Options &o)
     int rc = 0;
     for (long long frame = 0; o.max_frames < 0 || frame < o.max_frames;
          ++frame) {
+        if (g_stop) {
+            end = "interrupted";
+            break;
+        }
         double ms[4] = { 0, 0, 0, 0 };
         double t0 = sim_clock_now_s();
         cv::Mat img;
