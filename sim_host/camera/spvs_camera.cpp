@@ -599,7 +599,10 @@ void count_frame(Totals &t, const spvscam::FrameMatches &fm, bool usable,
     t.have_last = true;
 }
 
-int run(const Options &o)
+/* The goal's features, the intrinsics and the source, or a usage error
+ * (exit status 2) with the reason. */
+void open_inputs(const Options &o, spvscam::Intrinsics &in,
+                 spvscam::Vision &vis, spvscam::FrameSource &src)
 {
     cv::Mat goal_raw, goal;
     try {
@@ -611,23 +614,28 @@ int run(const Options &o)
         sim_cli_fail("--goal: cannot read the image '%s'", o.goal.c_str());
     }
     spvscam::to_grey8(goal_raw, goal);
-    spvscam::Intrinsics in;
     std::string why = intrinsics_for(o, goal.size(), in);
     if (!why.empty()) {
         sim_cli_fail("--calib: %s", why.c_str());
     }
-    spvscam::Vision vis;
     why = vis.set_goal(goal, in, o.vp);
     if (!why.empty()) {
         sim_cli_fail("--goal: %s", why.c_str());
     }
-    spvscam::FrameSource src;
     why = src.open(o.source);
     if (!why.empty()) {
         sim_cli_fail("--source: %s", why.c_str());
     }
+}
+
+int run(const Options &o)
+{
+    spvscam::Intrinsics in;
+    spvscam::Vision vis;
+    spvscam::FrameSource src;
+    open_inputs(o, in, vis, src);
     Core core;
-    why = core.open(o, in);
+    const std::string why = core.open(o, in);
     if (!why.empty()) {
         std::fprintf(stderr, "spvs-camera: %s\n", why.c_str());
         core.close();
