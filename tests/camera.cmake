@@ -52,7 +52,11 @@ if(TARGET spvs-camera AND TARGET spvs-sim)
   add_test(NAME camera_bad_input
            COMMAND ${camera_check} bad $<TARGET_FILE:spvs-camera>
                    ${camera_mire2} ${camera_work}/bad)
-  set_tests_properties(camera_mire2 camera_graf camera_bad_input PROPERTIES
+  # --calib: the undistortion of an OpenCV calibration file.
+  add_test(NAME camera_calib
+           COMMAND ${camera_check} calib $<TARGET_FILE:spvs-camera>
+                   ${camera_opencv_data} ${camera_work}/calib)
+  set_tests_properties(camera_mire2 camera_graf camera_bad_input camera_calib PROPERTIES
                        LABELS "${spvs_variant};camera" TIMEOUT 300
                        SKIP_RETURN_CODE 77
                        ENVIRONMENT "OPENCV_FOR_THREADS_NUM=1")

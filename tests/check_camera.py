@@ -33,6 +33,13 @@
       mire-2 frames 1-30 as an MJPEG AVI: 30 frames, each ok with an
       estimate and >= 30 matches, and the run ends with the video.
 
+  check_camera.py calib CAM DATA_DIR WORKDIR
+      --calib with opencv-doc's left_intrinsics.yml (k1 = -0.27): the goal
+      points spvs-camera hands on, distorted again with the file's model
+      and put back on its principal point, must land within 0.05 px of the
+      same features' raw positions (from a --focal-px run, centred on the
+      image centre).
+
 Every figure measured is printed.  A missing input (photograph, sequence)
 is a failure when CI is set, else exit 77 (skipped).
 """
@@ -363,8 +370,54 @@ def video(argv):
     print("PASS")
 
 
+def read_yml_matrix(text, name):
+    body = text.split(name + ":")[1]
+    data = body.split("data:")[1].split("]")[0].replace("[", "")
+    return np.array([float(v) for v in data.replace(",", " ").split()])
+
+
+def calib(argv):
+    cam, data, work = argv[:3]
+    goal, src, yml = (os.path.join(data, n) for n in
+                      ("left01.jpg", "left02.jpg", "left_intrinsics.yml"))
+    for p in (goal, src, yml):
+        if not os.path.isfile(p):
+            missing(p)
+    os.makedirs(work, exist_ok=True)
+    text = open(yml).read()
+    K = read_yml_matrix(text, "camera_matrix").reshape(3, 3)
+    k1, k2, p1, p2, k3 = read_yml_matrix(text, "distortion_coefficients")[:5]
+    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+    base = [cam, "--goal", goal, "--source", src, "--json-matches"]
+    rc, _ = read_json_lines(run(base + ["--calib", yml]))
+    rf, _ = read_json_lines(run(base + ["--focal-px", str(fx)]))
+    und = {int(m[0]): (m[1], m[2]) for m in rc[0]["m"]}
+    raw = {int(m[0]): (m[1] + 320.0, m[2] + 240.0) for m in rf[0]["m"]}
+    common = sorted(set(und) & set(raw))
+    err, moved = [], []
+    for f in common:
+        x, y = und[f][0] / fx, und[f][1] / fy
+        r2 = x * x + y * y
+        rad = 1 + k1 * r2 + k2 * r2 * r2 + k3 * r2 ** 3
+        xd = x * rad + 2 * p1 * x * y + p2 * (r2 + 2 * x * x)
+        yd = y * rad + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y
+        u, v = fx * xd + cx, fy * yd + cy
+        err.append(np.hypot(u - raw[f][0], v - raw[f][1]))
+        moved.append(np.hypot(und[f][0] + cx - raw[f][0], und[f][1] + cy - raw[f][1]))
+    print(f"calib: {len(common)} goal features in both runs; undistortion "
+          f"moved them by up to {max(moved):.1f} px (median {np.median(moved):.2f}); "
+          f"distorted again they land within {max(err):.4f} px of the raw ones")
+    if len(common) < 20:
+        fail("fewer than 20 goal features to compare")
+    if max(err) > 0.05:
+        fail("the undistorted points do not map back onto the raw ones")
+    if max(moved) < 5.0:
+        fail("undistortion moved no point by 5 px: is --calib applied?")
+    print("PASS")
+
+
 def main():
-    modes = {"loop": loop, "mire": mire, "graf": graf, "bad": bad,
+    modes = {"calib": calib, "loop": loop, "mire": mire, "graf": graf, "bad": bad,
              "video": video}
     if len(sys.argv) < 2 or sys.argv[1] not in modes:
         print(__doc__)
