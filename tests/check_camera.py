@@ -14,7 +14,8 @@
   check_camera.py mire CAM FOLDER WORKDIR FIRST LAST
       spvs-camera on images FIRST..LAST of ViSP's mire-2 sequence, goal =
       the first: every frame must be estimated with status ok (the target is
-      in view in all of them) and keep >= 30 matches.
+      in view in all of them) and keep >= 30 matches; frames with more
+      candidates than SPVS_MAX_MATCHES (256) keep exactly 256.
   check_camera.py graf CAM DATA_DIR WORKDIR
       graf1 (goal) against graf3 (a 40 deg change of view): at least 70 % of
       the kept matches within 3 px of H1to3p and at most 10 % beyond 10 px.
@@ -208,6 +209,12 @@ def mire(argv):
         fail(f"{len(bad)} frames with an error status or no estimate")
     if min(nm) < 30:
         fail(f"a frame kept only {min(nm)} matches (need 30)")
+    # More candidates than the core takes is a normal frame.
+    over = [r for r in rows if r["candidates"] > 256]
+    print(f"{len(over)} frames with more than 256 candidates (most "
+          f"{max([r['candidates'] for r in over] or [0])}), each kept 256")
+    if not over or any(r["matches"] != 256 for r in over):
+        fail("want frames over the capacity, each keeping exactly 256")
     print("PASS")
 
 
