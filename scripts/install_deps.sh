@@ -7,6 +7,7 @@ PKGS=(cmake ninja-build gcc g++ make pkg-config libcmocka-dev
       liblcm-dev liblcm-bin libglib2.0-dev
       python3 python3-numpy python3-matplotlib python3-venv iproute2
       libopencv-dev
+      opencv-doc visp-images-data
       gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
       valgrind clang libclang-rt-14-dev
       liblcm-java libjchart2d-java default-jdk-headless default-jre xvfb imagemagick

@@ -60,6 +60,7 @@ typedef struct {
     int images;                 /* --frontend images                      */
     int focal_given;            /* --focal-mm was given                   */
     const char *save_frames_dir;
+    const char *texture;        /* --texture: the plane's photograph      */
     uint32_t save_every;        /* frames between saved PNGs              */
     long save_matches_frame;    /* -1: none                               */
     const char *mcu_image;      /* --mcu-image (NULL: the build's)        */
@@ -276,6 +277,12 @@ static void set_frontend(options_t *o, const char *name, const char *val)
     }
 }
 
+static void set_texture(options_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->texture = val;
+}
+
 static void set_save_frames(options_t *o, const char *name, const char *val)
 {
     (void)name;
@@ -363,7 +370,13 @@ static const sim_opt_t k_opts[] = {
      "points (default): exact projected points;\n"
      "images: SIFT matches in rendered images",
      set_frontend},
-    {"--save-frames", "DIR", "images: write every Nth frame as DIR/frame_NNNNN.png",
+    {"--texture", "FILE",
+     "images: a photograph on the plane instead of\n"
+     "the procedural texture",
+     set_texture},
+    {"--save-frames", "DIR",
+     "images: write every Nth frame as DIR/frame_NNNNN.png\n"
+     "and the target image as DIR/target.png",
      set_save_frames},
     {"--save-every", "N", "images: N for --save-frames (10)", set_save_every},
     {"--save-matches", "FRAME", "images: write DIR/matches_FRAME.png (or ./)", set_save_matches},
@@ -422,8 +435,9 @@ static const sim_opt_t *find_opt(const char *name)
  * and the checks of combinations and ranges. */
 static void finish_options(options_t *o)
 {
-    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0)) {
-        sim_cli_fail("--save-frames and --save-matches need --frontend images");
+    if (!o->images && (o->save_frames_dir || o->save_matches_frame >= 0 || o->texture)) {
+        sim_cli_fail("--save-frames, --save-matches and --texture need "
+                     "--frontend images");
     }
 #ifdef SPVS_HAVE_FRONTEND
     /* Images are taken with the front end's wide camera, and the
@@ -853,9 +867,17 @@ static void open_images(options_t *o, images_t *images)
     sim_frontend_params_t fp;
     sim_frontend_params_default(&fp);
     fp.seed = o->cfg.seed;
+    fp.texture = o->texture;
     images->fe = sim_frontend_create(&fp, &w.cam, &w.plane, ferr, sizeof(ferr));
     if (images->fe == NULL) {
         sim_cli_fail("%s", ferr);
+    }
+    if (o->save_frames_dir) {
+        char tpath[1200];
+        snprintf(tpath, sizeof(tpath), "%s/target.png", o->save_frames_dir);
+        if (sim_frontend_save_target(images->fe, tpath, ferr, sizeof(ferr)) != 0) {
+            sim_cli_fail("--save-frames: %s", ferr);
+        }
     }
     images->o = o;
     o->cfg.observe = observe_images;

@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "features.hpp"
 #include "frontend_internal.hpp"
 #include "sim/clock.h"
 #include "spvs/spvs_config.h"
@@ -85,37 +86,6 @@ void render_frame(sim_frontend *f, const sim_pose_t &pose, uint32_t seq,
     }
 }
 
-/* Move keypoints to the sub-pixel corner (cv::cornerSubPix, 7x7 window).
- * A keypoint found at a coarse scale is placed to within that scale's
- * pixel, 1..2 px of the full image (SIFT on the halved image, ORB on its
- * upper pyramid levels); the textures' corners are polygon vertices, which
- * a projective map sends to vertices, so refining both images puts both
- * ends of a match on the same scene point.  A keypoint that the refinement
- * moves by more than 1.5 px was not on a clean corner: it keeps the
- * detector's position. */
-void refine(const cv::Mat &img, std::vector<cv::KeyPoint> &kp)
-{
-    if (kp.empty()) {
-        return;
-    }
-    std::vector<cv::Point2f> pts;
-    pts.reserve(kp.size());
-    for (const cv::KeyPoint &k : kp) {
-        pts.push_back(k.pt);
-    }
-    cv::cornerSubPix(img, pts, cv::Size(3, 3), cv::Size(-1, -1),
-                     cv::TermCriteria(cv::TermCriteria::COUNT |
-                                          cv::TermCriteria::EPS,
-                                      20, 0.01));
-    for (size_t i = 0; i < kp.size(); ++i) {
-        const cv::Point2f d = pts[i] - kp[i].pt;
-        if (std::isfinite(pts[i].x) && std::isfinite(pts[i].y) &&
-            d.dot(d) <= 2.25f) {
-            kp[i].pt = pts[i];
-        }
-    }
-}
-
 /* The image the detector works on: the image itself, or (detect_half) its
  * half made with pixel-area averaging. */
 const cv::Mat &detector_image(const sim_frontend *f, const cv::Mat &img,
@@ -169,31 +139,23 @@ bool describe_target(sim_frontend *f)
                      [](const cv::KeyPoint &a, const cv::KeyPoint &b) {
                          return a.response > b.response;
                      });
-    const int cap = f->p.target_features;
-    const int per_cell = (cap + kGridX * kGridY - 1) / (kGridX * kGridY);
-    std::vector<int> in_cell(kGridX * kGridY, 0);
-    std::vector<uint8_t> taken(all.size(), 0);
-    std::vector<cv::KeyPoint> kp;
-    for (size_t i = 0; i < all.size() && (int)kp.size() < cap; ++i) {
-        int gx = std::min(kGridX - 1, (int)(all[i].pt.x * kGridX / SIM_FRONTEND_WIDTH));
-        int gy = std::min(kGridY - 1, (int)(all[i].pt.y * kGridY / SIM_FRONTEND_HEIGHT));
-        int &cnt = in_cell[(size_t)(gy * kGridX + gx)];
-        if (cnt < per_cell) {
-            ++cnt;
-            taken[i] = 1;
-            kp.push_back(all[i]);
-        }
+    std::vector<cv::Point2f> pts;
+    pts.reserve(all.size());
+    for (const cv::KeyPoint &k : all) {
+        pts.push_back(k.pt);
     }
-    for (size_t i = 0; i < all.size() && (int)kp.size() < cap; ++i) {
-        if (!taken[i]) {
-            kp.push_back(all[i]);
-        }
+    std::vector<cv::KeyPoint> kp;
+    for (size_t i : simfe::spread_best(pts, (size_t)f->p.target_features,
+                                       cv::Size(SIM_FRONTEND_WIDTH,
+                                                SIM_FRONTEND_HEIGHT),
+                                       kGridX, kGridY)) {
+        kp.push_back(all[i]);
     }
     keypoints_to_half(f, kp);
     f->det_tgt->compute(dimg, kp, f->desc_tgt);
     keypoints_to_full(f, kp);
     if (f->p.subpixel) {
-        refine(f->img_tgt, kp);
+        simfe::refine_corners(f->img_tgt, kp);
     }
     f->kp_tgt = kp;
     if ((int)kp.size() < kMinTargetFeatures) {
@@ -215,73 +177,17 @@ bool describe_target(sim_frontend *f)
 }
 
 /* Current -> target matches that pass the ratio test (and the mutual best
- * check), one per target feature, best max_matches by Hamming distance. */
+ * check), one per target feature, best max_matches by descriptor distance
+ * (simfe::match_descriptors). */
 void match(sim_frontend *f)
 {
-    f->kept.clear();
-    if (f->desc_cur.empty() || f->desc_tgt.empty()) {
-        return;
-    }
-    /* One distance matrix, current x target, serves both directions: the
-     * two nearest targets of each current feature (ratio test) and the
-     * nearest current feature of each target (mutual check). */
-    cv::Mat dist;
-    cv::batchDistance(f->desc_cur, f->desc_tgt, dist,
-                      f->norm == cv::NORM_L2 ? CV_32F : CV_32S, cv::noArray(),
-                      f->norm);
-    if (dist.type() != CV_32F) {
-        dist.convertTo(dist, CV_32F);
-    }
-    const int nc = dist.rows, nt = dist.cols;
-    std::vector<int> best_cur_of_tgt((size_t)nt, -1);
-    std::vector<float> best_d_of_tgt((size_t)nt, INFINITY);
     std::vector<cv::DMatch> cand;
-    for (int i = 0; i < nc; ++i) {
-        const float *d = dist.ptr<float>(i);
-        int j1 = -1;
-        float d1 = INFINITY, d2 = INFINITY;
-        for (int j = 0; j < nt; ++j) {
-            if (d[j] < d1) {
-                d2 = d1;
-                d1 = d[j];
-                j1 = j;
-            } else if (d[j] < d2) {
-                d2 = d[j];
-            }
-            if (d[j] < best_d_of_tgt[(size_t)j]) {
-                best_d_of_tgt[(size_t)j] = d[j];
-                best_cur_of_tgt[(size_t)j] = i;
-            }
-        }
-        /* With a single neighbour there is nothing to compare against:
-         * such a match is ambiguous by construction and is dropped. */
-        if (j1 >= 0 && nt >= 2 && d1 < f->p.ratio * d2) {
-            cand.emplace_back(i, j1, d1);
-        }
+    simfe::match_descriptors(f->desc_cur, f->desc_tgt, f->norm, f->p.ratio,
+                             f->p.cross_check != 0, cand);
+    if ((int)cand.size() > f->p.max_matches) {
+        cand.resize((size_t)f->p.max_matches);
     }
-    if (f->p.cross_check) {
-        cand.erase(std::remove_if(cand.begin(), cand.end(),
-                                  [&](const cv::DMatch &m) {
-                                      return best_cur_of_tgt[(size_t)m.trainIdx] !=
-                                             m.queryIdx;
-                                  }),
-                   cand.end());
-    }
-    std::stable_sort(cand.begin(), cand.end(),
-                     [](const cv::DMatch &a, const cv::DMatch &b) {
-                         return a.distance < b.distance;
-                     });
-    std::vector<uint8_t> used((size_t)f->desc_tgt.rows, 0);
-    for (const cv::DMatch &m : cand) {
-        if ((int)f->kept.size() >= f->p.max_matches) {
-            break;
-        }
-        if (used[(size_t)m.trainIdx]) {
-            continue;
-        }
-        used[(size_t)m.trainIdx] = 1;
-        f->kept.push_back(m);
-    }
+    f->kept = cand;
 }
 
 } // namespace
@@ -305,6 +211,7 @@ void sim_frontend_params_default(sim_frontend_params_t *p)
     p->detector = SIM_FRONTEND_SIFT;
     p->levels = kSiftLayers;
     p->detect_half = 1;
+    p->texture = nullptr;
 }
 
 sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
@@ -372,7 +279,8 @@ sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
         f = new sim_frontend();
         f->p = *p;
         std::string why = f->scene.build(*cam, *pl, p->seed, p->n_objects,
-                                         p->obj_zmin_m, p->obj_zmax_m);
+                                         p->obj_zmin_m, p->obj_zmax_m,
+                                         p->texture ? p->texture : "");
         if (!why.empty()) {
             std::snprintf(msg, sizeof(msg), "front end: %s", why.c_str());
             set_err(err, err_len, msg);
@@ -461,7 +369,7 @@ uint16_t sim_frontend_observe(sim_frontend_t *f, uint32_t seq,
                 for (const cv::DMatch &m : f->kept) {
                     km.push_back(f->kp_cur[(size_t)m.queryIdx]);
                 }
-                refine(f->img_cur, km);
+                simfe::refine_corners(f->img_cur, km);
                 for (size_t i = 0; i < km.size(); ++i) {
                     f->kp_cur[(size_t)f->kept[i].queryIdx].pt = km[i].pt;
                 }

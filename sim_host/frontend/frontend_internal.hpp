@@ -38,6 +38,12 @@ cv::Mat make_plane_texture(uint64_t seed, int w, int h);
  * the plane's so that its features are told apart. */
 cv::Mat make_object_texture(uint64_t seed, int size);
 
+/* A photograph as the plane's texture: the image file read in grey, scaled
+ * to cover w x h texels with its aspect kept (bilinear) and cropped to its
+ * centre.  Returns "" or a reason (unreadable file, empty image). */
+std::string load_plane_texture(const std::string &path, int w, int h,
+                               cv::Mat &out);
+
 /* The scene: surface 0 is the plane, the others are off-plane quads.  All
  * textures live in one atlas so that one cv::remap renders a frame. */
 struct Scene {
@@ -48,10 +54,12 @@ struct Scene {
     /* Build from the plane: texture 2048 x 2048 texels of 12 cm centred
      * where the target camera's optical axis meets the plane, plus up to
      * n_objects quads (2.5..5 m wide) at depths [zmin, zmax) that the
-     * target camera sees in front of the plane.  Returns "" or a reason. */
+     * target camera sees in front of the plane.  texture: an image file
+     * for the plane (load_plane_texture), or empty for the procedural
+     * one.  Returns "" or a reason. */
     std::string build(const sim_camera_t &cam, const sim_plane_t &pl,
                       uint64_t seed, int n_objects, double zmin_m,
-                      double zmax_m);
+                      double zmax_m, const std::string &texture = "");
 
     /* Cast the ray through centred pixel (x, y) of the camera at `pose`:
      * the index of the nearest surface hit (-1 for none) and the hit point

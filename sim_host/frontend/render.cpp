@@ -109,7 +109,7 @@ Coeffs coeffs(const Surface &s, const double M[9], const double c[3])
 
 std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
                          uint64_t seed, int n_objects, double zmin_m,
-                         double zmax_m)
+                         double zmax_m, const std::string &texture)
 {
     cam = camera;
     surf.clear();
@@ -190,8 +190,17 @@ std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
                ((int)surf.size() > 1 ? tile * (((int)surf.size() - 2) / per_row + 1)
                                      : 0);
     atlas = cv::Mat(rows, kPlaneTex, CV_8U, cv::Scalar(128));
-    make_plane_texture(seed, kPlaneTex, kPlaneTex)
-        .copyTo(atlas(cv::Rect(0, 0, kPlaneTex, kPlaneTex)));
+    cv::Mat plane_tex;
+    if (texture.empty()) {
+        plane_tex = make_plane_texture(seed, kPlaneTex, kPlaneTex);
+    } else {
+        std::string why = load_plane_texture(texture, kPlaneTex, kPlaneTex,
+                                             plane_tex);
+        if (!why.empty()) {
+            return why;
+        }
+    }
+    plane_tex.copyTo(atlas(cv::Rect(0, 0, kPlaneTex, kPlaneTex)));
     for (size_t i = 1; i < surf.size(); ++i) {
         make_object_texture(seed * 131 + i, kObjTex)
             .copyTo(atlas(cv::Rect(surf[i].atlas_x, surf[i].atlas_y, kObjTex,

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <string>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace simfe {
@@ -107,6 +110,31 @@ cv::Mat make_object_texture(uint64_t seed, int size)
     draw_shapes(tex, rng, (int)(area / (small * small)), small);
     cv::GaussianBlur(tex, tex, cv::Size(0, 0), 0.8);
     return tex;
+}
+
+std::string load_plane_texture(const std::string &path, int w, int h,
+                               cv::Mat &out)
+{
+    cv::Mat img;
+    try {
+        img = cv::imread(path, cv::IMREAD_GRAYSCALE);
+    } catch (const std::exception &) {
+        img.release();
+    }
+    if (img.empty() || img.cols < 2 || img.rows < 2) {
+        return "cannot read the texture image '" + path + "'";
+    }
+    /* Cover the whole plane, aspect kept: the larger of the two scales,
+     * then the centre cut out.  A photograph is upsampled here (Debian's
+     * are 640..1000 px across); the plane's usual 1..2 texels per pixel
+     * then show each photograph pixel over a few image pixels. */
+    const double k = std::max((double)w / img.cols, (double)h / img.rows);
+    const int sw = std::max(w, (int)std::ceil(img.cols * k));
+    const int sh = std::max(h, (int)std::ceil(img.rows * k));
+    cv::Mat big;
+    cv::resize(img, big, cv::Size(sw, sh), 0, 0, cv::INTER_LINEAR);
+    big(cv::Rect((sw - w) / 2, (sh - h) / 2, w, h)).copyTo(out);
+    return "";
 }
 
 } // namespace simfe

@@ -80,6 +80,9 @@ typedef struct {
     int detect_half;        /* 1: detect and describe on the image halved,
                                keypoints mapped back and refined on the
                                full image (1)                              */
+    const char *texture;    /* an image file (a photograph) for the plane's
+                               texture, scaled to cover it, or NULL for the
+                               procedural one (NULL)                       */
 } sim_frontend_params_t;
 
 /* What the front end saw in one frame. */
