@@ -31,106 +31,205 @@ static void on_signal(int sig)
     g_stop = 1;
 }
 
+/* The settings of the command line that are not core parameters. */
+typedef struct {
+    long long method;
+    const char *gains;
+    const char *url;
+    double watchdog_s;
+    long long log_level;
+    long long progress;
+    int dds;
+} node_opts_t;
+
+/* An option: what --help says of it, and how it is read.  Options with a
+ * setter decide the starting parameter set (read first, in any order);
+ * the others (param = 1) are core parameters, applied over the defaults
+ * of the method and the file in their command-line order. */
+typedef struct {
+    const char *name;    /* "--method"                                   */
+    const char *metavar; /* the value in --help; NULL: a flag            */
+    const char *help;    /* a '\n' starts a line under the first; NULL:
+                            listed on the line of the option before      */
+    void (*set)(node_opts_t *o, const char *name, const char *val);
+    int param;           /* a core parameter (--k-w -> k_w, --param)     */
+} node_opt_t;
+
+static void set_method(node_opts_t *o, const char *name, const char *val)
+{
+    o->method = sim_cli_int(name, val, 1, 3);
+}
+
+static void set_gains(node_opts_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->gains = val;
+}
+
+static void set_url(node_opts_t *o, const char *name, const char *val)
+{
+    (void)name;
+    o->url = val;
+}
+
+static void set_watchdog(node_opts_t *o, const char *name, const char *val)
+{
+    o->watchdog_s = sim_cli_real(name, val, 0.0, 3600.0, SIM_CLI_OPEN_LO);
+}
+
+static void set_log_level(node_opts_t *o, const char *name, const char *val)
+{
+    o->log_level = sim_cli_int(name, val, 0, 3);
+}
+
+static void set_progress(node_opts_t *o, const char *name, const char *val)
+{
+    o->progress = sim_cli_int(name, val, 0, 1000000);
+}
+
+static void set_dds(node_opts_t *o, const char *name, const char *val)
+{
+    (void)name;
+    (void)val;
+#ifndef SPVS_HAVE_DDS
+    sim_cli_fail("--dds: this build has no DDS support (cyclonedds-dev)");
+#endif
+    o->dds = 1;
+}
+
+/* Every option, in the order --help lists them. */
+static const node_opt_t k_opts[] = {
+    {"--method", "1|2|3", "control method (default 3)", set_method, 0},
+    {"--gains", "FILE", "parameter file, lines 'name = value'", set_gains, 0},
+    {"--k-w", "X", "gains and limits (override the file)", NULL, 1},
+    {"--k-v", "X", NULL, NULL, 1},
+    {"--k-w3", "X", NULL, NULL, 1},
+    {"--k-w11", "X", NULL, NULL, 1},
+    {"--v-max", "X", NULL, NULL, 1},
+    {"--w-max", "X", NULL, NULL, 1},
+    {"--alpha", "PX", "assumed focal length, pixels (default 800)", NULL, 1},
+    {"--seed", "S", "RANSAC seed (default 0)", NULL, 1},
+    {"--param", "NAME=VALUE", "any parameter by name (see below)", NULL, 1},
+    {"--dds", NULL,
+     "serve on DDS with ROS 2's names instead of LCM:\n"
+     "/spvs/matches in, /cmd_vel and /spvs/state out,\n"
+     "domain $ROS_DOMAIN_ID (docs/ROS2.md)",
+     set_dds, 0},
+    {"--lcm-url", "URL",
+     "LCM provider (default $LCM_DEFAULT_URL or\n" DEFAULT_URL ")", set_url, 0},
+    {"--watchdog", "S",
+     "publish stops after S s without valid\n"
+     "matches (default 0.5)",
+     set_watchdog, 0},
+    {"--progress", "N", "print a progress line every N frames (0 off)", set_progress, 0},
+    {"--log-level", "L",
+     "0 quiet, 1 errors (default), 2 info,\n"
+     "3 every frame",
+     set_log_level, 0},
+    {"--help", NULL, "", NULL, 0},
+};
+#define N_OPTS (sizeof(k_opts) / sizeof(k_opts[0]))
+#define HELP_COL 19
+
 static void usage(FILE *f)
 {
-    fprintf(f,
-        "usage: spvs-node [options]\n"
-        "Controller node: SPVS_MATCHES in, SPVS_CMD and SPVS_STATE out.\n"
-        "  --method 1|2|3     control method (default 3)\n"
-        "  --gains FILE       parameter file, lines 'name = value'\n"
-        "  --k-w X --k-v X --k-w3 X --k-w11 X --v-max X --w-max X\n"
-        "                     gains and limits (override the file)\n"
-        "  --alpha PX         assumed focal length, pixels (default 800)\n"
-        "  --seed S           RANSAC seed (default 0)\n"
-        "  --param NAME=VALUE any parameter by name (see below)\n"
-        "  --dds              serve on DDS with ROS 2's names instead of LCM:\n"
-        "                     /spvs/matches in, /cmd_vel and /spvs/state out,\n"
-        "                     domain $ROS_DOMAIN_ID (docs/ROS2.md)\n"
-        "  --lcm-url URL      LCM provider (default $LCM_DEFAULT_URL or\n"
-        "                     " DEFAULT_URL ")\n"
-        "  --watchdog S       publish stops after S s without valid\n"
-        "                     matches (default 0.5)\n"
-        "  --progress N       print a progress line every N frames (0 off)\n"
-        "  --log-level L      0 quiet, 1 errors (default), 2 info,\n"
-        "                     3 every frame\n"
-        "  --help\n"
-        "parameters:");
+    fputs("usage: spvs-node [options]\n"
+          "Controller node: SPVS_MATCHES in, SPVS_CMD and SPVS_STATE out.\n",
+          f);
+    for (size_t k = 0; k < N_OPTS; k++) {
+        /* Options without help of their own share the next line's. */
+        if (k_opts[k].help == NULL) {
+            continue;
+        }
+        char left[96] = "";
+        size_t used = 0;
+        for (size_t j = k; j < N_OPTS && used < sizeof(left); j++) {
+            if (j > k && k_opts[j].help != NULL) {
+                break;
+            }
+            used += (size_t)snprintf(left + used, sizeof(left) - used, "%s%s%s%s",
+                                     j > k ? " " : "", k_opts[j].name,
+                                     k_opts[j].metavar ? " " : "",
+                                     k_opts[j].metavar ? k_opts[j].metavar : "");
+        }
+        fprintf(f, "  %s", left);
+        if (k_opts[k].help[0] == '\0') {
+            fputc('\n', f);
+            continue;
+        }
+        const int w = (int)strlen(left);
+        if (w < HELP_COL) {
+            fprintf(f, "%*s", HELP_COL - w, "");
+        } else {
+            fprintf(f, "\n  %*s", HELP_COL, "");
+        }
+        for (const char *c = k_opts[k].help; *c; c++) {
+            if (*c == '\n') {
+                fprintf(f, "\n  %*s", HELP_COL, "");
+            } else {
+                fputc(*c, f);
+            }
+        }
+        fputc('\n', f);
+    }
+    fputs("parameters:", f);
     for (int i = 0; spvs_node_param_names[i]; i++)
         fprintf(f, "%s%s", i % 8 ? " " : "\n  ", spvs_node_param_names[i]);
     fprintf(f, "\n");
 }
 
-int main(int argc, char **argv)
+static const node_opt_t *find_opt(const char *name)
 {
-    long long method = 3;
-    const char *gains = NULL;
-    const char *url = getenv("LCM_DEFAULT_URL");
-    double watchdog_s = 0.5;
-    long long log_level = 1;
-    long long progress = 0;
-    int dds = 0;
-    char err[256];
+    for (size_t k = 0; k < N_OPTS; k++) {
+        if (strcmp(k_opts[k].name, name) == 0)
+            return &k_opts[k];
+    }
+    return NULL;
+}
 
-    if (!url || !*url)
-        url = DEFAULT_URL;
-    sim_cli_program("spvs-node");
-
-    /* Pass 1: options that decide the starting parameter set, so the order
-     * on the command line does not matter: defaults of the method, then the
-     * file, then the flags. */
+/* Pass 1: the options that decide the starting parameter set, so the
+ * order on the command line does not matter; exits after --help or on a
+ * bad option. */
+static void read_options(int argc, char **argv, node_opts_t *o)
+{
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             usage(stdout);
-            return 0;
+            exit(0);
         }
         if (strncmp(a, "--", 2) != 0)
             sim_cli_fail("unexpected argument: %s", a);
-        if (strcmp(a, "--dds") == 0) {
-#ifndef SPVS_HAVE_DDS
-            sim_cli_fail("--dds: this build has no DDS support "
-                         "(cyclonedds-dev)");
-#endif
-            dds = 1;
+        const node_opt_t *opt = find_opt(a);
+        if (opt != NULL && opt->metavar == NULL) {
+            opt->set(o, a, NULL);
             continue;
         }
         if (i + 1 >= argc)
             sim_cli_fail("missing value for: %s", a);
         const char *v = argv[++i];
-        if (strcmp(a, "--method") == 0) {
-            method = sim_cli_int(a, v, 1, 3);
-        } else if (strcmp(a, "--gains") == 0) {
-            gains = v;
-        } else if (strcmp(a, "--lcm-url") == 0) {
-            url = v;
-        } else if (strcmp(a, "--watchdog") == 0) {
-            watchdog_s = sim_cli_real(a, v, 0.0, 3600.0, SIM_CLI_OPEN_LO);
-        } else if (strcmp(a, "--log-level") == 0) {
-            log_level = sim_cli_int(a, v, 0, 3);
-        } else if (strcmp(a, "--progress") == 0) {
-            progress = sim_cli_int(a, v, 0, 1000000);
-        } else if (strcmp(a, "--k-w") && strcmp(a, "--k-v") &&
-                   strcmp(a, "--k-w3") && strcmp(a, "--k-w11") &&
-                   strcmp(a, "--v-max") && strcmp(a, "--w-max") &&
-                   strcmp(a, "--alpha") && strcmp(a, "--seed") &&
-                   strcmp(a, "--param")) {
+        if (opt == NULL)
             sim_cli_fail("unknown option: %s", a);
-        }
+        if (opt->set != NULL)
+            opt->set(o, a, v);
     }
+}
 
-    spvs_params_t p;
-    spvs_params_default(&p, (spvs_method_t)method);
-    if (gains && spvs_node_params_load(&p, gains, err, sizeof(err)) != 0)
-        sim_cli_fail("--gains: %s", err);
-
-    /* Pass 2: the parameter flags, in order, over the file. */
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const char *a = argv[i];
-        if (strcmp(a, "--dds") == 0) {
-            i--; /* a flag: the next argument is an option */
+/* Pass 2: the parameter options, in order, over the method's defaults and
+ * the file. */
+static void apply_params(int argc, char **argv, spvs_params_t *p)
+{
+    char err[256];
+    for (int i = 1; i < argc; i++) {
+        const node_opt_t *opt = find_opt(argv[i]);
+        if (opt == NULL || opt->metavar == NULL) {
             continue;
         }
-        const char *v = argv[i + 1];
+        const char *a = argv[i];
+        const char *v = argv[++i];
+        if (!opt->param) {
+            continue;
+        }
         char name[64];
         const char *value = v;
         if (strcmp(a, "--param") == 0) {
@@ -140,23 +239,19 @@ int main(int argc, char **argv)
             memcpy(name, v, (size_t)(eq - v));
             name[eq - v] = '\0';
             value = eq + 1;
-        } else if (strcmp(a, "--k-w") == 0 || strcmp(a, "--k-v") == 0 ||
-                   strcmp(a, "--k-w3") == 0 || strcmp(a, "--k-w11") == 0 ||
-                   strcmp(a, "--v-max") == 0 || strcmp(a, "--w-max") == 0 ||
-                   strcmp(a, "--alpha") == 0 || strcmp(a, "--seed") == 0) {
+        } else {
             /* --k-w3 -> k_w3 */
             size_t n = strlen(a + 2);
-            if (n >= sizeof(name))
-                sim_cli_fail("option too long: %s", a);
-            for (size_t k = 0; k <= n; k++)
+            for (size_t k = 0; k <= n && k < sizeof(name); k++)
                 name[k] = a[2 + k] == '-' ? '_' : a[2 + k];
-        } else {
-            continue;
         }
-        if (spvs_node_param_set(&p, name, value, err, sizeof(err)) != 0)
+        if (spvs_node_param_set(p, name, value, err, sizeof(err)) != 0)
             sim_cli_fail("bad parameter: %s", err);
     }
+}
 
+static void install_signals(void)
+{
     struct sigaction sa;
     memset(&sa, 0, sizeof(sa));
     sa.sa_handler = on_signal;
@@ -165,39 +260,32 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     signal(SIGPIPE, SIG_IGN);
+}
 
-#ifdef SPVS_HAVE_DDS
-    if (dds) {
-        spvs_node_dds_opts_t dopt = { watchdog_s, (int)log_level,
-                                      (unsigned)progress };
-        return spvs_node_dds_run(&p, &dopt, &g_stop);
-    }
-#else
-    (void)dds;
-#endif
-
-    lcm_t *lcm = lcm_create(url);
+/* The node on LCM until a signal: 0, 1 when LCM fails, 2 when the core
+ * refuses the parameters. */
+static int run_lcm(const node_opts_t *o, const spvs_params_t *p)
+{
+    lcm_t *lcm = lcm_create(o->url);
     if (!lcm) {
         fprintf(stderr, "spvs-node: cannot open LCM at '%s' (no multicast "
-                        "route? see docs/LCM.md)\n", url);
+                        "route? see docs/LCM.md)\n", o->url);
         return 1;
     }
-
     static spvs_node_t node; /* big (the core's buffers): not on the stack */
-    node.log_level = (int)log_level;
-    node.progress_every = (unsigned)progress;
+    node.log_level = (int)o->log_level;
+    node.progress_every = (unsigned)o->progress;
     node.progress = stdout;
-    int st = spvs_node_init(&node, lcm, &p, watchdog_s, sim_clock_now_s());
+    int st = spvs_node_init(&node, lcm, p, o->watchdog_s, sim_clock_now_s());
     if (st != SPVS_OK) {
         fprintf(stderr, "spvs-node: parameters rejected by the core: %s\n",
                 spvs_status_str(st));
         lcm_destroy(lcm);
         return 2;
     }
-    if (log_level >= 2)
+    if (o->log_level >= 2)
         fprintf(stderr, "spvs-node: method %lld, %s, watchdog %.2f s\n",
-                method, url, watchdog_s);
-
+                o->method, o->url, o->watchdog_s);
     int rc = 0;
     while (!g_stop) {
         /* Short waits keep the watchdog and the signal check responsive. */
@@ -209,8 +297,7 @@ int main(int argc, char **argv)
         }
         spvs_node_tick(&node, sim_clock_now_s());
     }
-
-    if (log_level >= 2)
+    if (o->log_level >= 2)
         fprintf(stderr,
                 "spvs-node: exit: %u frames, %u duplicates, %u out of order, "
                 "%u rejected, %u undecodable, %u watchdog stops, %u runs\n",
@@ -220,4 +307,30 @@ int main(int argc, char **argv)
     spvs_node_close(&node);
     lcm_destroy(lcm);
     return rc;
+}
+
+int main(int argc, char **argv)
+{
+    node_opts_t o = {3, NULL, getenv("LCM_DEFAULT_URL"), 0.5, 1, 0, 0};
+    if (!o.url || !*o.url)
+        o.url = DEFAULT_URL;
+    sim_cli_program("spvs-node");
+    read_options(argc, argv, &o);
+
+    spvs_params_t p;
+    char err[256];
+    spvs_params_default(&p, (spvs_method_t)o.method);
+    if (o.gains && spvs_node_params_load(&p, o.gains, err, sizeof(err)) != 0)
+        sim_cli_fail("--gains: %s", err);
+    apply_params(argc, argv, &p);
+
+    install_signals();
+#ifdef SPVS_HAVE_DDS
+    if (o.dds) {
+        spvs_node_dds_opts_t dopt = { o.watchdog_s, (int)o.log_level,
+                                      (unsigned)o.progress };
+        return spvs_node_dds_run(&p, &dopt, &g_stop);
+    }
+#endif
+    return run_lcm(&o, &p);
 }
