@@ -214,6 +214,58 @@ void sim_frontend_params_default(sim_frontend_params_t *p)
     p->texture = nullptr;
 }
 
+/* The parameters and camera checked: "" when usable, else why not
+ * (into msg, msg_len bytes). */
+static void check_params(const sim_frontend_params_t *p, const sim_camera_t *cam, char *msg,
+                         size_t msg_len)
+{
+    if (p->n_objects < 0 || p->n_objects > SIM_FRONTEND_MAX_OBJECTS) {
+        std::snprintf(msg, msg_len, "front end: objects must be 0..%d, got %d",
+                      SIM_FRONTEND_MAX_OBJECTS, p->n_objects);
+    } else if (!(p->obj_zmin_m > SIM_MIN_DEPTH_M) ||
+               !(p->obj_zmax_m > p->obj_zmin_m) || !std::isfinite(p->obj_zmax_m)) {
+        std::snprintf(msg, msg_len,
+                      "front end: object depths need 0.1 < zmin < zmax, finite");
+    } else if (p->target_features < kMinTargetFeatures ||
+               p->target_features > SPVS_MAX_FEATURES) {
+        std::snprintf(msg, msg_len,
+                      "front end: target features must be %d..%d, got %d",
+                      kMinTargetFeatures, SPVS_MAX_FEATURES, p->target_features);
+    } else if (p->current_features < 16 || p->current_features > 20000) {
+        std::snprintf(msg, msg_len,
+                      "front end: current features must be 16..20000, got %d",
+                      p->current_features);
+    } else if (!(p->ratio > 0.0 && p->ratio <= 1.0)) {
+        std::snprintf(msg, msg_len, "front end: ratio must be in (0, 1]");
+    } else if (p->max_matches < 1 || p->max_matches > SPVS_MAX_MATCHES) {
+        std::snprintf(msg, msg_len,
+                      "front end: max matches must be 1..%d, got %d",
+                      SPVS_MAX_MATCHES, p->max_matches);
+    } else if (!(p->mismatch_px > 0.0) || !std::isfinite(p->mismatch_px) ||
+               !(p->image_noise >= 0.0) || !std::isfinite(p->image_noise)) {
+        std::snprintf(msg, msg_len,
+                      "front end: mismatch distance and noise must be finite, >= 0");
+    } else if (p->detector != SIM_FRONTEND_ORB &&
+               p->detector != SIM_FRONTEND_SIFT &&
+               p->detector != SIM_FRONTEND_AKAZE) {
+        std::snprintf(msg, msg_len,
+                      "front end: detector must be ORB, SIFT or AKAZE, got %d",
+                      p->detector);
+    } else if (p->levels < 1 || p->levels > kMaxLevels ||
+               (p->detect_half != 0 && p->detect_half != 1)) {
+        std::snprintf(msg, msg_len,
+                      "front end: levels must be 1..%d and detect_half 0 or 1",
+                      kMaxLevels);
+    } else if (cam->width_px != SIM_FRONTEND_WIDTH ||
+               cam->height_px != SIM_FRONTEND_HEIGHT ||
+               !(cam->alpha_x_px > 0.0) || !(cam->alpha_y_px > 0.0)) {
+        std::snprintf(msg, msg_len,
+                      "front end: the camera must be 640x480 with positive focal");
+    } else {
+        msg[0] = '\0';
+    }
+}
+
 sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
                                     const sim_camera_t *cam,
                                     const sim_plane_t *pl, char *err,
@@ -224,51 +276,7 @@ sim_frontend_t *sim_frontend_create(const sim_frontend_params_t *p,
         return nullptr;
     }
     char msg[200];
-    if (p->n_objects < 0 || p->n_objects > SIM_FRONTEND_MAX_OBJECTS) {
-        std::snprintf(msg, sizeof(msg), "front end: objects must be 0..%d, got %d",
-                      SIM_FRONTEND_MAX_OBJECTS, p->n_objects);
-    } else if (!(p->obj_zmin_m > SIM_MIN_DEPTH_M) ||
-               !(p->obj_zmax_m > p->obj_zmin_m) || !std::isfinite(p->obj_zmax_m)) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: object depths need 0.1 < zmin < zmax, finite");
-    } else if (p->target_features < kMinTargetFeatures ||
-               p->target_features > SPVS_MAX_FEATURES) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: target features must be %d..%d, got %d",
-                      kMinTargetFeatures, SPVS_MAX_FEATURES, p->target_features);
-    } else if (p->current_features < 16 || p->current_features > 20000) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: current features must be 16..20000, got %d",
-                      p->current_features);
-    } else if (!(p->ratio > 0.0 && p->ratio <= 1.0)) {
-        std::snprintf(msg, sizeof(msg), "front end: ratio must be in (0, 1]");
-    } else if (p->max_matches < 1 || p->max_matches > SPVS_MAX_MATCHES) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: max matches must be 1..%d, got %d",
-                      SPVS_MAX_MATCHES, p->max_matches);
-    } else if (!(p->mismatch_px > 0.0) || !std::isfinite(p->mismatch_px) ||
-               !(p->image_noise >= 0.0) || !std::isfinite(p->image_noise)) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: mismatch distance and noise must be finite, >= 0");
-    } else if (p->detector != SIM_FRONTEND_ORB &&
-               p->detector != SIM_FRONTEND_SIFT &&
-               p->detector != SIM_FRONTEND_AKAZE) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: detector must be ORB, SIFT or AKAZE, got %d",
-                      p->detector);
-    } else if (p->levels < 1 || p->levels > kMaxLevels ||
-               (p->detect_half != 0 && p->detect_half != 1)) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: levels must be 1..%d and detect_half 0 or 1",
-                      kMaxLevels);
-    } else if (cam->width_px != SIM_FRONTEND_WIDTH ||
-               cam->height_px != SIM_FRONTEND_HEIGHT ||
-               !(cam->alpha_x_px > 0.0) || !(cam->alpha_y_px > 0.0)) {
-        std::snprintf(msg, sizeof(msg),
-                      "front end: the camera must be 640x480 with positive focal");
-    } else {
-        msg[0] = '\0';
-    }
+    check_params(p, cam, msg, sizeof(msg));
     if (msg[0] != '\0') {
         set_err(err, err_len, msg);
         return nullptr;

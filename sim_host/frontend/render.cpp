@@ -105,6 +105,41 @@ Coeffs coeffs(const Surface &s, const double M[9], const double c[3])
     return k;
 }
 
+/* An object quad at a random target pixel (margin 40 px) and depth in
+ * [zmin_m, zmax_m]: fronto-parallel, kept only when all four corners are
+ * nearer than the plane, so that it stands between camera and plane.
+ * False when kMaxObjectTries tries place none. */
+bool random_object(cv::RNG &rng, const sim_camera_t &cam, const sim_plane_t &pl, double zmin_m,
+                   double zmax_m, Surface &o)
+{
+    const double *n = pl.n;
+    for (int tries = 0; tries < kMaxObjectTries; ++tries) {
+        double x = rng.uniform(-280.0, 280.0);
+        double y = rng.uniform(-200.0, 200.0);
+        double Z = rng.uniform(zmin_m, zmax_m);
+        double w = rng.uniform(kObjMinW, kObjMaxW);
+        double X = (x - cam.x0_px) * Z / cam.alpha_x_px;
+        double Yc = y * Z / cam.alpha_y_px;
+        double texel = w / kObjTex;
+        o.U[0] = texel; o.U[1] = 0.0; o.U[2] = 0.0;
+        o.V[0] = 0.0; o.V[1] = texel; o.V[2] = 0.0;
+        o.O[0] = X - w / 2; o.O[1] = Yc - w / 2; o.O[2] = Z;
+        bool ok = true;
+        for (int cy = 0; cy < 2 && ok; ++cy) {
+            for (int cx = 0; cx < 2 && ok; ++cx) {
+                double P[3] = { o.O[0] + cx * w, o.O[1] + cy * w, Z };
+                ok = dot3(n, P) > -pl.d_m;
+            }
+        }
+        if (ok) {
+            o.tex_w = o.tex_h = kObjTex;
+            o.on_plane = false;
+            return true;
+        }
+    }
+    return false;
+}
+
 } // namespace
 
 std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
@@ -144,45 +179,21 @@ std::string Scene::build(const sim_camera_t &camera, const sim_plane_t &pl,
     plane.on_plane = true;
     surf.push_back(plane);
 
-    /* Objects: a random target pixel (margin 40 px) at a random depth; the
-     * quad is fronto-parallel and kept only when all four corners are
-     * nearer than the plane, so it stands between camera and plane. */
+    /* Objects between the camera and the plane (random_object). */
     cv::RNG rng(seed * 0x2545f4914f6cdd1dULL + 0x51ed27ULL);
     const int tile = kObjTex + kAtlasPad;
     /* Object tiles per atlas row: as many as fit in the plane's width. */
     const int per_row = kPlaneTex / tile;
     for (int k = 0; k < n_objects; ++k) {
-        for (int tries = 0; tries < kMaxObjectTries; ++tries) {
-            double x = rng.uniform(-280.0, 280.0);
-            double y = rng.uniform(-200.0, 200.0);
-            double Z = rng.uniform(zmin_m, zmax_m);
-            double w = rng.uniform(kObjMinW, kObjMaxW);
-            double X = (x - cam.x0_px) * Z / cam.alpha_x_px;
-            double Yc = y * Z / cam.alpha_y_px;
-            Surface o;
-            double texel = w / kObjTex;
-            o.U[0] = texel; o.U[1] = 0.0; o.U[2] = 0.0;
-            o.V[0] = 0.0; o.V[1] = texel; o.V[2] = 0.0;
-            o.O[0] = X - w / 2; o.O[1] = Yc - w / 2; o.O[2] = Z;
-            bool ok = true;
-            for (int cy = 0; cy < 2 && ok; ++cy) {
-                for (int cx = 0; cx < 2 && ok; ++cx) {
-                    double P[3] = { o.O[0] + cx * w, o.O[1] + cy * w, Z };
-                    ok = dot3(n, P) > -pl.d_m;
-                }
-            }
-            if (!ok) {
-                continue;
-            }
-            o.tex_w = o.tex_h = kObjTex;
-            /* Tiles by placed object, so that the rows below count them. */
-            const int slot = (int)surf.size() - 1;
-            o.atlas_x = (slot % per_row) * tile;
-            o.atlas_y = kPlaneTex + kAtlasPad + (slot / per_row) * tile;
-            o.on_plane = false;
-            surf.push_back(o);
-            break;
+        Surface o;
+        if (!random_object(rng, cam, pl, zmin_m, zmax_m, o)) {
+            continue;
         }
+        /* Tiles by placed object, so that the rows below count them. */
+        const int slot = (int)surf.size() - 1;
+        o.atlas_x = (slot % per_row) * tile;
+        o.atlas_y = kPlaneTex + kAtlasPad + (slot / per_row) * tile;
+        surf.push_back(o);
     }
 
     /* One atlas: the plane on top, the objects in rows beneath it. */
