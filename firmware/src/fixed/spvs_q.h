@@ -47,7 +47,7 @@ typedef struct {
     int32_t offplane_q16;     /* pixels, Q16                              */
     int32_t sin_tol2_q30;     /* the epipole's support cone, sine^2, Q30  */
     uint16_t min_support;
-    int32_t max_gap_q16;      /* seconds, Q16                             */
+    int32_t max_frame_gap_s;  /* seconds, Q16                             */
     uint32_t seed;
 } spvs_q_params_t;
 
@@ -55,8 +55,8 @@ typedef struct spvs_q_s {
     spvs_q_params_t p;
     spvs_q_ctl_t ctl;
     spvs_rng_t rng;
-    int32_t last_t;           /* s, Q16: the last update's time           */
-    int32_t last_good_t;      /* s, Q16: the last frame with a valid H    */
+    int32_t last_t_s;         /* s, Q16: the last update's time           */
+    int32_t last_good_t_s;    /* s, Q16: the last frame with a valid H    */
     uint8_t has_last;
     uint8_t has_good;
     spvs_q_plane_h_t est;
