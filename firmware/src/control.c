@@ -5,6 +5,8 @@
  * docs/CONTROL.md; the comments here name the result and the equation.
  */
 #include <math.h>
+#include <stddef.h>
+#include <string.h>
 
 #include "spvs/control.h"
 #include "spvs/homography.h"
@@ -23,40 +25,6 @@ static spvs_real clamp(spvs_real x, spvs_real lim)
         return -lim;
     }
     return x;
-}
-
-int spvs_control_params_check(const spvs_control_params_t *p)
-{
-    if (p == 0) {
-        return SPVS_E_ARG;
-    }
-    if (p->method != SPVS_METHOD_I && p->method != SPVS_METHOD_II &&
-        p->method != SPVS_METHOD_III) {
-        return SPVS_E_CONFIG;
-    }
-    const spvs_real pos[] = {p->alpha_x, p->alpha_y, p->k_w, p->k_v, p->k_w3,
-                             p->k_w11, p->v_max, p->w_max, p->tol_align,
-                             p->tol_translate, p->tol_h13_px, p->lock_ex_px, p->tol_det,
-                             p->step_timeout_s, p->arrival_sigma_px, p->arrival_k,
-                             p->arrival_leverage, p->arrival_corner_x_px,
-                             p->arrival_corner_y_px, p->arrival_resolution_px};
-    for (unsigned i = 0; i < sizeof pos / sizeof pos[0]; i++) {
-        /* Written so that NaN fails too. */
-        if (!(pos[i] > SPVS_R(0.0) && pos[i] < SPVS_REAL_MAX)) {
-            return SPVS_E_CONFIG;
-        }
-    }
-    if (!(p->w_min_escape >= SPVS_R(0.0) && p->w_min_escape <= p->w_max) ||
-        !(p->switch_parallax_px >= SPVS_R(0.0)) ||
-        !(p->hold_heading_ratio >= SPVS_R(0.0) && p->hold_heading_ratio < SPVS_R(1.0)) ||
-        !(p->min_signal_ratio >= SPVS_R(0.0) && p->min_signal_ratio < SPVS_R(1.0)) ||
-        p->hold_frames < 1u || p->fit_min_frames < 2u ||
-        !(p->fit_min_span_m > SPVS_R(0.0)) || p->arrival_frames < 1u ||
-        p->arrival_max_frames < p->arrival_frames ||
-        p->arrival_max_frames > SPVS_CTL_ARRIVAL_MAX_FRAMES) {
-        return SPVS_E_CONFIG;
-    }
-    return SPVS_OK;
 }
 
 static void fit_clear(spvs_control_t *c)
@@ -136,6 +104,17 @@ typedef spvs_real ctl_cmd_t;
 typedef spvs_real ctl_time_t;
 typedef spvs_real ctl_px_t;
 typedef spvs_real ctl_val_t;
+
+static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
+                   int hi_incl)
+{
+    spvs_real v;
+    memcpy(&v, x, sizeof v);
+    if (!(lo_incl ? v >= *lo : v > *lo)) {
+        return 0;
+    }
+    return hi == 0 || (hi_incl ? v <= *hi : v < *hi);
+}
 
 static int under(spvs_real x, spvs_real tol)
 {
@@ -547,6 +526,11 @@ static void reset_for_new_start(spvs_control_t *c)
 }
 
 #include "control_steps.inc"
+
+int spvs_control_params_check(const spvs_control_params_t *p)
+{
+    return params_rules(p);
+}
 
 int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,
                       const spvs_control_input_t *in, spvs_real *v, spvs_real *w)

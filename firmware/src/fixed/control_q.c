@@ -195,7 +195,7 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
     *bad |= sat;
 }
 
-/* ---- the parameter check (control.c's rules, on the bits) ----------------- */
+/* ---- the parameters' bits (control_steps.inc's params_rules compares on them) ---- */
 
 /* The spvs_real at field as an integer with the order of the values.  An
  * IEEE-754 number of either sign bit orders as its magnitude bits (the
@@ -229,54 +229,18 @@ static int key_in(const void *field, int64_t lo, int lo_incl, int64_t hi, int hi
     return real_key(field, &k) && (lo_incl ? k >= lo : k > lo) && (hi_incl ? k <= hi : k < hi);
 }
 
-#define PRM(f) ((uint8_t)offsetof(spvs_control_params_t, f))
-_Static_assert(sizeof(spvs_control_params_t) <= 255, "the fields' offsets are kept in bytes");
-
-/* control.c's positive finite fields, as offsets (a table in flash rather
- * than control.c's copy of the values on the stack). */
-static const uint8_t pos_fields[] = {
-    PRM(alpha_x), PRM(alpha_y), PRM(k_w), PRM(k_v), PRM(k_w3),
-    PRM(k_w11), PRM(v_max), PRM(w_max), PRM(tol_align),
-    PRM(tol_translate), PRM(tol_h13_px), PRM(lock_ex_px), PRM(tol_det),
-    PRM(step_timeout_s), PRM(arrival_sigma_px), PRM(arrival_k),
-    PRM(arrival_leverage), PRM(arrival_corner_x_px),
-    PRM(arrival_corner_y_px), PRM(arrival_resolution_px)};
-
-int spvs_q_ctl_params_check(const spvs_control_params_t *p)
+/* lo < x < hi for the spvs_real at x (lo_incl, hi_incl: <=; hi NULL: no
+ * upper bound, +infinity included), on the keys of the bits; false for a
+ * NaN, as the float comparisons are. */
+static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
+                   int hi_incl)
 {
-    if (p == 0) {
-        return SPVS_E_ARG;
+    int64_t k_lo, k_hi = SPVS_Q_I64_MAX;
+    (void)real_key(lo, &k_lo);
+    if (hi != 0 && !real_key(hi, &k_hi)) {
+        return 0;
     }
-    if (p->method != SPVS_METHOD_I && p->method != SPVS_METHOD_II &&
-        p->method != SPVS_METHOD_III) {
-        return SPVS_E_CONFIG;
-    }
-    /* The bounds' keys: the literals' bits, read (no float operation); 0
-     * is +-0's key, and hi_inf as an upper bound admits +infinity. */
-    static const spvs_real one = SPVS_R(1.0), real_max = SPVS_REAL_MAX;
-    int64_t k_one, k_max, k_wmax;
-    (void)real_key(&one, &k_one);
-    (void)real_key(&real_max, &k_max);
-    const int64_t hi_inf = SPVS_Q_I64_MAX;
-    const unsigned char *const base = (const unsigned char *)p;
-    for (unsigned i = 0; i < sizeof pos_fields; i++) {
-        if (!key_in(base + pos_fields[i], 0, 0, k_max, 0)) {
-            return SPVS_E_CONFIG;
-        }
-    }
-    /* w_max passed above: a number, so its key is a bound. */
-    (void)real_key(&p->w_max, &k_wmax);
-    if (!key_in(&p->w_min_escape, 0, 1, k_wmax, 1) ||
-        !key_in(&p->switch_parallax_px, 0, 1, hi_inf, 1) ||
-        !key_in(&p->hold_heading_ratio, 0, 1, k_one, 0) ||
-        !key_in(&p->min_signal_ratio, 0, 1, k_one, 0) ||
-        p->hold_frames < 1u || p->fit_min_frames < 2u ||
-        !key_in(&p->fit_min_span_m, 0, 0, hi_inf, 1) || p->arrival_frames < 1u ||
-        p->arrival_max_frames < p->arrival_frames ||
-        p->arrival_max_frames > SPVS_CTL_ARRIVAL_MAX_FRAMES) {
-        return SPVS_E_CONFIG;
-    }
-    return SPVS_OK;
+    return key_in(x, k_lo, lo_incl, k_hi, hi_incl);
 }
 
 int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q, const spvs_control_params_t *p)
@@ -284,7 +248,7 @@ int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q, const spvs_control_param
     if (q == 0 || p == 0) {
         return SPVS_E_ARG;
     }
-    /* control.c's rules first: the conversions below assume their ranges. */
+    /* The rules first (params_rules): the conversions below assume their ranges. */
     const int rc = spvs_q_ctl_params_check(p);
     if (rc != SPVS_OK) {
         return rc;
@@ -884,6 +848,11 @@ static void reset_for_new_start(spvs_q_ctl_t *c)
 }
 
 #include "../control_steps.inc"
+
+int spvs_q_ctl_params_check(const spvs_control_params_t *p)
+{
+    return params_rules(p);
+}
 
 int spvs_q_ctl_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
                     int32_t *v, int32_t *w)
