@@ -327,6 +327,11 @@
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
 #endif
+/* The inlier count the arrival check's noise model takes at the least
+ * (control.h's n_inliers: a frame with fewer counts as this many). */
+#ifndef SPVS_CTL_ARRIVAL_MIN_INLIERS
+#define SPVS_CTL_ARRIVAL_MIN_INLIERS 4
+#endif
 
 /* How many times the per-frame scatter of alpha_y h32 is that of h33 (both
  * from the same plane inliers spread over the image; docs/CONTROL.md):
@@ -361,6 +366,9 @@
 #endif
 #if (SPVS_CTL_NOISE_PARALLAX_X1000 < 100) || (SPVS_CTL_NOISE_PARALLAX_X1000 > 10000)
 #error "SPVS_CTL_NOISE_PARALLAX_X1000 must be in 100..10000"
+#endif
+#if (SPVS_CTL_ARRIVAL_MIN_INLIERS < 1) || (SPVS_CTL_ARRIVAL_MIN_INLIERS > 1000)
+#error "SPVS_CTL_ARRIVAL_MIN_INLIERS must be in 1..1000"
 #endif
 #if (SPVS_CTL_ARRIVAL_MAX_FRAMES < 1) || (SPVS_CTL_ARRIVAL_MAX_FRAMES > 65535)
 #error "SPVS_CTL_ARRIVAL_MAX_FRAMES must be in 1..65535"
