@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "core_util.h"
 #include "spvs/control.h"
 #include "spvs/homography.h"
 
@@ -108,12 +109,7 @@ typedef spvs_real ctl_val_t;
 static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
                    int hi_incl)
 {
-    spvs_real v;
-    memcpy(&v, x, sizeof v);
-    if (!(lo_incl ? v >= *lo : v > *lo)) {
-        return 0;
-    }
-    return hi == 0 || (hi_incl ? v <= *hi : v < *hi);
+    return spvs_real_in(x, lo, lo_incl, hi, hi_incl);
 }
 
 static int under(spvs_real x, spvs_real tol)

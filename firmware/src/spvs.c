@@ -17,38 +17,6 @@ spvs_real spvs_inlier_px(const spvs_params_t *p)
     return p->noise_px * SPVS_SQRT((spvs_real)SPVS_INLIER_CHI2_X100 / SPVS_R(100.0));
 }
 
-static int params_check(const spvs_params_t *p)
-{
-    int rc = spvs_control_params_check(&p->ctl);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    if (!(p->noise_px > SPVS_R(0.0) && p->noise_px < SPVS_R(300.0)) ||
-        !(p->confidence > SPVS_R(0.0) && p->confidence < SPVS_R(1.0)) ||
-        p->max_iters < 1u || p->max_iters > SPVS_RANSAC_MAX_ITERS ||
-        !(p->offplane_px >= spvs_inlier_px(p)) ||
-        !(p->epipole_sin_tol > SPVS_R(0.0) && p->epipole_sin_tol < SPVS_R(1.0)) ||
-        p->min_support < 1u ||
-        !(p->max_frame_gap_s > SPVS_R(0.0))) {
-        return SPVS_E_CONFIG;
-    }
-    return SPVS_OK;
-}
-
-int spvs_init(spvs_t *s, const spvs_params_t *p)
-{
-    if (s == 0 || p == 0) {
-        return SPVS_E_ARG;
-    }
-    int rc = params_check(p);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    s->p = *p;
-    spvs_reset(s);
-    return SPVS_OK;
-}
-
 /* ---- the float core's side of pipeline.inc ----------------------------- */
 
 typedef spvs_t pl_t;
@@ -60,6 +28,22 @@ typedef spvs_real pl_ex_t;
 typedef spvs_real pl_par_t;
 typedef spvs_real pl_cmd_t;
 #define PL_INLINE
+
+static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
+                   int hi_incl)
+{
+    return spvs_real_in(x, lo, lo_incl, hi, hi_incl);
+}
+
+static int ctl_params_check(const spvs_control_params_t *p)
+{
+    return spvs_control_params_check(p);
+}
+
+static spvs_real inlier_px(const spvs_params_t *p)
+{
+    return spvs_inlier_px(p);
+}
 
 static int frame_check(const spvs_match_t *m, uint16_t n)
 {
@@ -186,6 +170,20 @@ static spvs_real px_out(spvs_real x)
 }
 
 #include "pipeline.inc"
+
+int spvs_init(spvs_t *s, const spvs_params_t *p)
+{
+    if (s == 0 || p == 0) {
+        return SPVS_E_ARG;
+    }
+    int rc = pipeline_rules(p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    s->p = *p;
+    spvs_reset(s);
+    return SPVS_OK;
+}
 
 void spvs_reset(spvs_t *s)
 {

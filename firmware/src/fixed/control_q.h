@@ -161,10 +161,11 @@ typedef struct {
     uint32_t sat;             /* sticky q.h flags: a signal was clamped */
 } spvs_q_ctl_t;
 
-/* spvs_control_params_check's twin: every rule of it (the method, the
- * positive finite fields under SPVS_REAL_MAX, w_min_escape in [0, w_max],
- * the ratios in [0, 1), the frame counts), each made exactly on the
- * parameters' bits, so it returns SPVS_OK or SPVS_E_CONFIG wherever the
+/* spvs_control_params_check's rules (control_steps.inc's params_rules,
+ * written once: the method, the positive finite fields under
+ * SPVS_REAL_MAX, w_min_escape in [0, w_max], the ratios in [0, 1), the
+ * frame counts), each compared exactly on the parameters' bits
+ * (spvs_q_real_in), so it returns SPVS_OK or SPVS_E_CONFIG wherever the
  * float check does (NaN and infinities included) without a float
  * operation; SPVS_E_ARG for NULL. */
 SPVS_NODISCARD int spvs_q_ctl_params_check(const spvs_control_params_t *p);

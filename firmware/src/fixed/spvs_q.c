@@ -99,10 +99,10 @@ spvs_real spvs_q_inlier_px(const spvs_params_t *p)
 #endif
 }
 
-/* spvs.c's rules on the parameters (noise_px in (0, 300), confidence in
- * (0, 1), max_iters, offplane_px at least the inlier threshold,
- * epipole_sin_tol in (0, 1), min_support, max_frame_gap_s > 0), made on
- * the Q values, and the conversions. */
+/* The conversions, after pipeline.inc's rules (pipeline_rules): a value
+ * that rounds to 0 or to its bound in its Q format (noise_px, confidence,
+ * epipole_sin_tol, max_frame_gap_s), or an offplane_px under the Q inlier
+ * threshold, is SPVS_E_CONFIG too. */
 static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
 {
     uint32_t sat = 0;
@@ -112,8 +112,8 @@ static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
     const int32_t sin_tol = q_in(p->epipole_sin_tol, 30, &sat);
     q->max_frame_gap_s = q_in(p->max_frame_gap_s, 16, &sat);
     if (sat != 0u || noise <= 0 || noise >= (300 << 16) || conf31 <= 0 ||
-        conf31 >= SPVS_Q_I32_MAX || p->max_iters < 1u || p->max_iters > SPVS_RANSAC_MAX_ITERS ||
-        sin_tol <= 0 || sin_tol >= (1 << 30) || p->min_support < 1u || q->max_frame_gap_s <= 0) {
+        conf31 >= SPVS_Q_I32_MAX || sin_tol <= 0 || sin_tol >= (1 << 30) ||
+        q->max_frame_gap_s <= 0) {
         return SPVS_E_CONFIG;
     }
     /* The inlier threshold noise_px sqrt(chi2 / 100) in Q16 pixels (for the
@@ -136,19 +136,6 @@ static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
     return spvs_q_ctl_params_from_real(&q->ctl_p, &p->ctl);
 }
 
-int spvs_q_init(spvs_q_t *s, const spvs_params_t *p)
-{
-    if (s == 0 || p == 0) {
-        return SPVS_E_ARG;
-    }
-    const int rc = params_from_real(&s->p, p);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    spvs_q_reset(s);
-    return SPVS_OK;
-}
-
 /* ---- the fixed-point core's side of pipeline.inc ---------------------------- */
 
 typedef spvs_q_t pl_t;
@@ -162,6 +149,24 @@ typedef int32_t pl_cmd_t;  /* m/s, rad/s, Q24 */
 /* update is inlined into both entry points, so neither adds a frame to
  * the update's stack. */
 #define PL_INLINE SPVS_Q_INLINE
+
+static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
+                   int hi_incl)
+{
+    return spvs_q_real_in(x, lo, lo_incl, hi, hi_incl);
+}
+
+static int ctl_params_check(const spvs_control_params_t *p)
+{
+    return spvs_q_ctl_params_check(p);
+}
+
+/* The float core's threshold (bit for bit in float32, within 2^-28 in
+ * double): the rule on offplane_px is the float core's. */
+static spvs_real inlier_px(const spvs_params_t *p)
+{
+    return spvs_q_inlier_px(p);
+}
 
 static int frame_check(const spvs_match_t *m, uint16_t n)
 {
@@ -337,6 +342,24 @@ static spvs_real px_out(int32_t x)
 }
 
 #include "../pipeline.inc"
+
+int spvs_q_init(spvs_q_t *s, const spvs_params_t *p)
+{
+    if (s == 0 || p == 0) {
+        return SPVS_E_ARG;
+    }
+    int rc = pipeline_rules(p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    rc = params_from_real(&s->p, p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    spvs_q_reset(s);
+    return SPVS_OK;
+}
+
 
 void spvs_q_reset(spvs_q_t *s)
 {

@@ -22,9 +22,9 @@
  *     time, so the second is SPVS_E_STALE;
  *   - an H entry outside (-16, 16) in scaled units is no model (the
  *     estimator's range; docs/FIXED.md measures that no consensus is lost);
- *   - the parameters are checked on their bits (spvs.c's rules and
- *     control_q.h's spvs_q_ctl_params_check, the float check's twin) and
- *     by their Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
+ *   - the parameters are checked on their bits by the float core's rules
+ *     (pipeline.inc's and control_steps.inc's, written once) and by their
+ *     Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
  *   - spvs_q_update_with_h refuses an H entry outside that range
  *     (SPVS_E_RANGE), where the float core would score it.
  * Linked alone (firmware/src/fixed/, rng.c, common.c) it references no
