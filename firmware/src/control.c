@@ -34,64 +34,6 @@ static void fit_clear(spvs_control_t *c)
     c->fit_ax = c->fit_sax = SPVS_R(0.0);
 }
 
-void spvs_control_reset(spvs_control_t *c)
-{
-    SPVS_ASSERT(c != 0);
-    c->step = SPVS_STEP_ROTATE;
-    c->status = SPVS_OK;
-    c->sign_w = 0;
-    c->sign_v = 0;
-    c->ahead = 0;
-    c->sign_sin_phit = 0;
-    c->trans_sign0 = 0;
-    c->trans_d0 = SPVS_R(0.0);
-    c->run_sign = 0;
-    c->held_sign = 0;
-    c->run_len = 0;
-    c->low_parallax = 0;
-    c->use_eq11 = 0;
-    c->checked_plane = 0;
-    c->hold = 0;
-    c->step_t0 = SPVS_R(-1.0);
-    c->cos_phit = SPVS_R(1.0);
-    c->n_phit = 0;
-    for (int k = 0; k < 4; k++) {
-        c->t_step_end[k] = SPVS_R(-1.0);
-    }
-    for (int k = 0; k < 3; k++) {
-        c->normal_est[k] = SPVS_R(0.0);
-    }
-    c->h32_sum = SPVS_R(0.0);
-    c->ahead_votes = 0;
-    c->n_start = 0;
-    c->at_target = 0;
-    c->odo_s = SPVS_R(0.0);
-    c->last_v = SPVS_R(0.0);
-    c->last_t = SPVS_R(-1.0);
-    fit_clear(c);
-    c->arriving = 0;
-    c->reentries = 0;
-    c->reentered = 0;
-    c->backing = 0;
-    c->arrival_next = 0;
-    c->arrive_n = 0;
-    for (int k = 0; k < 6; k++) {
-        c->arrive_sum[k] = SPVS_R(0.0);
-    }
-    c->arrive_inv_n = SPVS_R(0.0);
-    c->arrival_corner_px = SPVS_R(0.0);
-    c->arrival_bound_px = SPVS_R(0.0);
-    c->arrival_lateral_px = SPVS_R(0.0);
-    c->arrival_depth_px = SPVS_R(0.0);
-    c->arrival_h13_px = SPVS_R(0.0);
-    c->arrival_parallax_px = SPVS_R(0.0);
-    c->arrive_par_sum = SPVS_R(0.0);
-    c->arrive_par_n = 0;
-    c->slope_sig = SPVS_R(0.0);
-    c->slope_ax = SPVS_R(0.0);
-    c->reentry_d0 = SPVS_R(0.0);
-}
-
 /* ---- the float core's side of control_steps.inc ---------------------------
  * The signals, commands and sums in spvs_real; every decision on them is in
  * control_steps.inc, included at the end of this file. */
@@ -110,6 +52,21 @@ static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_r
                    int hi_incl)
 {
     return spvs_real_in(x, lo, lo_incl, hi, hi_incl);
+}
+
+static spvs_real time_none(void)
+{
+    return SPVS_R(-1.0);
+}
+
+static spvs_real cos_one(void)
+{
+    return SPVS_R(1.0);
+}
+
+static spvs_real val_zero(void)
+{
+    return SPVS_R(0.0);
 }
 
 static int under(spvs_real x, spvs_real tol)
@@ -526,6 +483,12 @@ static void reset_for_new_start(spvs_control_t *c)
 int spvs_control_params_check(const spvs_control_params_t *p)
 {
     return params_rules(p);
+}
+
+void spvs_control_reset(spvs_control_t *c)
+{
+    SPVS_ASSERT(c != 0);
+    reset_state(c);
 }
 
 int spvs_control_step(spvs_control_t *c, const spvs_control_params_t *p,

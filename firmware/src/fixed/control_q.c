@@ -275,22 +275,6 @@ static void fit_clear(spvs_q_ctl_t *c)
     c->fit_ss = c->fit_sd = c->fit_sax = qf_of(0, 0);
 }
 
-void spvs_q_ctl_reset(spvs_q_ctl_t *c)
-{
-    SPVS_ASSERT(c != 0);
-    memset(c, 0, sizeof *c);
-    c->step = SPVS_STEP_ROTATE;
-    c->status = SPVS_OK;
-    c->step_t0 = -((int32_t)1 << SPVS_QCTL_T);
-    c->cos_phit = (int64_t)1 << SPVS_QCTL_ODO;
-    for (int k = 0; k < 4; k++) {
-        c->t_step_end[k] = -((int32_t)1 << SPVS_QCTL_T);
-    }
-    c->last_t = -((int32_t)1 << SPVS_QCTL_T);
-    fit_clear(c);
-    c->slope_sig = c->slope_ax = qf_of(0, 0);
-}
-
 /* ---- the fixed-point core's side of control_steps.inc ---------------------
  * The signals, commands and sums in Q (control_q.h gives the formats);
  * every decision on them is in control_steps.inc, included below. */
@@ -304,6 +288,21 @@ typedef int64_t ctl_cmd_t;
 typedef int32_t ctl_time_t;
 typedef int32_t ctl_px_t;
 typedef spvs_qf_t ctl_val_t;
+
+static int32_t time_none(void)
+{
+    return -((int32_t)1 << SPVS_QCTL_T);
+}
+
+static int64_t cos_one(void)
+{
+    return (int64_t)1 << SPVS_QCTL_ODO;
+}
+
+static spvs_qf_t val_zero(void)
+{
+    return qf_of(0, 0);
+}
 
 static int ex_beyond(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in, int locks)
 {
@@ -812,6 +811,12 @@ static void reset_for_new_start(spvs_q_ctl_t *c)
 int spvs_q_ctl_params_check(const spvs_control_params_t *p)
 {
     return params_rules(p);
+}
+
+void spvs_q_ctl_reset(spvs_q_ctl_t *c)
+{
+    SPVS_ASSERT(c != 0);
+    reset_state(c);
 }
 
 int spvs_q_ctl_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
