@@ -6,6 +6,7 @@
 #define SPVS_CORE_UTIL_H
 
 #include <stddef.h>
+#include <string.h>
 
 #include "spvs/common.h"
 
@@ -57,6 +58,21 @@ static inline unsigned spvs_byte_of_lowest(uint64_t d)
 static inline int spvs_is_finite(spvs_real x)
 {
     return (x == x) && (x - x == SPVS_R(0.0));
+}
+
+/* lo < x < hi for the spvs_real at x (lo_incl, hi_incl: <=; hi NULL: no
+ * upper bound); false for a NaN.  The parameters' rules (control_steps.inc,
+ * pipeline.inc) compare through this or its fixed-point twin
+ * spvs_q_real_in (fixed/q.h), which compares the same on the bits. */
+static inline int spvs_real_in(const void *x, const spvs_real *lo, int lo_incl,
+                               const spvs_real *hi, int hi_incl)
+{
+    spvs_real v;
+    memcpy(&v, x, sizeof v);
+    if (!(lo_incl ? v >= *lo : v > *lo)) {
+        return 0;
+    }
+    return hi == 0 || (hi_incl ? v <= *hi : v < *hi);
 }
 
 /* 1 when a[0..3) and b[0..3) are all finite: x * 0 is +-0 for a finite x

@@ -1,5 +1,7 @@
 /*
- * epipole.c - the epipole from plane plus parallax (paper, section 3.3).
+ * epipole.c - the epipole from plane plus parallax (paper, section 3.3):
+ * the float directions and tests under the decisions of epipole.inc
+ * (written once for this core and the fixed-point one).
  */
 #include <math.h>
 
@@ -38,43 +40,6 @@ static SPVS_ALWAYS_INLINE void line_directions(const spvs_real H[9], const spvs_
     }
 }
 
-/* 1-point consensus: each usable candidate's direction is a hypothesis; a
- * candidate supports it when it points the same way within the angle whose
- * squared sine is sin_tol2 (no square roots, no divisions).  At most
- * SPVS_EPIPOLE_MAX_HYP hypotheses, evenly spread over the list.  Returns
- * the best's support and its candidate in *best.  Bound:
- * SPVS_EPIPOLE_MAX_HYP x SPVS_MAX_OFFPLANE pair tests. */
-static SPVS_ALWAYS_INLINE uint16_t consensus(const spvs_epipole_work_t *work, uint16_t n_cand,
-                                             spvs_real sin_tol2, uint16_t *best)
-{
-    const spvs_real *dx = work->dx, *dz = work->dz, *n2 = work->n2;
-    uint16_t best_support = 0;
-    *best = 0;
-    uint16_t n_hyp = n_cand < SPVS_EPIPOLE_MAX_HYP ? n_cand : (uint16_t)SPVS_EPIPOLE_MAX_HYP;
-    for (uint16_t h = 0; h < n_hyp; h++) {
-        uint16_t j = (uint16_t)(((uint32_t)h * n_cand) / n_hyp);
-        if (!(n2[j] > DIR_MIN2)) {
-            continue;
-        }
-        uint16_t support = 0;
-        for (uint16_t i = 0; i < n_cand; i++) {
-            if (!(n2[i] > DIR_MIN2)) {
-                continue;
-            }
-            spvs_real dot = dx[i] * dx[j] + dz[i] * dz[j];
-            spvs_real crs = dx[i] * dz[j] - dz[i] * dx[j];
-            if (dot > SPVS_R(0.0) && crs * crs <= sin_tol2 * n2[i] * n2[j]) {
-                support++;
-            }
-        }
-        if (support > best_support) {
-            best_support = support;
-            *best = j;
-        }
-    }
-    return best_support;
-}
-
 /* The estimate from the supporters of hypothesis `best`: each supporter's
  * angle from the hypothesis b, as tan(delta_i) = cross(b, d_i) /
  * dot(b, d_i); the median angle turns b onto the estimate.  A mismatch that
@@ -83,8 +48,8 @@ static SPVS_ALWAYS_INLINE uint16_t consensus(const spvs_epipole_work_t *work, ui
  * entry k <= i written only after entry i was read; the hypothesis is kept
  * in locals. */
 static SPVS_ALWAYS_INLINE void refine(const spvs_real H[9], const spvs_real (*pts)[4],
-                                      const uint16_t *cand, uint16_t n_cand, spvs_real sin_tol2,
-                                      uint16_t best, spvs_epipole_t *out, uint8_t *support_out,
+                                      const uint16_t *cand, uint16_t n_cand,
+                                      const spvs_real *tol2, uint16_t best, spvs_epipole_t *out, uint8_t *support_out,
                                       spvs_epipole_work_t *work)
 {
     const spvs_real *dx = work->dx;
@@ -109,7 +74,7 @@ static SPVS_ALWAYS_INLINE void refine(const spvs_real H[9], const spvs_real (*pt
         }
         spvs_real dot = dxi * hx + dzi * hz;
         spvs_real crs = dxi * hz - dzi * hx;
-        if (!(dot > SPVS_R(0.0) && crs * crs <= sin_tol2 * n2_i * n2_best)) {
+        if (!(dot > SPVS_R(0.0) && crs * crs <= *tol2 * n2_i * n2_best)) {
             continue;
         }
         if (support_out) {
@@ -148,28 +113,64 @@ static SPVS_ALWAYS_INLINE void refine(const spvs_real H[9], const spvs_real (*pt
     }
 }
 
+/* ---- the float core's side of epipole.inc --------------------------------- */
+
+typedef spvs_epipole_t ep_t;
+typedef spvs_epipole_work_t ep_work_t;
+typedef spvs_real ep_h_t;
+typedef spvs_real ep_tol_in_t;
+typedef spvs_real ep_tol_t;
+
+static void clear_estimate(spvs_epipole_t *out)
+{
+    out->e_x_px = SPVS_R(0.0);
+    out->dir_x = SPVS_R(0.0);
+    out->dir_z = SPVS_R(0.0);
+    out->parallax_px = SPVS_R(0.0);
+    out->n_support = 0;
+}
+
+static int tol_of(spvs_real sin_tol2, spvs_real *tol2)
+{
+    *tol2 = sin_tol2;
+    return 1;
+}
+
+static int hyp_usable(const spvs_epipole_work_t *work, uint16_t j)
+{
+    return work->n2[j] > DIR_MIN2;
+}
+
+/* The usable candidates within the angle whose squared sine is tol2 of
+ * candidate j's direction, pointing the same way (no square roots, no
+ * divisions); every one is counted. */
+static SPVS_ALWAYS_INLINE uint16_t support_count(const spvs_epipole_work_t *work,
+                                                 uint16_t n_cand, uint16_t j,
+                                                 const spvs_real *tol2, uint32_t need)
+{
+    (void)need;
+    const spvs_real *dx = work->dx, *dz = work->dz, *n2 = work->n2;
+    uint16_t support = 0;
+    for (uint16_t i = 0; i < n_cand; i++) {
+        if (!(n2[i] > DIR_MIN2)) {
+            continue;
+        }
+        spvs_real dot = dx[i] * dx[j] + dz[i] * dz[j];
+        spvs_real crs = dx[i] * dz[j] - dz[i] * dx[j];
+        if (dot > SPVS_R(0.0) && crs * crs <= *tol2 * n2[i] * n2[j]) {
+            support++;
+        }
+    }
+    return support;
+}
+
+#include "epipole.inc"
+
 int spvs_epipole_estimate(const spvs_real H[9], const spvs_real (*pts)[4],
                           const uint16_t *cand, uint16_t n_cand,
                           spvs_real sin_tol2, uint16_t min_support,
                           spvs_epipole_t *out, uint8_t *support_out,
                           spvs_epipole_work_t *work)
 {
-    if (H == 0 || pts == 0 || out == 0 || work == 0 || (cand == 0 && n_cand > 0) ||
-        n_cand > SPVS_MAX_OFFPLANE || min_support < 1u) {
-        return SPVS_E_ARG;
-    }
-    out->e_x_px = SPVS_R(0.0);
-    out->dir_x = SPVS_R(0.0);
-    out->dir_z = SPVS_R(0.0);
-    out->parallax_px = SPVS_R(0.0);
-    out->n_support = 0;
-    line_directions(H, pts, cand, n_cand, support_out, work);
-    uint16_t best = 0;
-    const uint16_t best_support = consensus(work, n_cand, sin_tol2, &best);
-    if (best_support < min_support) {
-        return SPVS_E_NO_PARALLAX;
-    }
-    refine(H, pts, cand, n_cand, sin_tol2, best, out, support_out, work);
-    out->n_support = best_support;
-    return SPVS_OK;
+    return estimate_epipole(H, pts, cand, n_cand, sin_tol2, min_support, out, support_out, work);
 }

@@ -1,6 +1,7 @@
 /*
  * offplane.c - the off-plane memory and the frame's off-plane candidates
- * (offplane.h).
+ * (offplane.h): the float tests under the decisions of offplane.inc
+ * (written once for this core and the fixed-point one).
  */
 #include <math.h>
 
@@ -18,29 +19,6 @@ void spvs_offplane_reset(spvs_offplane_t *o)
     o->n_known = 0;
     o->n_cand = 0;
     o->n_cand_known = 0;
-}
-
-int spvs_offplane_known(const spvs_offplane_t *o, uint16_t f)
-{
-    return f < SPVS_MAX_FEATURES && o->score[f] >= SPVS_OFFPLANE_ON;
-}
-
-uint16_t spvs_offplane_split(const spvs_offplane_t *o, const spvs_match_t *m, uint16_t n,
-                             uint16_t order[SPVS_MAX_MATCHES])
-{
-    uint16_t back = n;
-    uint16_t n_plane = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        /* An index out of range reads feature 0's entry; the loader refuses
-         * such a frame. */
-        const uint16_t f = m[i].feature < SPVS_MAX_FEATURES ? m[i].feature : 0u;
-        if (o->score[f] >= SPVS_OFFPLANE_ON) {
-            order[--back] = i;
-        } else {
-            order[n_plane++] = i;
-        }
-    }
-    return n_plane;
 }
 
 /* 1 when point q (a row, scaled units) is off the plane of H: its transfer
@@ -65,82 +43,106 @@ static SPVS_ALWAYS_INLINE int off_plane(const spvs_real H[9], const spvs_real *H
     return 1;
 }
 
-/* Takes point i of the estimate as candidate o->n_cand: its index, its
- * row and its place in the epipole's order. */
-static SPVS_ALWAYS_INLINE void take(spvs_offplane_t *o, uint16_t i)
+/* ---- the float core's side of offplane.inc -------------------------------- */
+
+typedef spvs_offplane_t op_t;
+typedef spvs_plane_h_t op_est_t;
+typedef spvs_real op_h_t;
+typedef spvs_real op_thr_t; /* the squared threshold, scaled units^2 */
+typedef spvs_real op_px_t;
+typedef spvs_real op_wide_t;
+
+static spvs_real thr_of(spvs_real offplane_px)
 {
-    o->cand[o->n_cand] = i;
-    o->cand_ord[o->n_cand] = o->n_cand;
-    o->n_cand++;
+    const spvs_real off = offplane_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
+    return off * off;
+}
+
+static void collect_note(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real offplane_px)
+{
+    (void)o;
+    (void)e;
+    (void)offplane_px;
+}
+
+static void pts_row(const spvs_plane_h_t *e, uint16_t i, spvs_real row[4])
+{
+    spvs_pts_row(&e->pts, i, row);
+}
+
+static const spvs_real *est_h(const spvs_plane_h_t *e)
+{
+    return e->H_sc;
+}
+
+static const spvs_real *inverse_of(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real Hi[9])
+{
+    (void)o;
+    return spvs_h_inverse(e->H_sc, Hi) == SPVS_OK ? Hi : 0;
+}
+
+static spvs_real cand_err2(const spvs_real H[9], const spvs_real row[4])
+{
+    return spvs_h_transfer_err2(H, row);
+}
+
+static spvs_real err_value(spvs_real e2)
+{
+    return e2;
+}
+
+/* The median of the squared errors, its root in pixels. */
+static spvs_real median_px(spvs_real *v, uint16_t n)
+{
+    spvs_sort_small(v, n);
+    return (spvs_real)SPVS_COORD_SCALE * SPVS_SQRT(v[n / 2]);
+}
+
+static spvs_real parallax_none(void)
+{
+    return SPVS_R(-1.0);
+}
+
+static uint32_t trusted_from(const spvs_offplane_t *o, const spvs_plane_h_t *e,
+                             spvs_real offplane_px)
+{
+    (void)o;
+    (void)e;
+    (void)offplane_px;
+    return SPVS_MAX_OFFPLANE;
+}
+
+static int above_thr(const spvs_plane_h_t *e, const spvs_real row[4], const spvs_real *off2)
+{
+    return spvs_h_transfer_err2(e->H_sc, row) > *off2;
+}
+
+#include "offplane.inc"
+
+int spvs_offplane_known(const spvs_offplane_t *o, uint16_t f)
+{
+    return known(o, f);
+}
+
+uint16_t spvs_offplane_split(const spvs_offplane_t *o, const spvs_match_t *m, uint16_t n,
+                             uint16_t order[SPVS_MAX_MATCHES])
+{
+    return split_order(o, m, n, order);
 }
 
 void spvs_offplane_collect(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real offplane_px)
 {
-    const spvs_real off = offplane_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
-    const spvs_real off2 = off * off;
-    /* Each point is copied as a row straight into the next candidate's
-     * slot, which the next point overwrites when it is not taken. */
-    o->n_cand = 0;
-    for (uint16_t i = e->n_plane; i < e->n_pts && o->n_cand < SPVS_MAX_OFFPLANE; i++) {
-        spvs_pts_row(&e->pts, i, o->cand_pts[o->n_cand]);
-        take(o, i);
-    }
-    o->n_cand_known = o->n_cand;
-    spvs_real Hi[9];
-    const spvs_real *hi = spvs_h_inverse(e->H_sc, Hi) == SPVS_OK ? Hi : 0;
-    for (uint16_t i = 0; i < e->n_plane && o->n_cand < SPVS_MAX_OFFPLANE; i++) {
-        if (e->mask[i]) {
-            continue;
-        }
-        spvs_real *const q = o->cand_pts[o->n_cand];
-        spvs_pts_row(&e->pts, i, q);
-        if (off_plane(e->H_sc, hi, q, off2)) {
-            take(o, i);
-        }
-    }
+    collect(o, e, offplane_px);
 }
 
 spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
                                           spvs_real *scratch)
 {
-    uint16_t nv = 0;
-    for (uint16_t k = 0; k < o->n_cand_known; k++) {
-        const spvs_real e2 = spvs_h_transfer_err2(H_sc, o->cand_pts[k]);
-        if (e2 < SPVS_R(0.0)) {
-            continue;
-        }
-        scratch[nv++] = e2;
-    }
-    if (nv == 0) {
-        return SPVS_R(-1.0);
-    }
-    spvs_sort_small(scratch, nv);
-    return (spvs_real)SPVS_COORD_SCALE * SPVS_SQRT(scratch[nv / 2]);
+    return known_parallax(o, H_sc, scratch);
 }
 
 void spvs_offplane_remember(spvs_offplane_t *o, const spvs_plane_h_t *e, int e_ok,
                             spvs_real parallax_px, spvs_real offplane_px)
 {
-    const spvs_real off = offplane_px * (SPVS_R(1.0) / (spvs_real)SPVS_COORD_SCALE);
-    const spvs_real off2 = off * off;
-    if (e_ok) {
-        for (uint16_t k = 0; k < o->n_cand; k++) {
-            int8_t *score = &o->score[e->feat[o->cand[k]]];
-            if (o->support[k] && *score < SPVS_OFFPLANE_MAX &&
-                spvs_h_transfer_err2(e->H_sc, o->cand_pts[k]) > off2) {
-                (*score)++;
-                o->n_known = (uint16_t)(o->n_known + (*score == SPVS_OFFPLANE_ON));
-            }
-        }
-    }
-    /* A plane inlier while the scene shows clear parallax is a plane point. */
-    if (parallax_px > (spvs_real)SPVS_PARALLAX_CLEAR * offplane_px) {
-        for (uint16_t i = 0; i < e->n_plane; i++) {
-            int8_t *score = &o->score[e->feat[i]];
-            if (e->mask[i] && *score > SPVS_OFFPLANE_MIN) {
-                o->n_known = (uint16_t)(o->n_known - (*score == SPVS_OFFPLANE_ON));
-                (*score)--;
-            }
-        }
-    }
+    remember(o, e, e_ok, parallax_px, offplane_px);
 }

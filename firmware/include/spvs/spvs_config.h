@@ -284,23 +284,40 @@
 #define SPVS_CTL_ARRIVAL_MAX_REENTRIES 3
 #endif
 /* Method I's step 1 escapes the false zero of eq. (19) while |e_x| is
- * over this many times lock_ex_px (control.c, far_from_line). */
+ * over this many times lock_ex_px (control_steps.inc, far_from_line). */
 #ifndef SPVS_CTL_FALSE_ZERO_LOCKS
 #define SPVS_CTL_FALSE_ZERO_LOCKS 4
 #endif
 /* ... and the bound on the remembered off-plane points' mean parallax, in
- * hundredths of its median at the target, 1.665 arrival_sigma_px (control.c,
- * arrival_decide). */
+ * hundredths of its median at the target, SPVS_CTL_NOISE_PARALLAX_X1000
+ * (control_steps.inc, arrival_decide). */
 #ifndef SPVS_CTL_ARRIVAL_PARALLAX_X100
 #define SPVS_CTL_ARRIVAL_PARALLAX_X100 175
 #endif
 /* ... and how far it backs off, in decimetres, when the check finds it
- * beside the target (control.c, reenter). */
+ * beside the target (control_steps.inc, reenter). */
 #ifndef SPVS_CTL_ARRIVAL_BACKOFF_DM
 #define SPVS_CTL_ARRIVAL_BACKOFF_DM 50
 #endif
+/* ... and how far a step 2 after a re-entry may drive, in decimetres,
+ * before it counts as going the wrong way (control_steps.inc,
+ * control_update): about as long as the back-off, with its margin. */
+#ifndef SPVS_CTL_REENTRY_MAX_DM
+#define SPVS_CTL_REENTRY_MAX_DM (2 * SPVS_CTL_ARRIVAL_BACKOFF_DM)
+#endif
+/* The median parallax that image noise alone gives an off-plane point at
+ * the target, in thousandths of arrival_sigma_px (noise in both images):
+ * the unit of SPVS_CTL_ARRIVAL_PARALLAX_X100. */
+#ifndef SPVS_CTL_NOISE_PARALLAX_X1000
+#define SPVS_CTL_NOISE_PARALLAX_X1000 1665
+#endif
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
+#endif
+/* The inlier count the arrival check's noise model takes at the least
+ * (control.h's n_inliers: a frame with fewer counts as this many). */
+#ifndef SPVS_CTL_ARRIVAL_MIN_INLIERS
+#define SPVS_CTL_ARRIVAL_MIN_INLIERS 4
 #endif
 
 /* How many times the per-frame scatter of alpha_y h32 is that of h33 (both
@@ -330,6 +347,15 @@
 #endif
 #if (SPVS_CTL_ARRIVAL_BACKOFF_DM < 1) || (SPVS_CTL_ARRIVAL_BACKOFF_DM > 200)
 #error "SPVS_CTL_ARRIVAL_BACKOFF_DM must be in 1..200"
+#endif
+#if (SPVS_CTL_REENTRY_MAX_DM < 1) || (SPVS_CTL_REENTRY_MAX_DM > 400)
+#error "SPVS_CTL_REENTRY_MAX_DM must be in 1..400"
+#endif
+#if (SPVS_CTL_NOISE_PARALLAX_X1000 < 100) || (SPVS_CTL_NOISE_PARALLAX_X1000 > 10000)
+#error "SPVS_CTL_NOISE_PARALLAX_X1000 must be in 100..10000"
+#endif
+#if (SPVS_CTL_ARRIVAL_MIN_INLIERS < 1) || (SPVS_CTL_ARRIVAL_MIN_INLIERS > 1000)
+#error "SPVS_CTL_ARRIVAL_MIN_INLIERS must be in 1..1000"
 #endif
 #if (SPVS_CTL_ARRIVAL_MAX_FRAMES < 1) || (SPVS_CTL_ARRIVAL_MAX_FRAMES > 65535)
 #error "SPVS_CTL_ARRIVAL_MAX_FRAMES must be in 1..65535"

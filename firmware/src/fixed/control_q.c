@@ -1,8 +1,8 @@
 /*
  * control_q.c - Shortest Path Control in fixed point (control_q.h): the
- * rules of control.c in the same order, on Q inputs.  docs/CONTROL.md
- * derives every rule; the comments here give the formats and why each
- * stays in range.
+ * signals, commands and sums in Q under the decisions of control_steps.inc
+ * (written once for both cores).  docs/CONTROL.md derives every rule; the
+ * comments here give the formats and why each stays in range.
  *
  * Ranges used below (control_q.h):  H entries |h| < 2^31 in Q27 (below 16);
  * every signal int32; a gain's mantissa |m| < 2^31, so gain x signal is
@@ -24,7 +24,7 @@ _Static_assert(SPVS_COORD_SCALE == 512, "the pixel formats of H assume SPVS_COOR
 
 /* ---- small helpers -------------------------------------------------------- */
 
-static int8_t sgn64(int64_t x)
+static int8_t sgn(int64_t x)
 {
     return (int8_t)((x > 0) - (x < 0));
 }
@@ -183,9 +183,11 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
     q->corner_r = qf_sqrt(spvs_qf_add(spvs_qf_mul(q->corner_x, q->corner_x),
                                       spvs_qf_mul(q->corner_y, q->corner_y)));
     q->resolution = qf_real(p->arrival_resolution_px, &sat);
-    /* SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x 1.665 sigma. */
-    const spvs_qf_t par = qf_div(qf_of((int64_t)SPVS_CTL_ARRIVAL_PARALLAX_X100 * 1665, 0),
-                                 qf_of(100000, 0), &sat);
+    /* SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x SPVS_CTL_NOISE_PARALLAX_X1000 /
+     * 1000 sigma. */
+    const spvs_qf_t par = qf_div(
+        qf_of((int64_t)SPVS_CTL_ARRIVAL_PARALLAX_X100 * SPVS_CTL_NOISE_PARALLAX_X1000, 0),
+        qf_of(100 * 1000, 0), &sat);
     q->arrival_par_max =
         spvs_qf_to_q32(spvs_qf_mul(par, qf_real(p->arrival_sigma_px, &sat)), SPVS_QCTL_PX, &sat);
     q->arrival_frames = p->arrival_frames;
@@ -193,88 +195,12 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
     *bad |= sat;
 }
 
-/* ---- the parameter check (control.c's rules, on the bits) ----------------- */
+/* ---- the parameters' bits (control_steps.inc's params_rules compares on them) ---- */
 
-/* The spvs_real at field as an integer with the order of the values.  An
- * IEEE-754 number of either sign bit orders as its magnitude bits (the
- * sign cleared) read as an unsigned integer, infinity above every finite
- * value; the key is those bits, negated for a negative sign, so keys
- * compare exactly as the values do, +0 and -0 equal (a double's bits
- * below 2^63 fit an int64).  Returns 0 for a NaN (magnitude bits above
- * infinity's), which compares false with everything. */
-static int real_key(const void *field, int64_t *key)
+static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
+                   int hi_incl)
 {
-#if SPVS_USE_DOUBLE
-    uint64_t b;
-    memcpy(&b, field, sizeof b);
-    const uint64_t mag = b & ~((uint64_t)1 << 63), inf = (uint64_t)0x7ff << 52;
-    const int neg = (int)(b >> 63);
-#else
-    uint32_t b;
-    memcpy(&b, field, sizeof b);
-    const uint64_t mag = b & 0x7fffffffu, inf = 0x7f800000u;
-    const int neg = (int)(b >> 31);
-#endif
-    *key = neg ? -(int64_t)mag : (int64_t)mag;
-    return mag <= inf;
-}
-
-/* lo < x < hi for the spvs_real at field (lo_incl, hi_incl: <=); false for
- * a NaN, as control.c's comparisons are. */
-static int key_in(const void *field, int64_t lo, int lo_incl, int64_t hi, int hi_incl)
-{
-    int64_t k;
-    return real_key(field, &k) && (lo_incl ? k >= lo : k > lo) && (hi_incl ? k <= hi : k < hi);
-}
-
-#define PRM(f) ((uint8_t)offsetof(spvs_control_params_t, f))
-_Static_assert(sizeof(spvs_control_params_t) <= 255, "the fields' offsets are kept in bytes");
-
-/* control.c's positive finite fields, as offsets (a table in flash rather
- * than control.c's copy of the values on the stack). */
-static const uint8_t pos_fields[] = {
-    PRM(alpha_x), PRM(alpha_y), PRM(k_w), PRM(k_v), PRM(k_w3),
-    PRM(k_w11), PRM(v_max), PRM(w_max), PRM(tol_align),
-    PRM(tol_translate), PRM(tol_h13_px), PRM(lock_ex_px), PRM(tol_det),
-    PRM(step_timeout_s), PRM(arrival_sigma_px), PRM(arrival_k),
-    PRM(arrival_leverage), PRM(arrival_corner_x_px),
-    PRM(arrival_corner_y_px), PRM(arrival_resolution_px)};
-
-int spvs_q_ctl_params_check(const spvs_control_params_t *p)
-{
-    if (p == 0) {
-        return SPVS_E_ARG;
-    }
-    if (p->method != SPVS_METHOD_I && p->method != SPVS_METHOD_II &&
-        p->method != SPVS_METHOD_III) {
-        return SPVS_E_CONFIG;
-    }
-    /* The bounds' keys: the literals' bits, read (no float operation); 0
-     * is +-0's key, and hi_inf as an upper bound admits +infinity. */
-    static const spvs_real one = SPVS_R(1.0), real_max = SPVS_REAL_MAX;
-    int64_t k_one, k_max, k_wmax;
-    (void)real_key(&one, &k_one);
-    (void)real_key(&real_max, &k_max);
-    const int64_t hi_inf = SPVS_Q_I64_MAX;
-    const unsigned char *const base = (const unsigned char *)p;
-    for (unsigned i = 0; i < sizeof pos_fields; i++) {
-        if (!key_in(base + pos_fields[i], 0, 0, k_max, 0)) {
-            return SPVS_E_CONFIG;
-        }
-    }
-    /* w_max passed above: a number, so its key is a bound. */
-    (void)real_key(&p->w_max, &k_wmax);
-    if (!key_in(&p->w_min_escape, 0, 1, k_wmax, 1) ||
-        !key_in(&p->switch_parallax_px, 0, 1, hi_inf, 1) ||
-        !key_in(&p->hold_heading_ratio, 0, 1, k_one, 0) ||
-        !key_in(&p->min_signal_ratio, 0, 1, k_one, 0) ||
-        p->hold_frames < 1u || p->fit_min_frames < 2u ||
-        !key_in(&p->fit_min_span_m, 0, 0, hi_inf, 1) || p->arrival_frames < 1u ||
-        p->arrival_max_frames < p->arrival_frames ||
-        p->arrival_max_frames > SPVS_CTL_ARRIVAL_MAX_FRAMES) {
-        return SPVS_E_CONFIG;
-    }
-    return SPVS_OK;
+    return spvs_q_real_in(x, lo, lo_incl, hi, hi_incl);
 }
 
 int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q, const spvs_control_params_t *p)
@@ -282,7 +208,7 @@ int spvs_q_ctl_params_from_real(spvs_q_ctl_params_t *q, const spvs_control_param
     if (q == 0 || p == 0) {
         return SPVS_E_ARG;
     }
-    /* control.c's rules first: the conversions below assume their ranges. */
+    /* The rules first (params_rules): the conversions below assume their ranges. */
     const int rc = spvs_q_ctl_params_check(p);
     if (rc != SPVS_OK) {
         return rc;
@@ -349,214 +275,193 @@ static void fit_clear(spvs_q_ctl_t *c)
     c->fit_ss = c->fit_sd = c->fit_sax = qf_of(0, 0);
 }
 
-void spvs_q_ctl_reset(spvs_q_ctl_t *c)
+/* ---- the fixed-point core's side of control_steps.inc ---------------------
+ * The signals, commands and sums in Q (control_q.h gives the formats);
+ * every decision on them is in control_steps.inc, included below. */
+
+typedef spvs_q_ctl_t ctl_t;
+typedef spvs_q_ctl_params_t ctl_params_t;
+typedef spvs_q_ctl_input_t ctl_input_t;
+typedef int32_t ctl_sig_t;
+typedef int64_t ctl_wide_t;
+typedef int64_t ctl_cmd_t;
+typedef int32_t ctl_time_t;
+typedef int32_t ctl_px_t;
+typedef spvs_qf_t ctl_val_t;
+
+static int32_t time_none(void)
 {
-    SPVS_ASSERT(c != 0);
-    memset(c, 0, sizeof *c);
-    c->step = SPVS_STEP_ROTATE;
-    c->status = SPVS_OK;
-    c->step_t0 = -((int32_t)1 << SPVS_QCTL_T);
-    c->cos_phit = (int64_t)1 << SPVS_QCTL_ODO;
-    for (int k = 0; k < 4; k++) {
-        c->t_step_end[k] = -((int32_t)1 << SPVS_QCTL_T);
-    }
-    c->last_t = -((int32_t)1 << SPVS_QCTL_T);
-    fit_clear(c);
-    c->slope_sig = c->slope_ax = qf_of(0, 0);
+    return -((int32_t)1 << SPVS_QCTL_T);
 }
 
-static int fail(spvs_q_ctl_t *c, int status)
+static int64_t cos_one(void)
 {
-    c->step = SPVS_STEP_FAILED;
-    c->status = status;
-    return status;
+    return (int64_t)1 << SPVS_QCTL_ODO;
 }
 
-static void next_step(spvs_q_ctl_t *c, spvs_step_t step, int32_t t)
+static spvs_qf_t val_zero(void)
 {
-    c->t_step_end[c->step] = t;
-    c->step = step;
-    c->step_t0 = t;
-    c->hold = 0;
-    c->run_sign = 0;
-    c->held_sign = 0;
-    c->run_len = 0;
+    return qf_of(0, 0);
 }
 
-/* control.c's step_done: a sign change that holds hold_frames frames after
- * the old sign had, or |signal| under tol for hold_frames frames. */
-static int step_done(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t signal,
-                     int32_t tol)
+static int ex_beyond(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in, int locks)
 {
-    const int8_t s = sgn64(signal);
-    if (s != 0 && s == c->run_sign) {
-        if (c->run_len < UINT16_MAX) {
-            c->run_len++;
-        }
-    } else {
-        c->run_sign = s;
-        c->run_len = 1;
-    }
-    int crossed = 0;
-    if (s != 0 && c->run_len >= p->hold_frames) {
-        if (c->held_sign == 0) {
-            c->held_sign = s;
-        } else if (c->held_sign != s) {
-            crossed = 1;
-        }
-    }
-    if (under(signal, tol)) {
-        c->hold++;
-    } else {
-        c->hold = 0;
-    }
-    return crossed || c->hold >= p->hold_frames;
+    return abs64(in->e_x) > (uint64_t)((int64_t)locks * p->lock_ex);
 }
 
-/* ---- the signals ------------------------------------------------------------ */
+static int val_le(spvs_qf_t a, spvs_qf_t b)
+{
+    return spvs_qf_le(a, b);
+}
+
+static int val_lt(spvs_qf_t a, spvs_qf_t b)
+{
+    return !spvs_qf_le(b, a);
+}
+
+static spvs_qf_t val_abs(spvs_qf_t a)
+{
+    return qf_abs(a);
+}
+
+static spvs_qf_t val_times(spvs_qf_t a, int k)
+{
+    return spvs_qf_mul(qf_of(k, 0), a);
+}
+
+static int val_is_zero(spvs_qf_t a)
+{
+    return a.m == 0;
+}
+
+/* dm decimetres of odometry, Q40 metres. */
+static int64_t odo_from_dm(int dm)
+{
+    return ((int64_t)dm << SPVS_QCTL_ODO) / 10;
+}
+
+static int32_t in_time(const spvs_q_ctl_input_t *in)
+{
+    return in->t;
+}
+
+static int8_t in_side(const spvs_q_ctl_input_t *in)
+{
+    return in->e_side;
+}
+
+static int32_t in_ex(const spvs_q_ctl_input_t *in)
+{
+    return in->e_x;
+}
+
+static int32_t in_parallax(const spvs_q_ctl_input_t *in)
+{
+    return in->parallax;
+}
+
+static int64_t odo(const spvs_q_ctl_t *c)
+{
+    return c->odo;
+}
+
+/* The distance driven in step 2, Q24 metres. */
+static int32_t fit_distance(spvs_q_ctl_t *c)
+{
+    return spvs_q_sat32(spvs_q_rshift_rnd64(c->odo, SPVS_QCTL_ODO - SPVS_QCTL_S), &c->sat);
+}
+
+static int32_t tol_h13(const spvs_q_ctl_params_t *p)
+{
+    return p->tol_h13;
+}
+
+static int32_t switch_parallax(const spvs_q_ctl_params_t *p)
+{
+    return p->switch_parallax;
+}
+
+static int32_t step_timeout(const spvs_q_ctl_params_t *p)
+{
+    return p->step_timeout;
+}
+
+static int32_t fit_min_span(const spvs_q_ctl_params_t *p)
+{
+    return p->fit_min_span;
+}
+
+static spvs_qf_t arrival_resolution(const spvs_q_ctl_params_t *p)
+{
+    return p->resolution;
+}
+
+/* Converted once (params_arrival). */
+static int32_t parallax_gate(const spvs_q_ctl_params_t *p)
+{
+    return p->arrival_par_max;
+}
+
+static int32_t parallax_none(void)
+{
+    return -((int32_t)1 << SPVS_QCTL_PX);
+}
 
 /* Eq. (19): f = h11^2 + (h13 / alpha_x)^2 - 1 in Q27.  h13 / alpha_x =
  * c13 h13 (scaled); each square halved first so that the sum of two
  * squares below 2^62 stays below 2^62 (the halving's floor is 2^-55). */
-static int32_t f_signal(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
-                        uint32_t *sat)
+static int32_t f_signal(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                        const spvs_q_ctl_input_t *in)
 {
+    uint32_t *sat = &c->sat;
     const int64_t h11 = in->H[SPVS_H11];
     const int64_t h13n = spvs_q_sat32(kx(p->c13, in->H[SPVS_H13], SPVS_QH, SPVS_QH, sat), sat);
     const int64_t f53 = ((h11 * h11) >> 1) + ((h13n * h13n) >> 1) - (ONE54 >> 1);
     return spvs_q_sat32(spvs_q_rshift_rnd64(f53, 26), sat);
 }
 
-static int32_t align_signal(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
-                            uint32_t *sat)
+/* h11 - h33, or alpha_y h32 (Method II), Q27. */
+static int32_t translate_signal(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                const spvs_q_ctl_input_t *in)
 {
-    if (p->method == SPVS_METHOD_I) {
-        return f_signal(p, in, sat);
-    }
     if (p->method == SPVS_METHOD_II) {
-        return in->H[SPVS_H12];
+        return spvs_q_sat32(kx(p->c32, in->H[SPVS_H32], SPVS_QH, SPVS_QH, &c->sat), &c->sat);
     }
-    return in->e_x;
+    return spvs_q_sat32((int64_t)in->H[SPVS_H11] - in->H[SPVS_H33], &c->sat);
 }
 
-/* h11 - h33, or alpha_y h32 (Method II), Q27. */
-static int32_t translate_signal(const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
-                                uint32_t *sat)
+/* h33 - h11, saturated as D is for Methods I and III (translate_signal). */
+static int32_t axial_signal(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in)
 {
-    if (p->method == SPVS_METHOD_II) {
-        return spvs_q_sat32(kx(p->c32, in->H[SPVS_H32], SPVS_QH, SPVS_QH, sat), sat);
-    }
-    return spvs_q_sat32((int64_t)in->H[SPVS_H11] - in->H[SPVS_H33], sat);
+    return spvs_q_sat32((int64_t)in->H[SPVS_H33] - in->H[SPVS_H11], &c->sat);
+}
+
+/* Both kinds of step-2 signal, Q27, unclamped (int64). */
+static void start_signals(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                          const spvs_q_ctl_input_t *in, int64_t *D, int64_t *Dy)
+{
+    *D = (int64_t)in->H[SPVS_H11] - in->H[SPVS_H33];
+    *Dy = kx(p->c32, in->H[SPVS_H32], SPVS_QH, SPVS_QH, &c->sat);
 }
 
 /* det H - 1 in Q54, exact unless saturated (then far past any tol_det):
  * h13 h31 is the same product in scaled units as in pixels. */
-static int64_t det_minus_1(const spvs_q_ctl_input_t *in, uint32_t *sat)
+static int64_t det_minus_1(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in)
 {
     const int32_t *H = in->H;
     const int64_t a = (int64_t)H[SPVS_H11] * H[SPVS_H33];
     const int64_t b = (int64_t)H[SPVS_H13] * H[SPVS_H31];
-    return spvs_q_add64(spvs_q_add64(a, -b, sat), -ONE54, sat);
+    return spvs_q_add64(spvs_q_add64(a, -b, &c->sat), -ONE54, &c->sat);
 }
 
-static int far_from_line(const spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                         const spvs_q_ctl_input_t *in)
+static int32_t start_size(spvs_q_ctl_t *c, int32_t D)
 {
-    const int64_t locks = c->step == SPVS_STEP_ROTATE ? SPVS_CTL_FALSE_ZERO_LOCKS : 1;
-    return in->e_valid && abs64(in->e_x) > (uint64_t)(locks * p->lock_ex);
+    return spvs_q_sat32((int64_t)abs64(D), &c->sat);
 }
 
-/* The rotation command of steps 1 and 2, Q24, before its clamp. */
-static int64_t rotation(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                        const spvs_q_ctl_input_t *in)
+static int64_t hold_below(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p)
 {
-    const int32_t *H = in->H;
-    switch (p->method) {
-    case SPVS_METHOD_I: {
-        /* Eq. (20) with the false-zero escape of control.c. */
-        const int32_t f = f_signal(p, in, &c->sat);
-        const int misaligned = far_from_line(c, p, in);
-        if (misaligned && f != 0) {
-            c->sign_w = (int8_t)(sgn64(f) * sgn64(in->e_x));
-        }
-        int64_t w = -c->sign_w * kx(p->k_w, f, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
-        if (misaligned && abs64(w) < (uint64_t)p->w_min_escape) {
-            w = -sgn64(in->e_x) * (int64_t)p->w_min_escape;
-        }
-        return w;
-    }
-    case SPVS_METHOD_II:
-        /* Eq. (21). */
-        return -c->sign_w * kx(p->k_w, H[SPVS_H12], SPVS_QH, SPVS_QCTL_CMD, &c->sat);
-    case SPVS_METHOD_III:
-    default:
-        if (c->use_eq11) {
-            /* Eq. (11), cos phi_t from Q40 to Q27. */
-            const int64_t cos27 = spvs_q_rshift_rnd64(c->cos_phit, SPVS_QCTL_ODO - SPVS_QH);
-            const int32_t d = spvs_q_sat32(H[SPVS_H11] - cos27, &c->sat);
-            return c->sign_sin_phit * kx(p->k_w11, d, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
-        }
-        /* Eq. (22). */
-        return -kx(p->k_w, in->e_x, SPVS_QCTL_PX, SPVS_QCTL_CMD, &c->sat);
-    }
-}
-
-/* Method III learns cos phi_t from h11 on the line (eq. 8): a running mean,
- * then an exponential one, in Q40 (each update's rounding 2^-41). */
-static void learn_phit(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                       const spvs_q_ctl_input_t *in)
-{
-    if (p->method != SPVS_METHOD_III || c->use_eq11 || c->reentered || !in->e_valid ||
-        abs64(in->e_x) > (uint64_t)p->lock_ex) {
-        return;
-    }
-    if (c->n_phit < (uint32_t)SPVS_CTL_PHIT_FRAMES) {
-        c->n_phit++;
-    }
-    const int64_t h11 = (int64_t)in->H[SPVS_H11] * ((int64_t)1 << (SPVS_QCTL_ODO - SPVS_QH));
-    c->cos_phit += div_rnd(h11 - c->cos_phit, c->n_phit);
-    const int8_t s = sgn64(in->H[SPVS_H13]);
-    if (s != 0) {
-        c->sign_sin_phit = s;
-    }
-}
-
-/* ---- the start -------------------------------------------------------------- */
-
-static int32_t odo_s24(const spvs_q_ctl_t *c, uint32_t *sat)
-{
-    return spvs_q_sat32(spvs_q_rshift_rnd64(c->odo, SPVS_QCTL_ODO - SPVS_QCTL_S), sat);
-}
-
-/* Odometry from the commands (control.c): |v| Q24 times dt Q16 is Q40,
- * below 2^31 x 2^32; the sum saturates (flagged) past 2^23 m. */
-static void odometry(spvs_q_ctl_t *c, int32_t t)
-{
-    if (c->last_t >= 0 && t > c->last_t) {
-        const uint64_t v = abs64(c->last_v);
-        const int64_t dt = (int64_t)t - c->last_t;
-        c->odo = spvs_q_add64(c->odo, (int64_t)(v * (uint64_t)dt), &c->sat);
-    }
-    c->last_v = 0;
-    c->last_t = t;
-}
-
-static int start_without_parallax(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                  const spvs_q_ctl_input_t *in)
-{
-    const int32_t *H = in->H;
-    const int64_t D = (int64_t)H[SPVS_H11] - H[SPVS_H33];
-    const int64_t Dy = kx(p->c32, H[SPVS_H32], SPVS_QH, SPVS_QH, &c->sat);
-    const int still = under(D, p->tol_translate) && under(Dy, p->tol_translate) &&
-                      under(det_minus_1(in, &c->sat), p->tol_det);
-    c->at_target = still ? (uint16_t)(c->at_target + 1u) : 0u;
-    if (c->at_target < p->hold_frames) {
-        return still ? SPVS_OK : SPVS_E_NO_PARALLAX;
-    }
-    next_step(c, SPVS_STEP_TRANSLATE, in->t);
-    next_step(c, SPVS_STEP_ALIGN, in->t);
-    c->checked_plane = 1;
-    return SPVS_OK;
+    return kx(p->hold_heading_ratio, c->trans_d0, SPVS_QH, SPVS_QH, &c->sat);
 }
 
 /* The plane check's sums (control.c's plane_accumulate): the epipole's
@@ -565,7 +470,7 @@ static int start_without_parallax(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
  * alpha_x h31 in Q27; each product below 2^61, a sum of two below 2^62,
  * rounded to Q27 into int64 sums. */
 static SPVS_Q_NOINLINE void plane_accumulate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                             const spvs_q_ctl_input_t *in)
+                                             const spvs_q_ctl_input_t *in)
 {
     const int32_t *H = in->H;
     uint32_t *sat = &c->sat;
@@ -585,124 +490,104 @@ static SPVS_Q_NOINLINE void plane_accumulate(spvs_q_ctl_t *c, const spvs_q_ctl_p
     c->normal_est[1] += spvs_q_rshift_rnd64(-(e3 * Y + e1 * X), 30);
 }
 
-/* |n_y| (Method II) or |n_z| must exceed min_signal_ratio |n|: compared
- * squared, both sides non-negative, so no square root is taken. */
-static SPVS_Q_NOINLINE int plane_check(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p)
+/* |n_k| over min_signal_ratio |n|: compared squared, both sides
+ * non-negative, so no square root is taken; false for n = 0. */
+static SPVS_Q_NOINLINE int normal_has_signal(const spvs_q_ctl_t *c,
+                                             const spvs_q_ctl_params_t *p, int k)
 {
     spvs_qf_t sq[3];
-    for (int k = 0; k < 3; k++) {
-        const spvs_qf_t n = qf_of(c->normal_est[k], SPVS_QH);
-        sq[k] = spvs_qf_mul(n, n);
+    for (int i = 0; i < 3; i++) {
+        const spvs_qf_t n = qf_of(c->normal_est[i], SPVS_QH);
+        sq[i] = spvs_qf_mul(n, n);
     }
     const spvs_qf_t norm2 = spvs_qf_add(spvs_qf_add(sq[0], sq[1]), sq[2]);
-    const int ny = p->method == SPVS_METHOD_II;
     if (norm2.m == 0) {
-        return fail(c, ny ? SPVS_E_PLANE_NY : SPVS_E_PLANE_NZ);
+        return 0;
     }
-    const spvs_qf_t need = spvs_qf_mul(p->min_signal_ratio2, norm2);
-    if (spvs_qf_le(sq[ny ? 1 : 2], need)) {
-        return fail(c, ny ? SPVS_E_PLANE_NY : SPVS_E_PLANE_NZ);
-    }
-    return SPVS_OK;
+    return !spvs_qf_le(sq[k], spvs_qf_mul(p->min_signal_ratio2, norm2));
 }
 
-static void choose_rotation_sign(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                 const spvs_q_ctl_input_t *in)
+/* cos phi_t from h11 on the line (eq. 8), in Q40: a running mean, then an
+ * exponential one (each update's rounding 2^-41). */
+static void phit_mean(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in)
 {
-    switch (p->method) {
-    case SPVS_METHOD_I:
-        c->sign_w = (int8_t)(sgn64(f_signal(p, in, &c->sat)) * sgn64(in->e_x));
-        if (c->sign_w == 0) {
-            c->sign_w = 1;
-        }
-        break;
-    case SPVS_METHOD_II:
-        c->sign_w = sgn64(c->h32_sum);
-        break;
-    case SPVS_METHOD_III:
-    default:
-        c->sign_w = 1;
-        break;
-    }
+    const int64_t h11 = (int64_t)in->H[SPVS_H11] * ((int64_t)1 << (SPVS_QCTL_ODO - SPVS_QH));
+    c->cos_phit += div_rnd(h11 - c->cos_phit, c->n_phit);
 }
 
-static int start_with_parallax(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                               const spvs_q_ctl_input_t *in)
+static void phit_first(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in)
 {
-    c->at_target = 0;
-    plane_accumulate(c, p, in);
-    c->h32_sum += in->H[SPVS_H32];
-    c->ahead_votes = (int16_t)(c->ahead_votes + in->e_side);
-    c->n_start++;
-    if (c->n_start < p->hold_frames) {
-        return SPVS_OK;
-    }
-    c->ahead = c->ahead_votes >= 0 ? 1 : -1;
-    const int rc = plane_check(c, p);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    choose_rotation_sign(c, p, in);
-    c->checked_plane = 1;
-    return SPVS_OK;
+    c->cos_phit = (int64_t)in->H[SPVS_H11] * ((int64_t)1 << (SPVS_QCTL_ODO - SPVS_QH));
 }
 
-static int eq11_switch(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                       const spvs_q_ctl_input_t *in)
+/* Eq. (20): w = -k_w f, Q24 before its clamp. */
+static int64_t w_eq20(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t f)
 {
-    if (p->method != SPVS_METHOD_III || c->step == SPVS_STEP_ALIGN || c->reentered ||
-        c->use_eq11) {
-        return SPVS_OK;
-    }
-    const int low = c->step == SPVS_STEP_TRANSLATE && in->parallax >= 0 &&
-                    in->parallax < p->switch_parallax;
-    c->low_parallax = low ? (uint16_t)(c->low_parallax + 1u) : 0u;
-    if (c->low_parallax >= p->hold_frames) {
-        c->use_eq11 = 1;
-        if (c->n_phit == 0u) {
-            c->cos_phit = (int64_t)in->H[SPVS_H11] * ((int64_t)1 << (SPVS_QCTL_ODO - SPVS_QH));
-            c->sign_sin_phit = sgn64(in->H[SPVS_H13]);
-        }
-    } else if (!in->e_valid) {
-        return SPVS_E_NO_PARALLAX;
-    }
-    return SPVS_OK;
+    return -c->sign_w * kx(p->k_w, f, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
 }
 
-/* ---- steps 1 and 2 ------------------------------------------------------------ */
-
-static void step_rotate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                        const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+static int64_t w_escape(const spvs_q_ctl_params_t *p, int8_t s)
 {
-    learn_phit(c, p, in);
-    *vc = 0;
-    *wc = rotation(c, p, in);
-    const int32_t a = align_signal(p, in, &c->sat);
-    int done = step_done(c, p, a, p->tol_align);
-    if (p->method == SPVS_METHOD_I && far_from_line(c, p, in)) {
-        done = 0;
-        c->held_sign = sgn64(a);
-        c->hold = 0;
-    }
-    if (done) {
-        next_step(c, SPVS_STEP_TRANSLATE, in->t);
-        c->trans_sign0 = 0;
-        c->odo = 0;
-        fit_clear(c);
-    }
+    return -s * (int64_t)p->w_min_escape;
 }
 
-/* Step 2's least-squares line D ~ a + b s (control.c's fitted_signal), and
- * the slope of ax = h33 - h11 on it.  n, sum s (Q24, s < 2^31, n < 2^32:
- * below 2^63), sum D and sum ax (Q27) are exact int64 sums; s^2, s D and
- * s ax (exact int64 products) are summed in spvs_qf_t, 2^-31 per addition.
- * The value at s is written mean(D) + b (n s - sum s) / n, n s - sum s
- * exact. */
-static SPVS_Q_NOINLINE int32_t fitted_signal(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t D,
-                             int32_t ax)
+/* Eq. (21): w = -k_w h12. */
+static int64_t w_eq21(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                      const spvs_q_ctl_input_t *in)
 {
-    uint32_t *sat = &c->sat;
-    const int32_t s = odo_s24(c, sat);
+    return -c->sign_w * kx(p->k_w, in->H[SPVS_H12], SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+}
+
+/* Eq. (11), cos phi_t from Q40 to Q27. */
+static int64_t w_eq11(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                      const spvs_q_ctl_input_t *in)
+{
+    const int64_t cos27 = spvs_q_rshift_rnd64(c->cos_phit, SPVS_QCTL_ODO - SPVS_QH);
+    const int32_t d = spvs_q_sat32(in->H[SPVS_H11] - cos27, &c->sat);
+    return c->sign_sin_phit * kx(p->k_w11, d, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+}
+
+/* Eq. (22): w = -k_w e_x. */
+static int64_t w_eq22(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                      const spvs_q_ctl_input_t *in)
+{
+    return -kx(p->k_w, in->e_x, SPVS_QCTL_PX, SPVS_QCTL_CMD, &c->sat);
+}
+
+/* Eq. (17): w = -k_w3 h13, h13 in pixels (Q18). */
+static int64_t w_eq17(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                      const spvs_q_ctl_input_t *in)
+{
+    return -kx(p->k_w3, in->H[SPVS_H13], QH13_PX, SPVS_QCTL_CMD, &c->sat);
+}
+
+/* Eqs. (20), (22): v = -k_v D (eq. 21 with D = alpha_y h32). */
+static int64_t v_eq20(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int32_t D)
+{
+    return -c->sign_v * kx(p->k_v, D, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
+}
+
+/* |v| Q24 times dt Q16 is Q40, below 2^31 x 2^32; the sum saturates
+ * (flagged) past 2^23 m. */
+static void odo_add(spvs_q_ctl_t *c, int32_t t)
+{
+    const uint64_t v = abs64(c->last_v);
+    const int64_t dt = (int64_t)t - c->last_t;
+    c->odo = spvs_q_add64(c->odo, (int64_t)(v * (uint64_t)dt), &c->sat);
+}
+
+static void line_clear(spvs_q_ctl_t *c)
+{
+    c->odo = 0;
+    fit_clear(c);
+}
+
+/* Step 2's least-squares sums of D ~ a + b s and of ax = h33 - h11.  n, sum
+ * s (Q24, s < 2^31, n < 2^32: below 2^63), sum D and sum ax (Q27) are exact
+ * int64 sums; s^2, s D and s ax (exact int64 products) are summed in
+ * spvs_qf_t, 2^-31 per addition. */
+static void fit_add(spvs_q_ctl_t *c, int32_t s, int32_t D, int32_t ax)
+{
     c->fit_ax += ax;
     c->fit_sax = spvs_qf_add(c->fit_sax, qf_of((int64_t)s * ax, SPVS_QCTL_S + SPVS_QH));
     if (c->fit_n < UINT32_MAX) {
@@ -712,11 +597,16 @@ static SPVS_Q_NOINLINE int32_t fitted_signal(spvs_q_ctl_t *c, const spvs_q_ctl_p
     c->fit_ss = spvs_qf_add(c->fit_ss, qf_of((int64_t)s * s, 2 * SPVS_QCTL_S));
     c->fit_d += D;
     c->fit_sd = spvs_qf_add(c->fit_sd, qf_of((int64_t)s * D, SPVS_QCTL_S + SPVS_QH));
-    if (c->fit_n < p->fit_min_frames || s < p->fit_min_span) {
-        return D;
-    }
-    /* Sequential assignments to few named values (spvs_qf_t results go
-     * through memory on the AAPCS). */
+}
+
+/* The line's value at s, written mean(D) + b (n s - sum s) / n, n s - sum s
+ * exact (and the slopes kept for a re-entry); D while the distances spread
+ * under SPVS_CTL_FIT_MIN_SPREAD_UM.  Sequential assignments to few named
+ * values (spvs_qf_t results go through memory on the AAPCS). */
+static SPVS_Q_NOINLINE int32_t fit_line(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                        int32_t s, int32_t D)
+{
+    uint32_t *sat = &c->sat;
     const spvs_qf_t n = qf_of(c->fit_n, 0), S = qf_of(c->fit_s, SPVS_QCTL_S);
     spvs_qf_t den, t, iden, b;
     den = spvs_qf_mul(n, c->fit_ss);
@@ -743,108 +633,30 @@ static SPVS_Q_NOINLINE int32_t fitted_signal(spvs_q_ctl_t *c, const spvs_q_ctl_p
     return spvs_qf_to_q32(t, SPVS_QH, sat);
 }
 
-static void translate_begin(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                            const spvs_q_ctl_input_t *in, int32_t D)
-{
-    c->trans_sign0 = sgn64(D);
-    c->trans_d0 = spvs_q_sat32((int64_t)abs64(D), &c->sat);
-    if (in->e_valid && in->e_side != 0) {
-        c->ahead = in->e_side;
-    }
-    if (c->reentered) {
-        return;
-    }
-    if (p->method == SPVS_METHOD_II) {
-        c->sign_v = (int8_t)(-c->sign_w * c->ahead);
-    } else {
-        c->sign_v = (int8_t)(-c->trans_sign0 * c->ahead);
-    }
-}
-
-static SPVS_Q_NOINLINE void back_off(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, int64_t *vc)
-{
-    const int64_t dist = ((int64_t)SPVS_CTL_ARRIVAL_BACKOFF_DM << SPVS_QCTL_ODO) / 10;
-    if (c->odo < dist) {
-        *vc = -(int64_t)p->v_max;
-        return;
-    }
-    /* What survives the new start (control.c's list), kept in locals: a
-     * copy of the whole state would cost its size in stack. */
-    const int32_t last_t = c->last_t, fig[6] = {c->arrival_corner_px, c->arrival_bound_px,
-                                                 c->arrival_lateral_px, c->arrival_depth_px,
-                                                 c->arrival_h13_px, c->arrival_parallax_px};
-    const uint8_t reentries = c->reentries, next = c->arrival_next;
-    const uint16_t arrive_n = c->arrive_n;
-    const uint32_t sat = c->sat;
-    spvs_q_ctl_reset(c);
-    c->last_t = last_t;
-    c->reentries = reentries;
-    c->arrival_next = next;
-    c->arrival_corner_px = fig[0];
-    c->arrival_bound_px = fig[1];
-    c->arrival_lateral_px = fig[2];
-    c->arrival_depth_px = fig[3];
-    c->arrival_h13_px = fig[4];
-    c->arrival_parallax_px = fig[5];
-    c->arrive_n = arrive_n;
-    c->sat = sat;
-}
-
-/* A re-entered step 2 drives the check's row-3 residual away by odometry
- * on the first line's slope: D = d0 - sign(d0) |b| s, Q27. */
-static SPVS_Q_NOINLINE void step_translate_again(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                 const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+/* A re-entered step 2's signal: D = d0 - sign(d0) |b| s, Q27. */
+static SPVS_Q_NOINLINE int32_t reentry_remaining(spvs_q_ctl_t *c)
 {
     uint32_t *sat = &c->sat;
     const int32_t d0 = c->reentry_d0;
-    const spvs_qf_t run = spvs_qf_mul(qf_abs(c->slope_sig), qf_of(odo_s24(c, sat), SPVS_QCTL_S));
-    const int64_t D64 = (int64_t)d0 - sgn64(d0) * spvs_qf_to_q64(run, SPVS_QH, sat);
-    const int32_t D = spvs_q_sat32(D64, sat);
-    *vc = -c->sign_v * kx(p->k_v, D, SPVS_QH, SPVS_QCTL_CMD, sat);
-    *wc = 0;
-    if (sgn64(D) != sgn64(d0) || under(D, p->tol_translate)) {
-        next_step(c, SPVS_STEP_ALIGN, in->t);
-        *vc = 0;
-    }
+    const spvs_qf_t run = spvs_qf_mul(qf_abs(c->slope_sig), qf_of(fit_distance(c), SPVS_QCTL_S));
+    const int64_t D64 = (int64_t)d0 - sgn(d0) * spvs_qf_to_q64(run, SPVS_QH, sat);
+    return spvs_q_sat32(D64, sat);
 }
 
-static void step_translate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                           const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+/* Standing still after step 3: H - I summed exactly (Q27, at most
+ * SPVS_CTL_ARRIVAL_MAX_FRAMES x 2^32), 1 / n_inliers in Q32 (each rounded,
+ * 2^-33). */
+static void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in, uint32_t n)
 {
-    if (c->backing) {
-        back_off(c, p, vc);
-        return;
-    }
-    if (c->reentered && c->slope_sig.m != 0 && c->reentry_d0 != 0) {
-        step_translate_again(c, p, in, vc, wc);
-        return;
-    }
-    learn_phit(c, p, in);
-    const int32_t D = translate_signal(p, in, &c->sat);
-    if (c->trans_sign0 == 0) {
-        translate_begin(c, p, in, D);
-    }
-    /* h33 - h11 saturated as D is for Methods I and III (translate_signal). */
-    const int32_t ax = spvs_q_sat32((int64_t)in->H[SPVS_H33] - in->H[SPVS_H11], &c->sat);
-    const int32_t Df = fitted_signal(c, p, D, ax);
-    const int det_ok = under(det_minus_1(in, &c->sat), p->tol_det);
-    *vc = -c->sign_v * kx(p->k_v, Df, SPVS_QH, SPVS_QCTL_CMD, &c->sat);
-    *wc = rotation(c, p, in);
-    const int64_t hold_below = kx(p->hold_heading_ratio, c->trans_d0, SPVS_QH, SPVS_QH, &c->sat);
-    if (under(Df, hold_below) && !(p->method == SPVS_METHOD_III && c->use_eq11)) {
-        *wc = 0;
-    }
-    if (c->reentered) {
-        *wc = 0;
-    }
-    if (step_done(c, p, Df, p->tol_translate) && det_ok) {
-        next_step(c, SPVS_STEP_ALIGN, in->t);
-        *vc = 0;
-        *wc = 0;
-    }
+    const int32_t *H = in->H;
+    c->arrive_sum[0] += (int64_t)H[SPVS_H11] - ONE27;
+    c->arrive_sum[1] += H[SPVS_H12];
+    c->arrive_sum[2] += H[SPVS_H13];
+    c->arrive_sum[3] += H[SPVS_H31];
+    c->arrive_sum[4] += H[SPVS_H32];
+    c->arrive_sum[5] += (int64_t)H[SPVS_H33] - ONE27;
+    c->arrive_inv_n += div_rnd((int64_t)1 << 32, n);
 }
-
-/* ---- the arrival check ---------------------------------------------------------- */
 
 /* spvs_qf_t operations on pointers for the arrival check, out of line:
  * a spvs_qf_t result is returned through memory on the AAPCS, and each
@@ -859,7 +671,6 @@ static SPVS_Q_NOINLINE void qadd(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf
 {
     *d = spvs_qf_add(*a, *b);
 }
-
 /* One corner's three transfers: returns 0 for w <= 0.  Each value named
  * once and updated in place through the pointer forms above. */
 static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
@@ -927,69 +738,24 @@ static SPVS_Q_NOINLINE void corner_figures(const spvs_q_ctl_params_t *p, const s
     }
 }
 
-static void arrival_begin(spvs_q_ctl_t *c)
-{
-    c->arriving = 1;
-    c->arrive_n = 0;
-    for (int k = 0; k < 6; k++) {
-        c->arrive_sum[k] = 0;
-    }
-    c->arrive_inv_n = 0;
-    c->arrive_par_sum = 0;
-    c->arrive_par_n = 0;
-}
-
-static int reenter(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in, spvs_step_t step)
-{
-    if (c->reentries >= (uint8_t)SPVS_CTL_ARRIVAL_MAX_REENTRIES) {
-        return fail(c, SPVS_E_NOT_AT_TARGET);
-    }
-    c->reentries++;
-    c->reentered = 1;
-    c->arriving = 0;
-    c->backing = (uint8_t)(step == SPVS_STEP_ROTATE);
-    next_step(c, c->backing ? SPVS_STEP_TRANSLATE : step, in->t);
-    c->trans_sign0 = 0;
-    c->odo = 0;
-    fit_clear(c);
-    return SPVS_OK;
-}
-
-/* The row-3 part of the step-2 signal in r (control.c's reentry_signal). */
-static SPVS_Q_NOINLINE spvs_qf_t reentry_signal(const spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                const spvs_qf_t r[6], uint32_t *sat)
-{
-    if (p->method != SPVS_METHOD_II) {
-        return spvs_qf_neg(r[5]);
-    }
-    const spvs_qf_t ax =
-        spvs_qf_mul(qf_of(SPVS_CTL_H32_NOISE_RATIO, 0), qf_abs(c->slope_ax));
-    if (!spvs_qf_le(ax, qf_abs(c->slope_sig))) {
-        return spvs_qf_mul(r[5], qf_div(c->slope_sig, c->slope_ax, sat));
-    }
-    return spvs_qf_mul(p->c32, r[4]);
-}
-
 /* bound^2 = 2 (k sigma)^2 L sum(1 / n) / frames^2, its root in pixels. */
-static SPVS_Q_NOINLINE spvs_qf_t arrival_bound(const spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                               uint32_t *sat)
+static SPVS_Q_NOINLINE spvs_qf_t arrival_bound(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p)
 {
     const spvs_qf_t nf = qf_of(c->arrive_n, 0);
     const spvs_qf_t var = spvs_qf_mul(spvs_qf_mul(p->arrival_a, qf_of(c->arrive_inv_n, 32)),
-                                      spvs_qf_recip(spvs_qf_mul(nf, nf), sat));
+                                      spvs_qf_recip(spvs_qf_mul(nf, nf), &c->sat));
     return qf_sqrt(var);
 }
 
-/* The verdict (control.c's arrival_decide); the figures in few named
- * values, as in corner_one. */
-static SPVS_Q_NOINLINE int arrival_decide(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                          const spvs_q_ctl_input_t *in)
+/* The averaged residual r (scaled units, as the sums), the check's figures
+ * in spvs_qf_t (control_steps.inc's order) and, for the telemetry, in int32
+ * Q16 pixels (a clamp there, for a corner behind the camera, changes no
+ * decision). */
+static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                            spvs_qf_t r[6], spvs_qf_t fig[5])
 {
     uint32_t *sat = &c->sat;
-    uint32_t tel = 0; /* telemetry clamps (a corner behind the camera) */
-    /* The averaged residual and the figures in the state's scratch, off
-     * the stack of the deepest path. */
-    spvs_qf_t *const r = c->arr_r, *const fig = c->arr_fig;
+    uint32_t tel = 0;
     spvs_qf_t t, a;
     t = spvs_qf_recip(qf_of(c->arrive_n, 0), sat);
     for (int k = 0; k < 6; k++) {
@@ -1001,103 +767,56 @@ static SPVS_Q_NOINLINE int arrival_decide(spvs_q_ctl_t *c, const spvs_q_ctl_para
     c->arrival_lateral_px = spvs_qf_to_q32(fig[1], SPVS_QCTL_PX, &tel);
     c->arrival_depth_px = spvs_qf_to_q32(fig[2], SPVS_QCTL_PX, &tel);
     c->arrival_h13_px = spvs_qf_to_q32(qf_scale2(r[2], 9), SPVS_QCTL_PX, &tel);
-    t = arrival_bound(c, p, sat);
-    c->arrival_bound_px = spvs_qf_to_q32(t, SPVS_QCTL_PX, &tel);
-    c->arriving = 0;
-    c->arrival_parallax_px = c->arrive_par_n > 0u
-                                 ? spvs_q_sat32(div_rnd(c->arrive_par_sum, c->arrive_par_n), sat)
-                                 : -((int32_t)1 << SPVS_QCTL_PX);
-    const int par_ok = c->arrival_parallax_px <= p->arrival_par_max;
-    if (spvs_qf_le(fig[0], t) && par_ok) {
-        c->arrival_next = 0;
-        next_step(c, SPVS_STEP_DONE, in->t);
-        return SPVS_OK;
-    }
-    t = qf_abs(qf_scale2(r[2], 9)); /* the heading's share: |h13|, pixels */
-    spvs_step_t step = SPVS_STEP_ROTATE;
-    if (par_ok && spvs_qf_le(fig[1], fig[2]) && spvs_qf_le(t, fig[2])) {
-        step = SPVS_STEP_TRANSLATE;
-    } else if (par_ok && spvs_qf_le(fig[1], t)) {
-        step = SPVS_STEP_ALIGN;
-    }
-    c->arrival_next = (uint8_t)step;
-    c->reentry_d0 = spvs_qf_to_q32(reentry_signal(c, p, r, sat), SPVS_QH, sat);
-    return reenter(c, in, step);
+    fig[3] = qf_abs(qf_scale2(r[2], 9)); /* the heading's share: |h13|, pixels */
+    fig[4] = arrival_bound(c, p);
+    c->arrival_bound_px = spvs_qf_to_q32(fig[4], SPVS_QCTL_PX, &tel);
 }
 
-/* Standing still after step 3: H - I summed exactly (Q27, at most
- * SPVS_CTL_ARRIVAL_MAX_FRAMES x 2^32), 1 / n_inliers in Q32 (each rounded,
- * 2^-33), the parallax in Q16 pixels. */
-static int arrival_frame(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                         const spvs_q_ctl_input_t *in)
+/* The frames' mean parallax, Q16 pixels, rounded. */
+static int32_t parallax_mean(spvs_q_ctl_t *c)
 {
-    const int32_t *H = in->H;
-    c->arrive_sum[0] += (int64_t)H[SPVS_H11] - ONE27;
-    c->arrive_sum[1] += H[SPVS_H12];
-    c->arrive_sum[2] += H[SPVS_H13];
-    c->arrive_sum[3] += H[SPVS_H31];
-    c->arrive_sum[4] += H[SPVS_H32];
-    c->arrive_sum[5] += (int64_t)H[SPVS_H33] - ONE27;
-    const uint32_t n = in->n_inliers > 4u ? in->n_inliers : 4u;
-    c->arrive_inv_n += div_rnd((int64_t)1 << 32, n);
-    if (in->parallax >= 0) {
-        c->arrive_par_sum += in->parallax;
-        c->arrive_par_n++;
-    }
-    c->arrive_n++;
-    if (c->arrive_n < p->arrival_frames) {
-        return SPVS_OK;
-    }
-    if (c->arrive_n < p->arrival_max_frames &&
-        !spvs_qf_le(arrival_bound(c, p, &c->sat), p->resolution)) {
-        return SPVS_OK;
-    }
-    return arrival_decide(c, p, in);
+    return spvs_q_sat32(div_rnd(c->arrive_par_sum, c->arrive_par_n), &c->sat);
 }
 
-static int step_align(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                      const spvs_q_ctl_input_t *in, int64_t *vc, int64_t *wc)
+static spvs_qf_t reentry_h33(const spvs_qf_t r[6])
 {
-    *vc = 0;
-    *wc = 0;
-    if (c->arriving) {
-        return arrival_frame(c, p, in);
-    }
-    *wc = -kx(p->k_w3, in->H[SPVS_H13], QH13_PX, SPVS_QCTL_CMD, &c->sat);
-    if (step_done(c, p, in->H[SPVS_H13], p->tol_h13)) {
-        arrival_begin(c);
-        *wc = 0;
-    }
-    return SPVS_OK;
+    return spvs_qf_neg(r[5]);
 }
 
-/* The start and the checks before the step (control.c's spvs_control_step
- * up to the step's switch): SPVS_OK to go on, 1 to return SPVS_OK with a
- * stop, or an error status. */
-static int before_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                       const spvs_q_ctl_input_t *in)
+static SPVS_Q_NOINLINE spvs_qf_t reentry_h33_scaled(spvs_q_ctl_t *c, const spvs_qf_t r[6])
 {
-    if (c->step_t0 < 0) {
-        c->step_t0 = in->t;
-    }
-    if ((int64_t)in->t - c->step_t0 > p->step_timeout) {
-        return fail(c, SPVS_E_STEP_TIMEOUT);
-    }
-    if (!c->checked_plane) {
-        const int rc = (!in->e_valid || in->e_side == 0) ? start_without_parallax(c, p, in)
-                                                         : start_with_parallax(c, p, in);
-        if (rc != SPVS_OK) {
-            return rc;
-        }
-        if (!c->checked_plane) {
-            return 1;
-        }
-    }
-    const int64_t back_max = ((int64_t)SPVS_CTL_ARRIVAL_BACKOFF_DM << SPVS_QCTL_ODO) / 5;
-    if (c->step == SPVS_STEP_TRANSLATE && c->reentries > 0u && c->odo > back_max) {
-        return fail(c, SPVS_E_NOT_AT_TARGET);
-    }
-    return eq11_switch(c, p, in);
+    return spvs_qf_mul(r[5], qf_div(c->slope_sig, c->slope_ax, &c->sat));
+}
+
+static spvs_qf_t reentry_h32(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6])
+{
+    return spvs_qf_mul(p->c32, r[4]);
+}
+
+static int32_t sig_from_val(spvs_q_ctl_t *c, spvs_qf_t v)
+{
+    return spvs_qf_to_q32(v, SPVS_QH, &c->sat);
+}
+
+/* spvs_q_ctl_reset keeping the sticky saturation flags. */
+static void reset_for_new_start(spvs_q_ctl_t *c)
+{
+    const uint32_t sat = c->sat;
+    spvs_q_ctl_reset(c);
+    c->sat = sat;
+}
+
+#include "../control_steps.inc"
+
+int spvs_q_ctl_params_check(const spvs_control_params_t *p)
+{
+    return params_rules(p);
+}
+
+void spvs_q_ctl_reset(spvs_q_ctl_t *c)
+{
+    SPVS_ASSERT(c != 0);
+    reset_state(c);
 }
 
 int spvs_q_ctl_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in,
@@ -1108,31 +827,8 @@ int spvs_q_ctl_step(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, const spvs_q_
     }
     *v = 0;
     *w = 0;
-    odometry(c, in->t);
-    if (c->step == SPVS_STEP_DONE) {
-        return SPVS_OK;
-    }
-    if (c->step == SPVS_STEP_FAILED) {
-        return c->status;
-    }
-    int rc = before_step(c, p, in);
-    if (rc != SPVS_OK) {
-        return rc == 1 ? SPVS_OK : rc;
-    }
     int64_t vc = 0, wc = 0;
-    switch (c->step) {
-    case SPVS_STEP_ROTATE:
-        step_rotate(c, p, in, &vc, &wc);
-        break;
-    case SPVS_STEP_TRANSLATE:
-        step_translate(c, p, in, &vc, &wc);
-        break;
-    case SPVS_STEP_ALIGN:
-        rc = step_align(c, p, in, &vc, &wc);
-        break;
-    default:
-        break;
-    }
+    const int rc = control_update(c, p, in, &vc, &wc);
     if (rc != SPVS_OK) {
         return rc;
     }

@@ -6,8 +6,9 @@
  *
  * The steps, the step-ending rules, the sign choices, the start's plane
  * check, step 2's least-squares line, Method III's switch to eq. (11), the
- * arrival check after step 3 and its re-entries are control.c's, rule for
- * rule and in the same order; only the arithmetic differs.  Nothing here
+ * arrival check after step 3 and its re-entries are written once, in
+ * control_steps.inc, for this core and the float one; control_q.c gives
+ * them the signals in Q.  Nothing here
  * reads a float or double except through its bits (q.h), so the object
  * links no floating-point helper.
  *
@@ -154,18 +155,17 @@ typedef struct {
         arrival_depth_px, arrival_h13_px, arrival_parallax_px; /* Q16 px */
     int64_t arrive_par_sum;   /* Q16 px */
     uint16_t arrive_par_n;
-    spvs_qf_t arr_r[6];       /* the arrival check's scratch: the averaged */
-    spvs_qf_t arr_fig[3];     /*   residual and the corner figures          */
     spvs_qf_t slope_sig;      /* Q27 signal units per metre, as a value */
     spvs_qf_t slope_ax;       /* d (h33 - h11) / d metre, the same line */
     int32_t reentry_d0;       /* Q27 */
     uint32_t sat;             /* sticky q.h flags: a signal was clamped */
 } spvs_q_ctl_t;
 
-/* spvs_control_params_check's twin: every rule of it (the method, the
- * positive finite fields under SPVS_REAL_MAX, w_min_escape in [0, w_max],
- * the ratios in [0, 1), the frame counts), each made exactly on the
- * parameters' bits, so it returns SPVS_OK or SPVS_E_CONFIG wherever the
+/* spvs_control_params_check's rules (control_steps.inc's params_rules,
+ * written once: the method, the positive finite fields under
+ * SPVS_REAL_MAX, w_min_escape in [0, w_max], the ratios in [0, 1), the
+ * frame counts), each compared exactly on the parameters' bits
+ * (spvs_q_real_in), so it returns SPVS_OK or SPVS_E_CONFIG wherever the
  * float check does (NaN and infinities included) without a float
  * operation; SPVS_E_ARG for NULL. */
 SPVS_NODISCARD int spvs_q_ctl_params_check(const spvs_control_params_t *p);

@@ -1,8 +1,9 @@
 /*
  * epipole_q.c - the epipole from plane plus parallax in fixed point
- * (epipole_q.h).  epipole.c's comments say why each step is made; here
- * they say where the fixed-point version differs and why it stays in
- * range.
+ * (epipole_q.h): the Q directions and tests under the decisions of
+ * epipole.inc (written once for both cores).  epipole.c's comments say
+ * why each step is made; here they say where the fixed-point version
+ * differs and why it stays in range.
  */
 #include <string.h>
 
@@ -249,32 +250,6 @@ static SPVS_Q_NOINLINE uint16_t cone_count(const spvs_q_epipole_work_t *work, ui
     return (uint16_t)support;
 }
 
-/* epipole.c's 1-point consensus on the unit directions: the same
- * hypotheses, the same test (supports), the same tie rule (the first best).
- * Bound: SPVS_EPIPOLE_MAX_HYP x n_cand pair tests. */
-static uint16_t consensus(const spvs_q_epipole_work_t *work, uint16_t n_cand, const cone_t *k,
-                          uint16_t *best)
-{
-    uint16_t best_support = 0;
-    *best = 0;
-    const uint16_t n_hyp = n_cand < SPVS_EPIPOLE_MAX_HYP ? n_cand : (uint16_t)SPVS_EPIPOLE_MAX_HYP;
-    for (uint16_t h = 0; h < n_hyp; h++) {
-        const uint16_t j = (uint16_t)(((uint32_t)h * n_cand) / n_hyp);
-        const int32_t xj = work->u[j][0], zj = work->u[j][1];
-        if (xj == 0 && zj == 0) {
-            continue;
-        }
-        /* Only a count above the best so far matters (the first best
-         * wins a tie). */
-        const uint16_t support = cone_count(work, n_cand, xj, zj, k, best_support + 1u);
-        if (support > best_support) {
-            best_support = support;
-            *best = j;
-        }
-    }
-    return best_support;
-}
-
 /* cos of the angle whose sine is s (Q30), for a supporter (dot > 0, so
  * the cosine is the positive root): sqrt(2^60 - s^2), floor, Q30. */
 static int64_t cos_of(int32_t s)
@@ -374,33 +349,53 @@ static void refine(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *
     }
 }
 
-int spvs_q_epipole_estimate(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
-                            uint16_t n_cand, int32_t sin_tol2_q30, uint16_t min_support,
-                            spvs_q_epipole_t *out, uint8_t *support_out,
-                            spvs_q_epipole_work_t *work)
+/* ---- the fixed-point core's side of epipole.inc ----------------------------- */
+
+typedef spvs_q_epipole_t ep_t;
+typedef spvs_q_epipole_work_t ep_work_t;
+typedef int32_t ep_h_t;
+typedef int32_t ep_tol_in_t; /* sin^2, Q30 */
+typedef cone_t ep_tol_t;
+
+static void clear_estimate(spvs_q_epipole_t *out)
 {
-    if (H == 0 || pts == 0 || out == 0 || work == 0 || (cand == 0 && n_cand > 0) ||
-        n_cand > SPVS_MAX_OFFPLANE || min_support < 1u) {
-        return SPVS_E_ARG;
-    }
     out->e_x_q16 = 0;
     out->dir_x = 0;
     out->dir_z = 0;
     out->parallax_q16 = 0;
     out->n_support = 0;
-    line_directions(H, pts, cand, n_cand, support_out, work);
-    /* A negative tolerance admits no candidate, as float's crs^2 <= tol2
-     * n2 n2 never holds then. */
+}
+
+/* The cone from sin^2 in Q30 (tol Q62, below 2^63).  A negative tolerance
+ * admits no candidate, as float's crs^2 <= tol2 n2 n2 never holds then. */
+static int tol_of(int32_t sin_tol2_q30, cone_t *k)
+{
     if (sin_tol2_q30 < 0) {
-        return SPVS_E_NO_PARALLAX;
+        return 0;
     }
-    const cone_t k = cone_of((uint64_t)sin_tol2_q30 << 32); /* tol Q62, below 2^63 */
-    uint16_t best = 0;
-    const uint16_t best_support = consensus(work, n_cand, &k, &best);
-    if (best_support < min_support) {
-        return SPVS_E_NO_PARALLAX;
-    }
-    refine(H, pts, cand, n_cand, &k, best, out, support_out, work);
-    out->n_support = best_support;
-    return SPVS_OK;
+    *k = cone_of((uint64_t)sin_tol2_q30 << 32);
+    return 1;
+}
+
+/* line_directions makes an unusable direction zero. */
+static int hyp_usable(const spvs_q_epipole_work_t *work, uint16_t j)
+{
+    return !(work->u[j][0] == 0 && work->u[j][1] == 0);
+}
+
+static uint16_t support_count(const spvs_q_epipole_work_t *work, uint16_t n_cand, uint16_t j,
+                              const cone_t *k, uint32_t need)
+{
+    return cone_count(work, n_cand, work->u[j][0], work->u[j][1], k, need);
+}
+
+#include "../epipole.inc"
+
+int spvs_q_epipole_estimate(const int32_t H[9], const int32_t (*pts)[4], const uint16_t *cand,
+                            uint16_t n_cand, int32_t sin_tol2_q30, uint16_t min_support,
+                            spvs_q_epipole_t *out, uint8_t *support_out,
+                            spvs_q_epipole_work_t *work)
+{
+    return estimate_epipole(H, pts, cand, n_cand, sin_tol2_q30, min_support, out, support_out,
+                            work);
 }

@@ -4,8 +4,8 @@
  * ranges in docs/FIXED.md).  Also the per-point transfer and the integer
  * square roots that the off-plane stage (offplane_q.h) shares.
  *
- * The flow, the bounds and the statuses are epipole.c's: one line
- * direction per candidate, a 1-point consensus over at most
+ * The flow, the bounds and the statuses are epipole.inc's (shared with
+ * epipole.c): one line direction per candidate, a 1-point consensus over at most
  * SPVS_EPIPOLE_MAX_HYP hypotheses, the median angle of the supporters
  * around the best one, e_x clamped at SPVS_EPIPOLE_MAX_PX, the median
  * parallax of the supporters.

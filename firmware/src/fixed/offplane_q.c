@@ -1,7 +1,8 @@
 /*
  * offplane_q.c - the off-plane memory and the frame's off-plane candidates
- * in fixed point (offplane_q.h).  offplane.c's comments say why each step
- * is made; here they say where the fixed-point version differs.
+ * in fixed point (offplane_q.h): the Q tests under the decisions of
+ * offplane.inc (written once for both cores), whose comments say why each
+ * step is made; here they say where the fixed-point version differs.
  */
 #include "offplane_q.h"
 
@@ -19,27 +20,6 @@ void spvs_q_offplane_reset(spvs_q_offplane_t *o)
         o->cand_H[i] = 0;
     }
     o->cand_thr = -1;
-}
-
-int spvs_q_offplane_known(const spvs_q_offplane_t *o, uint16_t f)
-{
-    return f < SPVS_MAX_FEATURES && o->score[f] >= SPVS_OFFPLANE_ON;
-}
-
-uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m, uint16_t n,
-                               uint16_t order[SPVS_MAX_MATCHES])
-{
-    uint16_t back = n;
-    uint16_t n_plane = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        const uint16_t f = m[i].feature < SPVS_MAX_FEATURES ? m[i].feature : 0u;
-        if (o->score[f] >= SPVS_OFFPLANE_ON) {
-            order[--back] = i;
-        } else {
-            order[n_plane++] = i;
-        }
-    }
-    return n_plane;
 }
 
 /* The fast test below decides where o is in [2^13, 2^27) (0.06 px to
@@ -198,129 +178,117 @@ static SPVS_Q_NOINLINE int transfer_above_call(const int32_t H[9], const int32_t
     return transfer_above(H, p[0], p[1], p[2], p[3], *t);
 }
 
-/* The first i' >= i below n with mask[i'] == 0, or n: the scan over the
- * inliers, most of the plane's points, in a loop of its own, inline (a
- * call a rejected point cost more than the loop's registers; bound: n -
- * i steps). */
-static SPVS_Q_INLINE uint16_t next_rejected(const uint8_t *mask, uint32_t i, uint32_t n)
+/* ---- the fixed-point core's side of offplane.inc ---------------------------- */
+
+typedef spvs_q_offplane_t op_t;
+typedef spvs_q_plane_h_t op_est_t;
+typedef int32_t op_h_t;
+typedef off_thr_t op_thr_t;
+typedef int32_t op_px_t; /* Q16 px */
+typedef int64_t op_wide_t;
+
+static off_thr_t thr_of(int32_t offplane_q16)
 {
-    while (i < n && mask[i] != 0u) {
-        i++;
-    }
-    return (uint16_t)i;
+    return off_thr(offplane_q16);
 }
 
-/* Candidate n is match i (the order of the candidates is their index);
- * returns n + 1.  The count is the caller's local: a store into the
- * uint16 lists may alias o->n_cand, which would then be read again. */
-static SPVS_Q_INLINE uint32_t take(spvs_q_offplane_t *o, uint32_t n, uint16_t i)
+/* The collect's H and threshold, whose forward tests remember reuses. */
+static void collect_note(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int32_t offplane_q16)
 {
-    o->cand[n] = i;
-    o->cand_ord[n] = (uint16_t)n;
-    return n + 1u;
-}
-
-void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
-                             int32_t offplane_q16)
-{
-    const off_thr_t thr = off_thr(offplane_q16);
     for (uint32_t i = 0; i < 9u; i++) {
         o->cand_H[i] = e->H[i];
     }
     o->cand_thr = offplane_q16;
-    uint32_t n_cand = 0;
-    for (uint16_t i = e->n_plane; i < e->n_pts && n_cand < SPVS_MAX_OFFPLANE; i++) {
-        spvs_q_pts_row(&e->pts, i, o->cand_pts[n_cand]);
-        n_cand = take(o, n_cand, i);
-    }
-    o->n_cand_known = (uint16_t)n_cand;
-    int32_t Hi[9];
+}
+
+static void pts_row(const spvs_q_plane_h_t *e, uint16_t i, int32_t row[4])
+{
+    spvs_q_pts_row(&e->pts, i, row);
+}
+
+static const int32_t *est_h(const spvs_q_plane_h_t *e)
+{
+    return e->H;
+}
+
+/* H's inverse in Q27, or 0; an inverse outside Q27's range is counted. */
+static const int32_t *inverse_of(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int32_t Hi[9])
+{
     int oor = 0;
     const int32_t *hi = inverse_q(e->H, Hi, &oor) ? Hi : 0;
     if (oor && o->hi_out_of_range < UINT16_MAX) {
         o->hi_out_of_range++;
     }
-    const uint16_t n_plane = e->n_plane;
-    for (uint16_t i = next_rejected(e->mask, 0, n_plane); i < n_plane;
-         i = next_rejected(e->mask, i + 1u, n_plane)) {
-        if (n_cand >= SPVS_MAX_OFFPLANE) {
-            break;
-        }
-        int32_t *const q = o->cand_pts[n_cand];
-        spvs_q_pts_row(&e->pts, i, q);
-        if (off_plane(e->H, hi, q, thr)) {
-            n_cand = take(o, n_cand, i);
-        }
+    return hi;
+}
+
+static int64_t cand_err2(const int32_t H[9], const int32_t row[4])
+{
+    return err2_call(H, row);
+}
+
+/* The error's root in Q16 px: the square root is monotone (to its
+ * 2^-27), so the median of the errors is the root of float's median of
+ * their squares. */
+static int32_t err_value(int64_t e2)
+{
+    return spvs_q_sqrt_q52_px16((uint64_t)e2);
+}
+
+static int32_t median_px(int32_t *v, uint16_t n)
+{
+    return spvs_q_select_i32(v, 1u, n, n / 2u);
+}
+
+static int32_t parallax_none(void)
+{
+    return -SPVS_Q16_ONE;
+}
+
+/* Where e->H and the threshold are the collect's, the candidates it tested
+ * (from n_cand_known on) passed the forward test: the same computation. */
+static uint32_t trusted_from(const spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
+                             int32_t offplane_q16)
+{
+    uint32_t same = o->cand_thr == offplane_q16;
+    for (uint32_t i = 0; i < 9u; i++) {
+        same &= (uint32_t)(o->cand_H[i] == e->H[i]);
     }
-    o->n_cand = (uint16_t)n_cand;
+    return same ? o->n_cand_known : SPVS_MAX_OFFPLANE;
+}
+
+static int above_thr(const spvs_q_plane_h_t *e, const int32_t row[4], const off_thr_t *thr)
+{
+    return transfer_above_call(e->H, row, thr) == 1;
+}
+
+#include "../offplane.inc"
+
+int spvs_q_offplane_known(const spvs_q_offplane_t *o, uint16_t f)
+{
+    return known(o, f);
+}
+
+uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m, uint16_t n,
+                               uint16_t order[SPVS_MAX_MATCHES])
+{
+    return split_order(o, m, n, order);
+}
+
+void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
+                             int32_t offplane_q16)
+{
+    collect(o, e, offplane_q16);
 }
 
 int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],
                                            int32_t *scratch)
 {
-    uint16_t nv = 0;
-    for (uint16_t k = 0; k < o->n_cand_known; k++) {
-        const int64_t e2 = err2_call(H, o->cand_pts[k]);
-        if (e2 < 0) {
-            continue;
-        }
-        scratch[nv++] = spvs_q_sqrt_q52_px16((uint64_t)e2);
-    }
-    if (nv == 0) {
-        return -SPVS_Q16_ONE;
-    }
-    /* The square root is monotone (to its 2^-27), so the median of the
-     * errors is the root of float's median of their squares. */
-    return spvs_q_select_i32(scratch, 1u, nv, nv / 2u);
+    return known_parallax(o, H, scratch);
 }
 
 void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
                               int32_t parallax_q16, int32_t offplane_q16)
 {
-    const off_thr_t thr = off_thr(offplane_q16);
-    /* The count and the bounds in locals: every store into the int8
-     * scores may alias them, so the compiler would reload them per
-     * point; the count in 32 bits, which no step truncates. */
-    uint32_t n_known = o->n_known;
-    int8_t *const scores = o->score;
-    const uint16_t *const feat = e->feat;
-    if (e_ok) {
-        /* The collect's forward test, the same computation, passed for the
-         * candidates it tested where H and the threshold are the same. */
-        uint32_t same = o->cand_thr == offplane_q16;
-        for (uint32_t i = 0; i < 9u; i++) {
-            same &= (uint32_t)(o->cand_H[i] == e->H[i]);
-        }
-        const uint32_t tested = same ? o->n_cand_known : SPVS_MAX_OFFPLANE;
-        const uint32_t n_cand = o->n_cand;
-        for (uint32_t k = 0; k < n_cand; k++) {
-            if (!o->support[k]) {
-                continue;
-            }
-            int8_t *score = &scores[feat[o->cand[k]]];
-            if (*score < SPVS_OFFPLANE_MAX &&
-                (k >= tested || transfer_above_call(e->H, o->cand_pts[k], &thr) == 1)) {
-                (*score)++;
-                n_known += (uint32_t)(*score == SPVS_OFFPLANE_ON);
-            }
-        }
-    }
-    if ((int64_t)parallax_q16 > (int64_t)SPVS_PARALLAX_CLEAR * offplane_q16) {
-        const uint32_t n_plane = e->n_plane;
-        const uint8_t *const mask = e->mask;
-        for (uint32_t i = 0; i < n_plane; i++) {
-            if (!mask[i]) {
-                continue;
-            }
-            int8_t *score = &scores[feat[i]];
-            const int32_t sc = *score;
-            if (sc > SPVS_OFFPLANE_MIN) {
-                n_known -= (uint32_t)(sc == SPVS_OFFPLANE_ON);
-                *score = (int8_t)(sc - 1);
-            }
-        }
-    }
-    /* At most SPVS_MAX_FEATURES: the count of the scores at or above
-     * SPVS_OFFPLANE_ON, kept in 32 bits in the loops. */
-    o->n_known = (uint16_t)n_known;
+    remember(o, e, e_ok, parallax_q16, offplane_q16);
 }

@@ -4,8 +4,8 @@
  * re-selection and the final refit) on the Q store and the Q kernels
  * (private; formats and ranges in docs/FIXED.md).
  *
- * The flow, the bounds and the statuses are plane_h.c's; every step is its
- * fixed-point twin:
+ * The flow, the bounds and the statuses are plane_h.inc's (shared with
+ * plane_h.c); every step is its fixed-point twin:
  *   load      spvs_q_pts_load (points_q.h) in the same spread order;
  *   RANSAC    spvs_q_ransac (ransac_q.h) with spvs_q_solve3, the Q inlier
  *             count and cost, and the LO step's two-stage linear fit

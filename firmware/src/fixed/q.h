@@ -607,4 +607,54 @@ static inline uint64_t spvs_q_ieee_bits(int64_t x, int f, int mant_bits, int exp
     return sign | ((uint64_t)field << mant_bits) | (m & (((uint64_t)1 << mant_bits) - 1u));
 }
 
+/* ---- the core's scalar compared on its bits (the parameters' rules) ---- */
+
+/* The spvs_real at field as an integer with the order of the values.  An
+ * IEEE-754 number of either sign bit orders as its magnitude bits (the
+ * sign cleared) read as an unsigned integer, infinity above every finite
+ * value; the key is those bits, negated for a negative sign, so keys
+ * compare exactly as the values do, +0 and -0 equal (a double's bits
+ * below 2^63 fit an int64).  Returns 0 for a NaN (magnitude bits above
+ * infinity's), which compares false with everything. */
+static inline int spvs_q_real_key(const void *field, int64_t *key)
+{
+#if SPVS_USE_DOUBLE
+    uint64_t b;
+    memcpy(&b, field, sizeof b);
+    const uint64_t mag = b & ~((uint64_t)1 << 63), inf = (uint64_t)0x7ff << 52;
+    const int neg = (int)(b >> 63);
+#else
+    uint32_t b;
+    memcpy(&b, field, sizeof b);
+    const uint64_t mag = b & 0x7fffffffu, inf = 0x7f800000u;
+    const int neg = (int)(b >> 31);
+#endif
+    *key = neg ? -(int64_t)mag : (int64_t)mag;
+    return mag <= inf;
+}
+
+/* lo < x < hi for the spvs_real at field (lo_incl, hi_incl: <=); false for
+ * a NaN, as the float comparisons are. */
+static inline int spvs_q_key_in(const void *field, int64_t lo, int lo_incl, int64_t hi,
+                                int hi_incl)
+{
+    int64_t k;
+    return spvs_q_real_key(field, &k) && (lo_incl ? k >= lo : k > lo) &&
+           (hi_incl ? k <= hi : k < hi);
+}
+
+/* lo < x < hi for the spvs_real at x (lo_incl, hi_incl: <=; hi NULL: no
+ * upper bound, +infinity included), on the keys of the bits; false for a
+ * NaN, as the float comparisons are. */
+static inline int spvs_q_real_in(const void *x, const spvs_real *lo, int lo_incl,
+                                 const spvs_real *hi, int hi_incl)
+{
+    int64_t k_lo, k_hi = SPVS_Q_I64_MAX;
+    (void)spvs_q_real_key(lo, &k_lo);
+    if (hi != 0 && !spvs_q_real_key(hi, &k_hi)) {
+        return 0;
+    }
+    return spvs_q_key_in(x, k_lo, lo_incl, k_hi, hi_incl);
+}
+
 #endif /* SPVS_FIXED_Q_H */

@@ -1,7 +1,8 @@
 /*
- * spvs_q.c - the update pipeline in fixed point (spvs_q.h): spvs.c's
- * order and rules on the Q stages; the comments of spvs.c say why each
- * step is made, these say where the formats enter.
+ * spvs_q.c - the update pipeline in fixed point (spvs_q.h): the flow and
+ * rules of pipeline.inc (written once for both cores) on the Q stages;
+ * the comments of pipeline.inc say why each step is made, these say where
+ * the formats enter.
  */
 #include <string.h>
 
@@ -98,10 +99,10 @@ spvs_real spvs_q_inlier_px(const spvs_params_t *p)
 #endif
 }
 
-/* spvs.c's rules on the parameters (noise_px in (0, 300), confidence in
- * (0, 1), max_iters, offplane_px at least the inlier threshold,
- * epipole_sin_tol in (0, 1), min_support, max_frame_gap_s > 0), made on
- * the Q values, and the conversions. */
+/* The conversions, after pipeline.inc's rules (pipeline_rules): a value
+ * that rounds to 0 or to its bound in its Q format (noise_px, confidence,
+ * epipole_sin_tol, max_frame_gap_s), or an offplane_px under the Q inlier
+ * threshold, is SPVS_E_CONFIG too. */
 static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
 {
     uint32_t sat = 0;
@@ -109,10 +110,10 @@ static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
     const int32_t conf31 = q_in(p->confidence, 31, &sat);
     q->offplane_q16 = q_in(p->offplane_px, 16, &sat);
     const int32_t sin_tol = q_in(p->epipole_sin_tol, 30, &sat);
-    q->max_gap_q16 = q_in(p->max_frame_gap_s, 16, &sat);
+    q->max_frame_gap_s = q_in(p->max_frame_gap_s, 16, &sat);
     if (sat != 0u || noise <= 0 || noise >= (300 << 16) || conf31 <= 0 ||
-        conf31 >= SPVS_Q_I32_MAX || p->max_iters < 1u || p->max_iters > SPVS_RANSAC_MAX_ITERS ||
-        sin_tol <= 0 || sin_tol >= (1 << 30) || p->min_support < 1u || q->max_gap_q16 <= 0) {
+        conf31 >= SPVS_Q_I32_MAX || sin_tol <= 0 || sin_tol >= (1 << 30) ||
+        q->max_frame_gap_s <= 0) {
         return SPVS_E_CONFIG;
     }
     /* The inlier threshold noise_px sqrt(chi2 / 100) in Q16 pixels (for the
@@ -135,42 +136,58 @@ static int params_from_real(spvs_q_params_t *q, const spvs_params_t *p)
     return spvs_q_ctl_params_from_real(&q->ctl_p, &p->ctl);
 }
 
-int spvs_q_init(spvs_q_t *s, const spvs_params_t *p)
+/* ---- the fixed-point core's side of pipeline.inc ---------------------------- */
+
+typedef spvs_q_t pl_t;
+typedef spvs_q_ctl_input_t pl_input_t;
+typedef spvs_q_epipole_t pl_epipole_t;
+typedef int32_t pl_time_t; /* s, Q16 */
+typedef int64_t pl_wide_t;
+typedef int32_t pl_ex_t;   /* px, Q16 */
+typedef int32_t pl_par_t;  /* px, Q16 */
+typedef int32_t pl_cmd_t;  /* m/s, rad/s, Q24 */
+/* update is inlined into both entry points, so neither adds a frame to
+ * the update's stack. */
+#define PL_INLINE SPVS_Q_INLINE
+
+static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
+                   int hi_incl)
 {
-    if (s == 0 || p == 0) {
-        return SPVS_E_ARG;
-    }
-    const int rc = params_from_real(&s->p, p);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    spvs_q_reset(s);
-    return SPVS_OK;
+    return spvs_q_real_in(x, lo, lo_incl, hi, hi_incl);
 }
 
-void spvs_q_reset(spvs_q_t *s)
+static int ctl_params_check(const spvs_control_params_t *p)
 {
-    SPVS_ASSERT(s != 0);
-    spvs_q_ctl_reset(&s->ctl);
-    spvs_rng_seed(&s->rng, s->p.seed);
-    s->last_t = 0;
-    s->last_good_t = 0;
-    s->has_last = 0;
-    s->has_good = 0;
-    s->est.n_plane = 0;
-    s->est.n_pts = 0;
-    s->n_ehist = 0;
-    s->i_ehist = 0;
-    spvs_q_offplane_reset(&s->off);
+    return spvs_q_ctl_params_check(p);
 }
 
-/* ---- one frame -------------------------------------------------------------- */
-
-static void clear_output(spvs_output_t *out, uint16_t n)
+/* The float core's threshold (bit for bit in float32, within 2^-28 in
+ * double): the rule on offplane_px is the float core's. */
+static spvs_real inlier_px(const spvs_params_t *p)
 {
-    memset(out, 0, sizeof *out);
-    out->parallax_px = SPVS_R(-1.0);
-    out->n_matches = n;
+    return spvs_q_inlier_px(p);
+}
+
+static int frame_check(const spvs_match_t *m, uint16_t n)
+{
+    return spvs_q_plane_h_check(m, n);
+}
+
+static uint16_t offplane_split(spvs_q_t *s, const spvs_match_t *m, uint16_t n)
+{
+    return spvs_q_offplane_split(&s->off, m, n, s->est.idx);
+}
+
+static int plane_load(spvs_q_t *s, const spvs_match_t *m, uint16_t n, const uint16_t *order,
+                      uint16_t n_plane)
+{
+    return spvs_q_plane_h_load(&s->est, m, n, order, n_plane);
+}
+
+static int plane_estimate(spvs_q_t *s, uint32_t *iters)
+{
+    return spvs_q_plane_h_estimate(&s->est, s->p.t2, s->p.confidence_q32, s->p.max_iters,
+                                   &s->rng, iters);
 }
 
 /* H (scaled units, Q27) in centred pixels: the scale is a power of two, so
@@ -235,182 +252,127 @@ static SPVS_Q_NOINLINE int adopt_h(spvs_q_t *s, const spvs_real H_px[9])
     return e->n_inliers < SPVS_MIN_INLIERS ? SPVS_E_NO_CONSENSUS : SPVS_OK;
 }
 
-/* spvs.c's estimate(): split, load, and estimate H or take H_px (pixels)
- * when it is given. */
-static int estimate(spvs_q_t *s, const spvs_match_t *m, uint16_t n, const spvs_real *H_px,
-                    spvs_output_t *out)
+static void h_to_output(const spvs_q_t *s, spvs_output_t *out)
 {
-    int rc = spvs_q_plane_h_check(m, n);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    const uint16_t *order = 0;
-    uint16_t n_plane = n;
-    if (s->off.n_known != 0u) {
-        n_plane = spvs_q_offplane_split(&s->off, m, n, s->est.idx);
-        order = s->est.idx;
-    }
-    rc = spvs_q_plane_h_load(&s->est, m, n, order, n_plane);
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    if (H_px != 0) {
-        rc = adopt_h(s, H_px);
-    } else {
-        uint32_t iters = 0;
-        rc = spvs_q_plane_h_estimate(&s->est, s->p.t2, s->p.confidence_q32, s->p.max_iters,
-                                     &s->rng, &iters);
-        out->ransac_iters = (uint16_t)(iters > 65535u ? 65535u : iters);
-    }
-    if (rc != SPVS_OK) {
-        return rc;
-    }
     h_out(s->est.H, out->H);
-    out->n_inliers = s->est.n_inliers;
-    out->h_valid = 1;
+}
+
+/* t_s in Q16 seconds: SPVS_E_NONFINITE, or SPVS_E_RANGE past 32768 s. */
+static int time_in(spvs_real t_s, int32_t *t)
+{
+    uint32_t sat = 0;
+    *t = q_in(t_s, 16, &sat);
+    if ((sat & SPVS_Q_NONFINITE) != 0u) {
+        return SPVS_E_NONFINITE;
+    }
+    return sat != 0u ? SPVS_E_RANGE : SPVS_OK;
+}
+
+static int frame_epipole(spvs_q_t *s, spvs_q_epipole_t *ep, int32_t *parallax)
+{
+    spvs_q_offplane_t *const o = &s->off;
+    spvs_q_offplane_collect(o, &s->est, s->p.offplane_q16);
+    *parallax = spvs_q_offplane_known_parallax_q16(o, s->est.H, s->scratch);
+    return spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts, o->cand_ord,
+                                   o->n_cand, s->p.sin_tol2_q30, s->p.min_support, ep,
+                                   o->support, &s->ework) == SPVS_OK;
+}
+
+static int32_t ep_x(const spvs_q_epipole_t *ep)
+{
+    return ep->e_x_q16;
+}
+
+static int32_t ep_parallax(const spvs_q_epipole_t *ep)
+{
+    return ep->parallax_q16;
+}
+
+static void offplane_learn(spvs_q_t *s, int e_ok, int32_t parallax)
+{
+    spvs_q_offplane_remember(&s->off, &s->est, e_ok, parallax, s->p.offplane_q16);
+}
+
+static void sort_ex(int32_t *v, uint16_t n)
+{
+    spvs_q_sort_i32(v, n);
+}
+
+static void input_epipole(spvs_q_ctl_input_t *in, int32_t x, int8_t side,
+                          const spvs_q_epipole_t *ep)
+{
+    (void)ep;
+    in->e_x = x;
+    in->e_side = side;
+}
+
+/* The controller's input but for the epipole: H in Q27 scaled units. */
+static void control_input(const spvs_q_t *s, spvs_q_ctl_input_t *in, int32_t t, int e_ok,
+                          int32_t parallax, const spvs_output_t *out)
+{
+    memcpy(in->H, s->est.H, sizeof in->H);
+    in->e_x = 0;
+    in->e_side = 0;
+    in->parallax = parallax;
+    in->t = t;
+    in->e_valid = (uint8_t)e_ok;
+    in->n_inliers = out->n_inliers;
+}
+
+static int32_t input_ex(const spvs_q_ctl_input_t *in)
+{
+    return in->e_x;
+}
+
+static int control_step(spvs_q_t *s, const spvs_q_ctl_input_t *in, int32_t *v, int32_t *w)
+{
+    return spvs_q_ctl_step(&s->ctl, &s->p.ctl_p, in, v, w);
+}
+
+/* A command, m/s or rad/s Q24. */
+static spvs_real cmd_out(int32_t x)
+{
+    return real_out(x, SPVS_QCTL_CMD);
+}
+
+/* e_x, a parallax or an arrival figure, pixels Q16. */
+static spvs_real px_out(int32_t x)
+{
+    return real_out(x, SPVS_QCTL_PX);
+}
+
+#include "../pipeline.inc"
+
+int spvs_q_init(spvs_q_t *s, const spvs_params_t *p)
+{
+    if (s == 0 || p == 0) {
+        return SPVS_E_ARG;
+    }
+    int rc = pipeline_rules(p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    rc = params_from_real(&s->p, p);
+    if (rc != SPVS_OK) {
+        return rc;
+    }
+    spvs_q_reset(s);
     return SPVS_OK;
+}
+
+
+void spvs_q_reset(spvs_q_t *s)
+{
+    SPVS_ASSERT(s != 0);
+    spvs_q_ctl_reset(&s->ctl);
+    spvs_rng_seed(&s->rng, s->p.seed);
+    reset_frames(s);
+    spvs_q_offplane_reset(&s->off);
 }
 
 int spvs_q_estimate_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
 {
-    if (s == 0 || out == 0) {
-        return SPVS_E_ARG;
-    }
-    clear_output(out, n);
-    const int rc = estimate(s, m, n, 0, out);
-    out->status = (int16_t)rc;
-    return rc;
-}
-
-/* spvs.c's epipole_filter, in Q16 pixels (bound: SPVS_EPIPOLE_MEDIAN). */
-static void epipole_filter(spvs_q_t *s, const spvs_q_epipole_t *ep, spvs_q_ctl_input_t *in)
-{
-    s->ehist_x[s->i_ehist] = ep->e_x_q16;
-    s->ehist_z[s->i_ehist] = (int8_t)(ep->dir_z > 0 ? 1 : -1);
-    s->i_ehist = (uint8_t)((s->i_ehist + 1u) % SPVS_EPIPOLE_MEDIAN);
-    if (s->n_ehist < SPVS_EPIPOLE_MEDIAN) {
-        s->n_ehist++;
-    }
-    int32_t v[SPVS_EPIPOLE_MEDIAN];
-    int votes = 0;
-    for (uint8_t i = 0; i < s->n_ehist; i++) {
-        v[i] = s->ehist_x[i];
-        votes += s->ehist_z[i];
-    }
-    spvs_q_sort_i32(v, s->n_ehist);
-    in->e_x = v[s->n_ehist / 2];
-    const int8_t own = (int8_t)(ep->dir_z > 0 ? 1 : (ep->dir_z < 0 ? -1 : 0));
-    in->e_side = (int8_t)(votes > 0 ? 1 : (votes < 0 ? -1 : own));
-}
-
-/* spvs.c's begin_frame: the time (Q16 s) and H (estimated, or H_px). */
-static int begin_frame(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
-                       const spvs_real *H_px, int32_t *t, spvs_output_t *out)
-{
-    uint32_t sat = 0;
-    *t = q_in(t_s, 16, &sat);
-    int rc = SPVS_OK;
-    if ((sat & SPVS_Q_NONFINITE) != 0u) {
-        rc = SPVS_E_NONFINITE;
-    } else if (sat != 0u) {
-        rc = SPVS_E_RANGE;
-    } else if (s->has_last && !(*t > s->last_t)) {
-        rc = SPVS_E_STALE;
-    }
-    if (rc == SPVS_OK) {
-        s->last_t = *t;
-        s->has_last = 1;
-        rc = estimate(s, m, n, H_px, out);
-    }
-    if (rc != SPVS_OK) {
-        return rc;
-    }
-    if (s->has_good && (int64_t)*t - s->last_good_t > s->p.max_gap_q16) {
-        s->ctl.hold = 0;
-        s->ctl.run_sign = 0;
-        s->ctl.run_len = 0;
-    }
-    s->has_good = 1;
-    s->last_good_t = *t;
-    return SPVS_OK;
-}
-
-/* The controller's figures into the output. */
-static void ctl_out(const spvs_q_ctl_t *c, spvs_output_t *out)
-{
-    out->eq11 = c->use_eq11;
-    out->step = (uint8_t)c->step;
-    out->arrival_corner_px = real_out(c->arrival_corner_px, SPVS_QCTL_PX);
-    out->arrival_bound_px = real_out(c->arrival_bound_px, SPVS_QCTL_PX);
-    out->arrival_lateral_px = real_out(c->arrival_lateral_px, SPVS_QCTL_PX);
-    out->arrival_depth_px = real_out(c->arrival_depth_px, SPVS_QCTL_PX);
-    out->arrival_h13_px = real_out(c->arrival_h13_px, SPVS_QCTL_PX);
-    out->arrival_parallax_px = real_out(c->arrival_parallax_px, SPVS_QCTL_PX);
-    out->arrival_frames = c->arrive_n;
-    out->arrival_reentries = c->reentries;
-    out->arrival_next = c->arrival_next;
-    out->arriving = c->arriving;
-}
-
-/* spvs.c's after_h: the off-plane points, the epipole, the command. */
-static int after_h(spvs_q_t *s, int32_t t, spvs_output_t *out)
-{
-    spvs_q_offplane_t *const o = &s->off;
-    spvs_q_offplane_collect(o, &s->est, s->p.offplane_q16);
-    int32_t parallax = spvs_q_offplane_known_parallax_q16(o, s->est.H, s->scratch);
-    spvs_q_epipole_t ep;
-    const int e_ok = spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts,
-                                             o->cand_ord, o->n_cand, s->p.sin_tol2_q30,
-                                             s->p.min_support, &ep, o->support,
-                                             &s->ework) == SPVS_OK;
-    if (parallax < 0 && e_ok) {
-        parallax = ep.parallax_q16;
-    }
-    spvs_q_offplane_remember(o, &s->est, e_ok, parallax, s->p.offplane_q16);
-
-    spvs_q_ctl_input_t in;
-    memcpy(in.H, s->est.H, sizeof in.H);
-    in.e_x = 0;
-    in.e_side = 0;
-    if (e_ok) {
-        epipole_filter(s, &ep, &in);
-    }
-    in.parallax = parallax;
-    in.t = t;
-    in.e_valid = (uint8_t)e_ok;
-    in.n_inliers = out->n_inliers;
-
-    int32_t v = 0, w = 0;
-    const int rc = spvs_q_ctl_step(&s->ctl, &s->p.ctl_p, &in, &v, &w);
-    out->v = rc == SPVS_OK ? real_out(v, SPVS_QCTL_CMD) : SPVS_R(0.0);
-    out->w = rc == SPVS_OK ? real_out(w, SPVS_QCTL_CMD) : SPVS_R(0.0);
-    out->e_x_px = real_out(in.e_x, SPVS_QCTL_PX);
-    out->parallax_px = real_out(parallax, SPVS_QCTL_PX);
-    out->n_offplane = e_ok ? ep.n_support : 0u;
-    out->e_valid = (uint8_t)e_ok;
-    out->status = (int16_t)rc;
-    ctl_out(&s->ctl, out);
-    return rc;
-}
-
-/* spvs_q_update and spvs_q_update_with_h (inlined into both, so neither
- * adds a frame to the update's stack). */
-static SPVS_Q_INLINE int update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
-                  const spvs_real *H_px, spvs_output_t *out)
-{
-    if (s == 0 || out == 0) {
-        return SPVS_E_ARG;
-    }
-    clear_output(out, n);
-    int32_t t = 0;
-    const int rc = begin_frame(s, m, n, t_s, H_px, &t, out);
-    if (rc != SPVS_OK) {
-        s->ctl.last_v = 0;
-        out->status = (int16_t)rc;
-        out->step = (uint8_t)s->ctl.step;
-        return rc;
-    }
-    return after_h(s, t, out);
+    return estimate_only(s, m, n, out);
 }
 
 int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
@@ -422,12 +384,5 @@ int spvs_q_update(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
 int spvs_q_update_with_h(spvs_q_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                          const spvs_real H_px[9], spvs_output_t *out)
 {
-    if (H_px == 0) {
-        if (out != 0) {
-            clear_output(out, n);
-            out->status = SPVS_E_ARG;
-        }
-        return SPVS_E_ARG;
-    }
-    return update(s, m, n, t_s, H_px, out);
+    return update_with_h(s, m, n, t_s, H_px, out);
 }

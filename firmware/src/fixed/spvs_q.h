@@ -22,9 +22,9 @@
  *     time, so the second is SPVS_E_STALE;
  *   - an H entry outside (-16, 16) in scaled units is no model (the
  *     estimator's range; docs/FIXED.md measures that no consensus is lost);
- *   - the parameters are checked on their bits (spvs.c's rules and
- *     control_q.h's spvs_q_ctl_params_check, the float check's twin) and
- *     by their Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
+ *   - the parameters are checked on their bits by the float core's rules
+ *     (pipeline.inc's and control_steps.inc's, written once) and by their
+ *     Q conversions: a value beyond its Q format is SPVS_E_CONFIG.
  *   - spvs_q_update_with_h refuses an H entry outside that range
  *     (SPVS_E_RANGE), where the float core would score it.
  * Linked alone (firmware/src/fixed/, rng.c, common.c) it references no
@@ -47,7 +47,7 @@ typedef struct {
     int32_t offplane_q16;     /* pixels, Q16                              */
     int32_t sin_tol2_q30;     /* the epipole's support cone, sine^2, Q30  */
     uint16_t min_support;
-    int32_t max_gap_q16;      /* seconds, Q16                             */
+    int32_t max_frame_gap_s;  /* seconds, Q16                             */
     uint32_t seed;
 } spvs_q_params_t;
 
@@ -55,8 +55,8 @@ typedef struct spvs_q_s {
     spvs_q_params_t p;
     spvs_q_ctl_t ctl;
     spvs_rng_t rng;
-    int32_t last_t;           /* s, Q16: the last update's time           */
-    int32_t last_good_t;      /* s, Q16: the last frame with a valid H    */
+    int32_t last_t_s;         /* s, Q16: the last update's time           */
+    int32_t last_good_t_s;    /* s, Q16: the last frame with a valid H    */
     uint8_t has_last;
     uint8_t has_good;
     spvs_q_plane_h_t est;
