@@ -305,13 +305,14 @@ static double sampson_ref(const spvs_real H[9], const spvs_real pt[4])
     return (b * eps[0] * eps[0] - 2 * c * eps[0] * eps[1] + a * eps[1] * eps[1]) / (a * b - c * c);
 }
 
-/* The estimator's point store (points.c, in this build's layout: columns
- * on SIMD lanes where SPVS_SIMD_COLUMNS is 1, rows elsewhere) gives the
+/* The estimator's point store (in this build's layout: the columns on SIMD
+ * lanes of accel/points_columns.c where the accelerators are built, the
+ * rows of points.c elsewhere) gives the
  * same bits as rows held by the caller, for the linear fit, the refit, the
  * joint linear fit's sums and the refit from them, the inlier count and its
  * cost, for every count of points, including those that leave a short last
  * block, and any mask; so does the minimal solver read in place.  The host
- * test command runs this in both layouts. */
+ * test command runs this in both (its reference build, SPVS_ACCEL=OFF). */
 static void test_store_matches_rows(void)
 {
     static const uint16_t counts[] = {3, 4, 5, 15, 16, 17, 33, 100, 203, 256};

@@ -25,7 +25,7 @@
  *
  * The settings must be plain decimal numbers (-DSPVS_MAX_MATCHES=128, not
  * (128)): they are pasted into the name.  Settings that change only the
- * library's behaviour, not the layout (SPVS_RANSAC_MAX_ITERS, SPVS_PREFETCH,
+ * library's behaviour, not the layout (SPVS_RANSAC_MAX_ITERS, SPVS_ACCEL,
  * ...), are not part of it.  A new setting that sizes a member of spvs_t, or
  * of a struct it holds, belongs in SPVS_ABI_INIT below.
  */
