@@ -961,6 +961,7 @@ static void test_q_band(void)
     TEST_ASSERT_TRUE((double)(band[1] - decided[1]) <= TOL_BAND_UNDECIDED * (double)band[1]);
     TEST_ASSERT_TRUE(sh_max > 0);
 }
+#endif /* SPVS_ACCEL */
 
 /* ---- kernels: the whole documented range ----------------------------------- */
 
@@ -984,8 +985,6 @@ static void rnd_exact_h(uint64_t *s, spvs_real H[9])
         H[8] = (spvs_real)(0.5 + (double)(rng_u64(s) >> 11) * 0x1p-53 * 8);
     }
 }
-
-#endif /* SPVS_ACCEL */
 
 /* Frames with coordinates over the whole accepted range (up to
  * SPVS_MAX_COORD_PX, the limit itself included), H entries over (-16, 16)
@@ -1243,11 +1242,13 @@ static void test_q_sums_random(void)
                   "(SPVS_T_LIN), %d of %d fits (SPVS_T_FIT_Y and _X), %d of the SPVS_T_FIT_Y fits "
                   "with w up to 10\n", st.sums, st.worst_f, TOL_SUM_F, st.worst_q, TOL_SUM_Q, st.worst_q_rhs, TOL_SUM_Q_RHS, st.worst_f_cost, TOL_SAMPSON_F, st.worst_q_cost, TOL_SAMPSON_Q, fast, scenes, fast_fit, 2 * scenes, wide);
     TEST_ASSERT_TRUE(st.sums > 3000);
+#if SPVS_ACCEL
     /* Typical frames take the fast path (the others have |u| or |v| near
      * 2 scaled units, or w below 1/4 somewhere in the frame). */
     TEST_ASSERT_TRUE(fast * 4 >= scenes * 3);
     TEST_ASSERT_TRUE(fast_fit * 4 >= 2 * scenes * 3);
     TEST_ASSERT_TRUE(wide * 4 >= scenes * 3);
+#endif
 }
 
 /* The sums near the edges of SPVS_T_LIN's fast path (points_q.c,
@@ -1314,8 +1315,10 @@ static void test_q_lin_fast_edges(void)
                   "|terms|: float %.3g, Q %.3g (%.0e), right side %.3g (%.0e), term 24 %.3g "
                   "(%.0e)\n", sets, fast, st.sums, st.worst_f, st.worst_q, TOL_SUM_Q, st.worst_q_rhs, TOL_SUM_Q_RHS, st.worst_q_cost, TOL_SAMPSON_Q);
     TEST_ASSERT_TRUE(sets > 300);
+#if SPVS_ACCEL
     /* Both sides of the edges are covered. */
     TEST_ASSERT_TRUE(fast > sets / 4 && fast < sets * 3 / 4);
+#endif
 }
 
 /* A point behind the camera (w <= SPVS_W_EPS) in a used slot fails the
@@ -1567,7 +1570,10 @@ static void test_q_sampson(void)
                   "double; %ld inlier sets on the fast path, term 24 the same bits\n", st.sums, st.worst_q, st.worst_f, TOL_SAMPSON_Q, TOL_SAMPSON_F, st.worst_lin, TOL_SAMPSON_Q, st.decisions, st.same_bits);
     TEST_ASSERT_TRUE(st.sums > 400);
     TEST_ASSERT_TRUE(st.decisions > 100);
+#if SPVS_ACCEL
+    /* The fast path's SPVS_T_SAMPSON terms are SPVS_T_LIN's term 24. */
     TEST_ASSERT_TRUE(st.same_bits > 50);
+#endif
 }
 
 /* The double SPVS_T_LIN terms of point i of the scene under H into t. */
@@ -1604,7 +1610,8 @@ static double repeat_add(const scene_t *sc, const int32_t Hq[9], const int32_t p
     for (int j = 0; j < one.split; j++) {
         m0 = spvs_q_abs64(one.m[j]) > m0 ? spvs_q_abs64(one.m[j]) : m0;
     }
-    TEST_ASSERT_TRUE(fast ? m0 < ((uint64_t)1 << 53) : m0 >= ((uint64_t)1 << 60));
+    /* Without the accelerators every point takes the exact path. */
+    TEST_ASSERT_TRUE(fast && SPVS_ACCEL ? m0 < ((uint64_t)1 << 53) : m0 >= ((uint64_t)1 << 60));
     for (int k = 1; k < REPEAT_ADDS; k++) {
         TEST_ASSERT_EQUAL_INT64(1, spvs_q_lin_move(Hq, p, 1, &s));
     }
@@ -1767,9 +1774,13 @@ static void test_q_lin_move(void)
                   "%ld add-remove trips, %ld exactly back (the others within 2 units); one "
                   "point added %d times: within %.3g of its block's largest sum\n", st.sets, st.moves, st.worst_direct, st.worst_ref, TOL_MOVE, st.trips, st.trips_exact, REPEAT_ADDS, worst_rep);
     TEST_ASSERT_TRUE(st.sets > 40 && st.moves > 500);
-    /* Both cases met: most trips leave the exponents as they were; a
-     * mismatch's terms, far above an inlier set's, raise them. */
-    TEST_ASSERT_TRUE(st.trips_exact * 2 > st.trips && st.trips_exact < st.trips);
+    /* Both cases met: trips that leave the exponents as they were (most of
+     * them on the fast path, whose terms sit far below 2^62), and those a
+     * mismatch's terms, far above an inlier set's, raise. */
+    TEST_ASSERT_TRUE(st.trips_exact > 0 && st.trips_exact < st.trips);
+#if SPVS_ACCEL
+    TEST_ASSERT_TRUE(st.trips_exact * 2 > st.trips);
+#endif
 }
 
 /* ---- kernels: the loader's checks ----------------------------------------- */
