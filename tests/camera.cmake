@@ -87,6 +87,17 @@ if(TARGET spvs-camera AND TARGET spvs-node AND TARGET spvs_zenoh_link)
                        FIXTURES_REQUIRED zenoh_venv)
 endif()
 
+# The matches over DDS with ROS 2's names to spvs-node --dds: the same
+# commands as the in-process controller's (ROS_DOMAIN_ID 48, loopback only).
+if(TARGET spvs-camera AND TARGET spvs-node AND TARGET spvs_dds_link)
+  add_test(NAME camera_dds
+           COMMAND ${CMAKE_CURRENT_SOURCE_DIR}/camera_dds.sh ${CMAKE_BINARY_DIR}
+                   /usr/share/visp-images-data/ViSP-images/mire-2 48)
+  set_tests_properties(camera_dds PROPERTIES
+                       LABELS "${spvs_variant};camera;dds;process"
+                       TIMEOUT 240 SKIP_RETURN_CODE 77)
+endif()
+
 # A video file as the source: mire-2 frames 1-30 written to an MJPEG AVI by
 # OpenCV's own writer (tests/camera_make_video.cpp).
 if(TARGET spvs-camera)

@@ -26,7 +26,8 @@
       image and a good frame again gives, with --method 1, the statuses
       ok-or-core, dark_frame, blank_frame, size_mismatch, unreadable_frame
       with (v, w) = (0, 0) on the bad ones, six frames and a summary, exit
-      0; --transport dds and a missing source are refused with exit 2 and
+      0; an unknown transport, --transport dds with --method and a missing
+      source are refused with exit 2 and
       one line; teach keeps a good frame and refuses the uniform one and
       one textured only in its top-left quarter, each with its reason.
 
@@ -325,7 +326,9 @@ def bad(argv):
     if rows[0]["h"] is None or rows[5]["h"] is None or rows[0]["matches"] < 30:
         fail("the good frames must be estimated")
     refused([cam, "--goal", goal, "--source", src, "--focal-px", "600",
-             "--transport", "dds"], "--transport dds")
+             "--transport", "ros"], "--transport ros")
+    refused([cam, "--goal", goal, "--source", src, "--focal-px", "600",
+             "--transport", "dds", "--method", "1"], "--transport dds with --method")
     refused([cam, "--goal", goal, "--source", os.path.join(work, "nothing"),
              "--focal-px", "600"], "missing source")
     refused([cam, "--goal", goal, "--source", src], "no intrinsics")

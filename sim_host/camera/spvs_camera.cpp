@@ -4,7 +4,7 @@
  *
  *   spvs-camera teach --source SRC --out GOAL.png
  *   spvs-camera --goal GOAL.png --source SRC [--method 1|2|3]
- *               [--transport none|lcm|zenoh] [--json] ...
+ *               [--transport none|lcm|zenoh|dds] [--json] ...
  *
  * Each frame: capture, check (size, dark, blank), detect, match against the
  * goal's features (fixed once: their indices are the core's feature
@@ -41,6 +41,9 @@
 #include "sim/link_lcm.h"
 #include "wire.h"
 #endif
+#ifdef SPVS_HAVE_DDS
+#include "sim/link_dds.h"
+#endif
 #ifdef SPVS_HAVE_ZENOH
 #include "sim/link_zenoh.h"
 #endif
@@ -64,9 +67,10 @@ const char *const kUsage =
     "  --goal FILE         the goal image (spvs-camera teach writes one)\n"
     "  --method 1|2|3      run the controller and publish (v, w); without it\n"
     "                      each frame's H is estimated only\n"
-    "  --transport T       none (default), lcm or zenoh (dds is not accepted\n"
-    "                      here).  lcm/zenoh without --method: the matches go\n"
-    "                      to a controller (spvs-node) as spvs-sim sends them,\n"
+    "  --transport T       none (default), lcm, zenoh or dds.  lcm, zenoh or\n"
+    "                      dds without --method: the matches go to a\n"
+    "                      controller (spvs-node, spvs-node --dds for dds,\n"
+    "                      $ROS_DOMAIN_ID) as spvs-sim sends them,\n"
     "                      and its command comes back; lcm with --method: the\n"
     "                      command and telemetry are published on SPVS_CMD\n"
     "                      and SPVS_STATE\n"
@@ -131,8 +135,8 @@ void parse_value(Options &o, const std::string &name, const char *val)
     } else if (name == "--transport") {
         o.transport = val;
         if (o.transport != "none" && o.transport != "lcm" &&
-            o.transport != "zenoh") {
-            sim_cli_fail("--transport: '%s' is not none, lcm or zenoh", val);
+            o.transport != "zenoh" && o.transport != "dds") {
+            sim_cli_fail("--transport: '%s' is not none, lcm, zenoh or dds", val);
         }
     } else if (name == "--dt") {
         o.dt_s = sim_cli_real("--dt", val, 0.0, 60.0, SIM_CLI_OPEN_LO);
@@ -224,14 +228,19 @@ Options parse_options(int argc, char **argv)
         if (o.focal_px <= 0.0 && o.calib.empty()) {
             sim_cli_fail("--focal-px or --calib is needed");
         }
-        if (o.transport == "zenoh" && o.method != 0) {
-            sim_cli_fail("--transport zenoh sends the matches to the "
-                         "controller behind the bridge: leave out --method");
+        if ((o.transport == "zenoh" || o.transport == "dds") && o.method != 0) {
+            sim_cli_fail("--transport %s sends the matches to the controller "
+                         "(spvs-node): leave out --method", o.transport.c_str());
         }
     }
 #ifndef SPVS_HAVE_LCM
     if (o.transport == "lcm") {
         sim_cli_fail("--transport lcm: this build has no LCM support");
+    }
+#endif
+#ifndef SPVS_HAVE_DDS
+    if (o.transport == "dds") {
+        sim_cli_fail("--transport dds: this build has no DDS support (cyclonedds-dev)");
     }
 #endif
 #ifndef SPVS_HAVE_ZENOH
@@ -395,6 +404,13 @@ std::string Core::open(const Options &opt, const spvscam::Intrinsics &in)
         if (lcm == nullptr) {
             return "cannot open LCM at '" + opt.lcm_url + "'";
         }
+#endif
+    } else if (opt.transport == "dds") {
+#ifdef SPVS_HAVE_DDS
+        if (sim_link_dds_open(opt.timeout_s, &link, err, sizeof(err)) != 0) {
+            return std::string("cannot open the DDS link: ") + err;
+        }
+        have_link = true;
 #endif
     } else if (opt.transport == "zenoh") {
 #ifdef SPVS_HAVE_ZENOH
