@@ -14,8 +14,7 @@ static int32_t load_coord(spvs_real c, uint32_t *bad, uint32_t *mag2)
     uint32_t f = 0;
     int below = 0;
     const int32_t q = spvs_q_from_ieee(spvs_q_real_parts(c), LOAD_PX_FRAC, &f, &below);
-    const int32_t a = q_abs_clamp(q);
-    *bad |= (f & SPVS_Q_NONFINITE) | ((a > LOAD_LIM || (a == LOAD_LIM && below)) ? SPVS_Q_SAT : 0u);
+    *bad |= load_flags(q, f, below, LOAD_LIM);
     *mag2 = load_umag2(q);
     return q;
 }

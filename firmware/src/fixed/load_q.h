@@ -63,6 +63,16 @@ static inline void load_finish(spvs_q_store_t *st, const load_max_t *mx)
     st->tgt_max[1] = load_bound(mx->ym);
 }
 
+/* The flags of coordinate q as the conversion left it (f its flags, below
+ * nonzero where it rounded a magnitude just above the limit down to it):
+ * SPVS_Q_NONFINITE, and SPVS_Q_SAT beyond lim (SPVS_MAX_COORD_PX in Q26
+ * scaled units, LOAD_LIM), compared before rounding. */
+static inline uint32_t load_flags(int32_t q, uint32_t f, int below, int32_t lim)
+{
+    const int32_t a = q_abs_clamp(q);
+    return (f & SPVS_Q_NONFINITE) | ((a > lim || (a == lim && below)) ? SPVS_Q_SAT : 0u);
+}
+
 /* The maxima mx with a match's four doubled magnitudes. */
 static inline void load_max(load_max_t *mx, uint32_t ax, uint32_t ay, uint32_t au, uint32_t av)
 {

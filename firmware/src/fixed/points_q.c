@@ -273,3 +273,14 @@ int spvs_q_sums_clear(spvs_terms_t kind, spvs_q_sums_t *out)
     }
     return 0;
 }
+
+int spvs_q_lin_move_exact(const int32_t Hw[9], const int32_t p[4], int sub, spvs_q_sums_t *s)
+{
+    q_eps_t r;
+    spvs_q_eps_call(Hw, p, &r);
+    if (r.w <= W_EPS_Q53) {
+        return 0;
+    }
+    spvs_q_terms_lin(Hw, &r, p, s, sub);
+    return 1;
+}

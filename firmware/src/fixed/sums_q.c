@@ -45,13 +45,7 @@ int32_t spvs_q_pts_sum(spvs_terms_t kind, const int32_t Hq[9], const spvs_q_stor
 
 int spvs_q_lin_move(const int32_t Hw[9], const int32_t p[4], int add, spvs_q_sums_t *s)
 {
-    q_eps_t r;
-    spvs_q_eps_call(Hw, p, &r);
-    if (r.w <= W_EPS_Q53) {
-        return 0;
-    }
-    spvs_q_terms_lin(Hw, &r, p, s, add ? 0 : 1);
-    return 1;
+    return spvs_q_lin_move_exact(Hw, p, add ? 0 : 1, s);
 }
 
 int spvs_q_sum_fast(spvs_terms_t kind, const spvs_q_store_t *st, const int32_t Hq[9],

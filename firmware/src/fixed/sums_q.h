@@ -52,6 +52,11 @@ int spvs_q_sampson_exact(const int32_t *h, const int32_t *p, spvs_q_sums_t *out)
  * the exact path into s; 0 when w <= SPVS_W_EPS (s unchanged). */
 int spvs_q_sum_exact_point(int kind, const int32_t *h, const int32_t *p, spvs_q_sums_t *s);
 
+/* spvs_q_lin_move on the exact path: point p's SPVS_T_LIN terms under Hw
+ * from its exact residuals, added to s (sub = 0) or subtracted (sub = 1).
+ * Returns 1, or 0 when w <= SPVS_W_EPS (s unchanged). */
+int spvs_q_lin_move_exact(const int32_t Hw[9], const int32_t p[4], int sub, spvs_q_sums_t *s);
+
 /* The cost's term of one point, |eps|^2 in Q52 from its exact residuals. */
 uint64_t spvs_q_cost_exact(const int32_t *h, const int32_t *p, uint32_t *sat);
 

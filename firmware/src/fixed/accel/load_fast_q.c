@@ -66,8 +66,7 @@ static SPVS_Q_NOINLINE int32_t load_coord(spvs_real c, int px_frac, int32_t lim,
 #else
     const int32_t q = from_f32(c, px_frac, &f, &below);
 #endif
-    const int32_t a = q_abs_clamp(q);
-    *bad |= (f & SPVS_Q_NONFINITE) | ((a > lim || (a == lim && below)) ? SPVS_Q_SAT : 0u);
+    *bad |= load_flags(q, f, below, lim);
     return q;
 }
 

@@ -836,11 +836,5 @@ int spvs_q_lin_move(const int32_t Hw[9], const int32_t p[4], int add, spvs_q_sum
     if (lin_move_fast(Hw, p, s, sub)) {
         return 1;
     }
-    q_eps_t r;
-    spvs_q_eps_call(Hw, p, &r);
-    if (r.w <= W_EPS_Q53) {
-        return 0;
-    }
-    spvs_q_terms_lin(Hw, &r, p, s, sub);
-    return 1;
+    return spvs_q_lin_move_exact(Hw, p, sub, s);
 }
