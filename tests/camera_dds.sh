@@ -39,18 +39,4 @@ spvs_dds_in_netns '
   exit $rc
 ' || { echo "FAIL: spvs-camera --transport dds"; cat "$work/node.err"; exit 1; }
 
-/usr/bin/python3 - "$work/local.json" "$work/dds.json" <<'PY'
-import json, sys
-rd = lambda p: [json.loads(l) for l in open(p) if l.startswith('{"frame"')]
-a, b = rd(sys.argv[1]), rd(sys.argv[2])
-if len(a) != 30 or len(b) != 30:
-    sys.exit(f"FAIL: {len(a)} local and {len(b)} DDS frames, want 30")
-worst = max(max(abs(x["v"] - y["v"]), abs(x["w"] - y["w"])) for x, y in zip(a, b))
-errs = [y["frame"] for y in b if y["status"] == "transport_error"]
-moving = sum(1 for x in a if x["v"] or x["w"])
-print(f"30 frames over DDS: largest (v, w) difference {worst:.3g}, "
-      f"{moving} frames with a non-zero command, transport errors {errs}")
-if errs or worst > 1e-6 or moving < 5:
-    sys.exit("FAIL")
-print("PASS")
-PY
+/usr/bin/python3 "$(dirname "$0")/camera_same_commands.py" "$work/local.json" "$work/dds.json" DDS

@@ -44,18 +44,4 @@ timeout 120 "$cam" "${common[@]}" --transport zenoh \
     --zenoh-endpoint "tcp/127.0.0.1:$port" --timeout 15 >"$work/zenoh.json" ||
   { echo "FAIL: spvs-camera --transport zenoh"; cat "$work/node.err" "$work/bridge.err"; exit 1; }
 
-/usr/bin/python3 - "$work/local.json" "$work/zenoh.json" <<'PY'
-import json, sys
-rd = lambda p: [json.loads(l) for l in open(p) if l.startswith('{"frame"')]
-a, b = rd(sys.argv[1]), rd(sys.argv[2])
-if len(a) != 30 or len(b) != 30:
-    sys.exit(f"FAIL: {len(a)} local and {len(b)} Zenoh frames, want 30")
-worst = max(max(abs(x["v"] - y["v"]), abs(x["w"] - y["w"])) for x, y in zip(a, b))
-errs = [y["frame"] for y in b if y["status"] == "transport_error"]
-moving = sum(1 for x in a if x["v"] or x["w"])
-print(f"30 frames over Zenoh: largest (v, w) difference {worst:.3g}, "
-      f"{moving} frames with a non-zero command, transport errors {errs}")
-if errs or worst > 1e-6 or moving < 5:
-    sys.exit("FAIL")
-print("PASS")
-PY
+/usr/bin/python3 "$(dirname "$0")/camera_same_commands.py" "$work/local.json" "$work/zenoh.json" Zenoh
