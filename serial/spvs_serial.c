@@ -582,7 +582,7 @@ int spvs_serial_encode_result(const spvs_serial_result_t *r, uint8_t *out,
         enc_f32(&e, (float)o->H[k]);
     }
     enc_f32(&e, (float)o->arrival_corner_px);
-    enc_f32(&e, (float)o->arrival_bound_px);
+    enc_f32(&e, (float)o->arrival_stat);
     enc_f32(&e, (float)o->arrival_lateral_px);
     enc_f32(&e, (float)o->arrival_depth_px);
     enc_f32(&e, (float)o->arrival_h13_px);
@@ -590,6 +590,10 @@ int spvs_serial_encode_result(const spvs_serial_result_t *r, uint8_t *out,
     enc_u16(&e, o->arrival_frames);
     enc_u8(&e, o->arrival_reentries);
     enc_u8(&e, o->arrival_next);
+    enc_f32(&e, (float)o->arrival_threshold);
+    enc_f32(&e, (float)o->arrival_lateral_sd_px);
+    enc_f32(&e, (float)o->arrival_depth_sd_px);
+    enc_f32(&e, (float)o->arrival_h13_sd_px);
     return enc_finish(&e);
 }
 
@@ -623,7 +627,7 @@ int spvs_serial_parse_result(const spvs_serial_frame_t *f,
         o->H[k] = (spvs_real)rd_f32(p + 40 + 4 * k);
     }
     o->arrival_corner_px = (spvs_real)rd_f32(p + 76);
-    o->arrival_bound_px = (spvs_real)rd_f32(p + 80);
+    o->arrival_stat = (spvs_real)rd_f32(p + 80);
     o->arrival_lateral_px = (spvs_real)rd_f32(p + 84);
     o->arrival_depth_px = (spvs_real)rd_f32(p + 88);
     o->arrival_h13_px = (spvs_real)rd_f32(p + 92);
@@ -631,6 +635,10 @@ int spvs_serial_parse_result(const spvs_serial_frame_t *f,
     o->arrival_frames = rd_u16(p + 100);
     o->arrival_reentries = p[102];
     o->arrival_next = p[103];
+    o->arrival_threshold = (spvs_real)rd_f32(p + 104);
+    o->arrival_lateral_sd_px = (spvs_real)rd_f32(p + 108);
+    o->arrival_depth_sd_px = (spvs_real)rd_f32(p + 112);
+    o->arrival_h13_sd_px = (spvs_real)rd_f32(p + 116);
     o->h_valid = (r->flags & SPVS_SERIAL_F_H_VALID) ? 1u : 0u;
     o->e_valid = (r->flags & SPVS_SERIAL_F_E_VALID) ? 1u : 0u;
     o->eq11 = (r->flags & SPVS_SERIAL_F_EQ11) ? 1u : 0u;

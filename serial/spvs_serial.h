@@ -55,7 +55,7 @@ extern "C" {
 #define SPVS_SERIAL_CRC_BYTES 4u
 #define SPVS_SERIAL_MATCHES_FIXED 14u /* run, seq, t_ms, count            */
 #define SPVS_SERIAL_MATCH_BYTES 10u   /* feature + 4 coordinates           */
-#define SPVS_SERIAL_RESULT_BODY 104u
+#define SPVS_SERIAL_RESULT_BODY 120u
 #define SPVS_SERIAL_STATUS_BODY 68u
 #define SPVS_SERIAL_CONFIG_BODY 16u
 #define SPVS_SERIAL_PAYLOAD_BYTES(body) \

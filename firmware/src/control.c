@@ -160,9 +160,9 @@ static spvs_real fit_min_span(const spvs_control_params_t *p)
     return p->fit_min_span_m;
 }
 
-static spvs_real arrival_resolution(const spvs_control_params_t *p)
+static spvs_real arrival_threshold(const spvs_control_params_t *p)
 {
-    return p->arrival_resolution_px;
+    return p->arrival_k;
 }
 
 /* SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 of the median parallax that image
@@ -378,28 +378,59 @@ static spvs_real reentry_remaining(const spvs_control_t *c)
     return d0 - (spvs_real)sgn(d0) * SPVS_FABS(c->slope_sig) * c->odo_s;
 }
 
-static void arrival_add(spvs_control_t *c, const spvs_control_input_t *in, uint32_t n)
+/* The pixels per unit of each entry of H - I: its part of the transfer of
+ * the corner (cx, cy), |c| its distance from the centre. */
+static void residual_scale(const spvs_control_params_t *p, spvs_real scale[6])
 {
-    const spvs_real *H = in->H;
-    c->arrive_sum[0] += H[SPVS_H11] - SPVS_R(1.0);
-    c->arrive_sum[1] += H[SPVS_H12];
-    c->arrive_sum[2] += H[SPVS_H13];
-    c->arrive_sum[3] += H[SPVS_H31];
-    c->arrive_sum[4] += H[SPVS_H32];
-    c->arrive_sum[5] += H[SPVS_H33] - SPVS_R(1.0);
-    c->arrive_inv_n += SPVS_R(1.0) / (spvs_real)n;
+    const spvs_real cx = p->arrival_corner_x_px, cy = p->arrival_corner_y_px;
+    const spvs_real rc = SPVS_SQRT(cx * cx + cy * cy);
+    scale[0] = cx;
+    scale[1] = cy;
+    scale[2] = SPVS_R(1.0);
+    scale[3] = cx * rc;
+    scale[4] = cy * rc;
+    scale[5] = rc;
 }
 
-/* arrival_k standard deviations of the mean corner transfer that image
- * noise alone gives the average of the frames so far at the target: one
- * frame's H from n inliers moves a corner by 2 sigma^2 L / n in variance
- * (noise in both images; L the corners' leverage), N frames average it. */
-static spvs_real arrival_bound(const spvs_control_t *c, const spvs_control_params_t *p)
+/* A frame's H - I, and its residuals in pixels: the entries scaled to
+ * their part of a corner's transfer, then the horizontal parallax. */
+static void arrival_add(spvs_control_t *c, const spvs_control_params_t *p,
+                        const spvs_control_input_t *in, int with_parallax)
 {
-    const spvs_real nf = (spvs_real)c->arrive_n;
-    const spvs_real var1 = SPVS_R(2.0) * p->arrival_sigma_px * p->arrival_sigma_px *
-                           p->arrival_leverage * (c->arrive_inv_n / nf);
-    return p->arrival_k * SPVS_SQRT(var1 / nf);
+    const spvs_real *H = in->H;
+    spvs_real s[SPVS_CTL_ARRIVAL_RESIDUALS], scale[6];
+    s[0] = H[SPVS_H11] - SPVS_R(1.0);
+    s[1] = H[SPVS_H12];
+    s[2] = H[SPVS_H13];
+    s[3] = H[SPVS_H31];
+    s[4] = H[SPVS_H32];
+    s[5] = H[SPVS_H33] - SPVS_R(1.0);
+    residual_scale(p, scale);
+    for (int k = 0; k < 6; k++) {
+        c->arrive_sum[k] += s[k];
+        s[k] *= scale[k];
+    }
+    s[6] = in->parallax_x_px;
+    const int n = with_parallax ? SPVS_CTL_ARRIVAL_RESIDUALS : SPVS_CTL_ARRIVAL_RESIDUALS - 1;
+    for (int k = 0; k < n; k++) {
+        c->arrive_res[k] += s[k];
+        c->arrive_sq[k] += s[k] * s[k];
+    }
+}
+
+/* Residual k's mean over n frames, pixels, and its standard deviation:
+ * the frames' variance s^2 is one image's noise; the goal image's, as
+ * large, is the same in every frame, so the mean's variance is s^2 / n +
+ * s^2; arrival_resolution_px is the least. */
+static spvs_real residual_mean_sd(const spvs_control_t *c, const spvs_control_params_t *p, int k,
+                                  spvs_real n, spvs_real *sd)
+{
+    const spvs_real mean = c->arrive_res[k] / n;
+    spvs_real var = (c->arrive_sq[k] - mean * c->arrive_res[k]) / (n - SPVS_R(1.0));
+    var = var > SPVS_R(0.0) ? var : SPVS_R(0.0);
+    const spvs_real res = p->arrival_resolution_px;
+    *sd = SPVS_SQRT(var * (SPVS_R(1.0) + SPVS_R(1.0) / n) + res * res);
+    return mean;
 }
 
 /* Mean over the four image corners of the transfer |H p - p| (pixels), of H
@@ -428,23 +459,45 @@ static void corner_figures(const spvs_control_params_t *p, const spvs_real r[6],
     }
 }
 
-/* The averaged residual r, the check's figures (kept for the telemetry too)
- * and the bound. */
+static spvs_real max3(spvs_real a, spvs_real b, spvs_real c)
+{
+    const spvs_real m = a > b ? a : b;
+    return m > c ? m : c;
+}
+
+/* The averaged residual r (entries of H - I), the check's figures (|mean|
+ * / sd per direction and all; control_steps.inc's FIG_*) and the
+ * telemetry's. */
 static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, spvs_real r[6],
-                            spvs_real fig[5])
+                            spvs_real fig[4])
 {
     const spvs_real nf = (spvs_real)c->arrive_n;
+    spvs_real m[SPVS_CTL_ARRIVAL_RESIDUALS], sd[SPVS_CTL_ARRIVAL_RESIDUALS];
+    spvs_real z[SPVS_CTL_ARRIVAL_RESIDUALS];
     for (int k = 0; k < 6; k++) {
+        m[k] = residual_mean_sd(c, p, k, nf, &sd[k]);
         r[k] = c->arrive_sum[k] / nf;
+        z[k] = SPVS_FABS(m[k]) / sd[k];
     }
-    c->arrival_bound_px = arrival_bound(c, p);
-    corner_figures(p, r, &c->arrival_corner_px, &c->arrival_lateral_px, &c->arrival_depth_px);
-    c->arrival_h13_px = r[2];
-    fig[0] = c->arrival_corner_px;
-    fig[1] = c->arrival_lateral_px;
-    fig[2] = c->arrival_depth_px;
-    fig[3] = SPVS_FABS(r[2]);
-    fig[4] = c->arrival_bound_px;
+    /* The parallax needs two frames for its spread; without, row 1 of H
+     * speaks for the sideways offset alone. */
+    const int par = c->arrive_par_n >= 2u;
+    m[6] = par ? residual_mean_sd(c, p, 6, (spvs_real)c->arrive_par_n, &sd[6])
+               : SPVS_R(0.0);
+    z[6] = par ? SPVS_FABS(m[6]) / sd[6] : SPVS_R(0.0);
+    fig[0] = max3(z[0], z[1], z[6]);
+    fig[1] = max3(z[3], z[4], z[5]);
+    fig[2] = z[2];
+    fig[3] = max3(fig[0], fig[1], fig[2]);
+    spvs_real lateral = SPVS_R(0.0), depth = SPVS_R(0.0);
+    corner_figures(p, r, &c->arrival_corner_px, &lateral, &depth);
+    c->arrival_stat = fig[3];
+    c->arrival_lateral_px = par ? m[6] : m[0];
+    c->arrival_lateral_sd_px = par ? sd[6] : sd[0];
+    c->arrival_depth_px = m[5];
+    c->arrival_depth_sd_px = sd[5];
+    c->arrival_h13_px = m[2];
+    c->arrival_h13_sd_px = sd[2];
 }
 
 static spvs_real parallax_mean(const spvs_control_t *c)

@@ -98,6 +98,22 @@ static spvs_real median_px(spvs_real *v, uint16_t n)
     return (spvs_real)SPVS_COORD_SCALE * SPVS_SQRT(v[n / 2]);
 }
 
+static int cand_du(const spvs_real H[9], const spvs_real row[4], spvs_real *du)
+{
+    const spvs_real w = H[6] * row[0] + H[7] * row[1] + H[8];
+    if (!(w > SPVS_W_EPS)) {
+        return 0;
+    }
+    *du = (spvs_real)SPVS_COORD_SCALE * (row[2] - (H[0] * row[0] + H[1] * row[1] + H[2]) / w);
+    return 1;
+}
+
+static spvs_real median_of(spvs_real *v, uint16_t n)
+{
+    spvs_sort_small(v, n);
+    return v[n / 2];
+}
+
 static spvs_real parallax_none(void)
 {
     return SPVS_R(-1.0);
@@ -133,6 +149,12 @@ uint16_t spvs_offplane_split(const spvs_offplane_t *o, const spvs_match_t *m, ui
 void spvs_offplane_collect(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real offplane_px)
 {
     collect(o, e, offplane_px);
+}
+
+spvs_real spvs_offplane_known_lateral_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
+                                          spvs_real *scratch)
+{
+    return known_lateral(o, H_sc, scratch);
 }
 
 spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_real H_sc[9],

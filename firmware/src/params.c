@@ -30,12 +30,10 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     p->fit_min_span_m = SPVS_R(0.5);
     p->arrival_sigma_px = SPVS_R(1.0);
     p->arrival_k = SPVS_R(4.0);
-    p->arrival_leverage = SPVS_R(23.5);
     p->arrival_corner_x_px = SPVS_R(320.0);
     p->arrival_corner_y_px = SPVS_R(240.0);
     p->arrival_frames = 20;
-    p->arrival_max_frames = 80;
-    p->arrival_resolution_px = SPVS_R(0.65);
+    p->arrival_resolution_px = SPVS_R(0.05);
     switch (m) {
     case SPVS_METHOD_I:
         /* f of eq. (19) changes by about 2 (r/d) |n_x cos phi + n_z sin phi|

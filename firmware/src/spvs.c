@@ -97,6 +97,9 @@ static int frame_epipole(spvs_t *s, spvs_epipole_t *ep, spvs_real *parallax)
     spvs_offplane_t *const o = &s->off;
     spvs_offplane_collect(o, &s->est, s->p.offplane_px);
     *parallax = spvs_offplane_known_parallax_px(o, s->est.H_sc, s->ework.n2);
+    s->lateral_px = *parallax < SPVS_R(0.0)
+                        ? SPVS_R(0.0)
+                        : spvs_offplane_known_lateral_px(o, s->est.H_sc, s->ework.n2);
     const spvs_real sin_tol2 = s->p.epipole_sin_tol * s->p.epipole_sin_tol;
     return spvs_epipole_estimate(s->est.H_sc, (const spvs_real(*)[4])o->cand_pts,
                                  o->cand_ord, o->n_cand, sin_tol2, s->p.min_support, ep,
@@ -136,7 +139,6 @@ static void input_epipole(spvs_control_input_t *in, spvs_real x, int8_t side,
 static void control_input(const spvs_t *s, spvs_control_input_t *in, spvs_real t_s, int e_ok,
                           spvs_real parallax, const spvs_output_t *out)
 {
-    (void)s;
     for (int k = 0; k < 9; k++) {
         in->H[k] = out->H[k];
     }
@@ -144,6 +146,7 @@ static void control_input(const spvs_t *s, spvs_control_input_t *in, spvs_real t
     in->e_dir_x = SPVS_R(0.0);
     in->e_dir_z = SPVS_R(0.0);
     in->parallax_px = parallax;
+    in->parallax_x_px = s->lateral_px;
     in->t_s = t_s;
     in->e_valid = (uint8_t)e_ok;
     in->n_inliers = out->n_inliers;
@@ -167,6 +170,16 @@ static spvs_real cmd_out(spvs_real x)
 static spvs_real px_out(spvs_real x)
 {
     return x;
+}
+
+static spvs_real stat_out(spvs_real x)
+{
+    return x;
+}
+
+static spvs_real threshold_out(const spvs_t *s)
+{
+    return s->p.ctl.arrival_k;
 }
 
 #include "pipeline.inc"

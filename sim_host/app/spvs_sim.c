@@ -583,14 +583,18 @@ static void print_json_arrival(const sinks_t *s)
         fputs(",\"arrival\":null", stdout);
         return;
     }
-    printf(",\"arrival\":{\"corner_px\":%.6g,\"bound_px\":%.6g,\"lateral_px\":%.6g"
-           ",\"depth_px\":%.6g,\"h13_px\":%.6g,\"parallax_px\":%.6g"
-           ",\"frames\":%u,\"reentries\":%u,\"next_step\":%u}",
-           (double)a->arrival_corner_px, (double)a->arrival_bound_px,
-           (double)a->arrival_lateral_px, (double)a->arrival_depth_px,
-           (double)a->arrival_h13_px, (double)a->arrival_parallax_px,
-           (unsigned)a->arrival_frames,
-           (unsigned)a->arrival_reentries, (unsigned)a->arrival_next);
+    printf(",\"arrival\":{\"statistic\":%.6g,\"threshold\":%.6g,"
+           "\"lateral_px\":%.6g,\"lateral_sd_px\":%.6g,\"depth_px\":%.6g,"
+           "\"depth_sd_px\":%.6g,\"h13_px\":%.6g,\"h13_sd_px\":%.6g,"
+           "\"corner_px\":%.6g,\"parallax_px\":%.6g,\"frames\":%u,\"reentries\":%u,"
+           "\"next_step\":%u}",
+           (double)a->arrival_stat, (double)a->arrival_threshold,
+           (double)a->arrival_lateral_px, (double)a->arrival_lateral_sd_px,
+           (double)a->arrival_depth_px, (double)a->arrival_depth_sd_px,
+           (double)a->arrival_h13_px, (double)a->arrival_h13_sd_px,
+           (double)a->arrival_corner_px, (double)a->arrival_parallax_px,
+           (unsigned)a->arrival_frames, (unsigned)a->arrival_reentries,
+           (unsigned)a->arrival_next);
 }
 
 static void print_json(const options_t *o, const sim_result_t *r, const sinks_t *s)

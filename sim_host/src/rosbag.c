@@ -198,11 +198,15 @@ static void cdr_state(buf_t *b, const spvs_state_t *s, const spvs_cmd_t *c)
     c_f64(b, c->w);
     c_u8(b, (unsigned)c->step);
     c_i16(b, c->status);
-    c_f64(b, s->arrival_corner_px);
-    c_f64(b, s->arrival_bound_px);
+    c_f64(b, s->arrival_stat);
+    c_f64(b, s->arrival_threshold);
     c_f64(b, s->arrival_lateral_px);
+    c_f64(b, s->arrival_lateral_sd_px);
     c_f64(b, s->arrival_depth_px);
+    c_f64(b, s->arrival_depth_sd_px);
     c_f64(b, s->arrival_h13_px);
+    c_f64(b, s->arrival_h13_sd_px);
+    c_f64(b, s->arrival_corner_px);
     c_f64(b, s->arrival_parallax_px);
     c_i16(b, s->arrival_frames);
     c_u8(b, (unsigned)s->arrival_reentries);

@@ -83,24 +83,26 @@ typedef struct {
     spvs_real fit_min_span_m; /* step 2: distance driven before it is used, m */
     /* The arrival check after step 3 (beyond the paper; docs/CONTROL.md,
      * "A verified arrival"): the robot stands still for arrival_frames
-     * frames (more, up to arrival_max_frames, while the bound below is over
-     * arrival_resolution_px), H is averaged, and the mean transfer of the image corners
-     * (+-arrival_corner_x_px, +-arrival_corner_y_px) under it must stay under
-     *   arrival_k * sigma * sqrt(2 arrival_leverage mean(1/n_inliers) / frames)
-     * (sigma = arrival_sigma_px), the spread that image noise alone gives it
-     * at the target, where H = I whatever the calibration (eq. 2). */
+     * frames and tests H = I (eq. 10; eq. 2 at the target whatever the
+     * calibration) and a zero parallax of the remembered off-plane points.
+     * Each of seven residuals (the six free entries of H - I at the image
+     * corner +-arrival_corner_x_px, +-arrival_corner_y_px, and the
+     * horizontal parallax) is averaged over the hold; its standard
+     * deviation is measured from the hold's own frames, with the goal
+     * image's share, which does not average, counted once:
+     *   sd = sqrt(s^2 (1 + 1/frames) + arrival_resolution_px^2)
+     * (s^2 the residual's variance from frame to frame).  Converged when
+     * every |mean| / sd is at most arrival_k and the mean median parallax
+     * is under SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 of what noise of
+     * arrival_sigma_px gives. */
     spvs_real arrival_sigma_px;   /* image noise sigma assumed, pixels      */
-    spvs_real arrival_k;          /* bound in standard deviations           */
-    spvs_real arrival_leverage;   /* corner variance per point's variance,
-                                     times the inlier count (23.5 for inliers
-                                     spread over a 4:3 image)               */
+    spvs_real arrival_k;          /* threshold, standard deviations         */
     spvs_real arrival_corner_x_px; /* image half width, pixels              */
     spvs_real arrival_corner_y_px; /* image half height, pixels             */
-    uint16_t arrival_frames;      /* frames averaged at least, standing still */
-    uint16_t arrival_max_frames;  /* ... and at most, while the bound is over
-                                     arrival_resolution_px (at most
-                                     SPVS_CTL_ARRIVAL_MAX_FRAMES)          */
-    spvs_real arrival_resolution_px; /* the bound the hold aims for, pixels */
+    uint16_t arrival_frames;      /* frames averaged standing still, 2 to
+                                     SPVS_CTL_ARRIVAL_MAX_FRAMES             */
+    spvs_real arrival_resolution_px; /* the least sd: smaller residuals are
+                                        not resolved, pixels                */
 } spvs_control_params_t;
 
 /* What the estimation stages hand to the controller for one frame. */
@@ -110,6 +112,8 @@ typedef struct {
     spvs_real e_dir_x;   /* signed epipole direction (see epipole.h); only  */
     spvs_real e_dir_z;   /*   the sign of e_dir_z is used: target ahead     */
     spvs_real parallax_px; /* median off-plane parallax, negative: unknown  */
+    spvs_real parallax_x_px; /* median horizontal parallax of the remembered
+                                off-plane points, signed (parallax_px >= 0) */
     spvs_real t_s;       /* frame time, seconds                             */
     uint8_t e_valid;     /* the epipole estimate is usable this frame       */
     uint16_t n_inliers;  /* plane inliers behind H (the arrival check's
@@ -158,12 +162,15 @@ typedef struct {
     uint8_t arrival_next;    /* step the last failed check pointed to, 0    */
     uint16_t arrive_n;       /* frames averaged so far                      */
     spvs_real arrive_sum[6]; /* sums of h11 - 1, h12, h13, h31, h32, h33 - 1 */
-    spvs_real arrive_inv_n;  /* sum of 1 / n_inliers                        */
-    spvs_real arrival_corner_px;  /* all of H - I                           */
-    spvs_real arrival_bound_px;   /* the bound it was held to               */
-    spvs_real arrival_lateral_px; /* row 1 without h13: sideways offset     */
-    spvs_real arrival_depth_px;   /* row 3: offset along the optical axis   */
-    spvs_real arrival_h13_px;     /* mean h13: heading (and sideways)       */
+    /* Sums and sums of squares of the residuals, pixels: those six at the
+     * corner, and the horizontal parallax (over arrive_par_n frames). */
+    spvs_real arrive_res[SPVS_CTL_ARRIVAL_RESIDUALS];
+    spvs_real arrive_sq[SPVS_CTL_ARRIVAL_RESIDUALS];
+    spvs_real arrival_stat;       /* largest |mean| / sd                    */
+    spvs_real arrival_corner_px;  /* mean corner transfer of the mean H - I */
+    spvs_real arrival_lateral_px, arrival_lateral_sd_px; /* sideways        */
+    spvs_real arrival_depth_px, arrival_depth_sd_px; /* optical axis        */
+    spvs_real arrival_h13_px, arrival_h13_sd_px;     /* heading             */
     spvs_real arrival_parallax_px; /* mean parallax of the remembered
                                      off-plane points, -1: none seen       */
     spvs_real arrive_par_sum;     /* sum of the frames' parallax            */

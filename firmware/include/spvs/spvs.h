@@ -62,14 +62,23 @@ typedef struct {
     uint8_t e_valid;        /* e_x_px is this frame's estimate                */
     uint8_t eq11;           /* Method III runs on eq. (11)                    */
     /* The arrival check after step 3 (control.h; docs/CONTROL.md): the
-     * figures of the last check made (0 before the first), on H averaged
-     * over arrival_frames frames standing still. Mean corner transfers of
-     * H - I in pixels: */
-    spvs_real arrival_corner_px;  /* all of it: converged only if <= bound  */
-    spvs_real arrival_bound_px;   /* the noise bound it was held to         */
-    spvs_real arrival_lateral_px; /* row 1 without h13 (sideways offset)    */
-    spvs_real arrival_depth_px;   /* row 3 (offset along the optical axis)  */
-    spvs_real arrival_h13_px;     /* mean h13, pixels (heading)             */
+     * figures of the last check made (0 before the first), over the
+     * arrival_frames frames standing still.  Each residual is the mean over
+     * the hold, in pixels, with its standard deviation (_sd_px) measured
+     * from the hold's own frames, the goal image's share not averaged: */
+    spvs_real arrival_stat;       /* the largest |residual| / sd: converged
+                                     only if <= arrival_threshold          */
+    spvs_real arrival_threshold;  /* arrival_k, standard deviations         */
+    spvs_real arrival_lateral_px; /* sideways: the off-plane points'
+                                     horizontal parallax (without them, row 1
+                                     of H - I at the image corner)          */
+    spvs_real arrival_lateral_sd_px;
+    spvs_real arrival_depth_px;   /* along the optical axis: (h33 - 1) times
+                                     the corner's distance from the centre  */
+    spvs_real arrival_depth_sd_px;
+    spvs_real arrival_h13_px;     /* heading: h13                           */
+    spvs_real arrival_h13_sd_px;
+    spvs_real arrival_corner_px;  /* mean corner transfer of the mean H - I */
     spvs_real arrival_parallax_px; /* mean median parallax of the remembered
                                       off-plane points, pixels; -1: none seen */
     uint16_t arrival_frames;      /* frames averaged (so far, while holding) */
@@ -100,6 +109,7 @@ typedef struct {
     int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
     uint8_t n_ehist;
     uint8_t i_ehist;
+    spvs_real lateral_px;     /* the frame's horizontal parallax (offplane.h) */
 } spvs_t;
 #endif
 

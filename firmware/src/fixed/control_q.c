@@ -174,14 +174,19 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
                            uint32_t *bad)
 {
     uint32_t sat = 0;
-    const spvs_qf_t ks = spvs_qf_mul(qf_real(p->arrival_k, &sat),
-                                     qf_real(p->arrival_sigma_px, &sat));
-    q->arrival_a = qf_scale2(spvs_qf_mul(spvs_qf_mul(ks, ks),
-                                         qf_real(p->arrival_leverage, &sat)), 1);
+    q->arrival_k = qf_real(p->arrival_k, &sat);
     q->corner_x = qf_real(p->arrival_corner_x_px, &sat);
     q->corner_y = qf_real(p->arrival_corner_y_px, &sat);
     q->corner_r = qf_sqrt(spvs_qf_add(spvs_qf_mul(q->corner_x, q->corner_x),
                                       spvs_qf_mul(q->corner_y, q->corner_y)));
+    /* control.c's residual_scale on the scaled units (h13 2^9 px, h31 and
+     * h32 2^-9 per px). */
+    q->res_scale[0] = q->corner_x;
+    q->res_scale[1] = q->corner_y;
+    q->res_scale[2] = qf_of(1, -9);
+    q->res_scale[3] = qf_scale2(spvs_qf_mul(q->corner_x, q->corner_r), -9);
+    q->res_scale[4] = qf_scale2(spvs_qf_mul(q->corner_y, q->corner_r), -9);
+    q->res_scale[5] = q->corner_r;
     q->resolution = qf_real(p->arrival_resolution_px, &sat);
     /* SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x SPVS_CTL_NOISE_PARALLAX_X1000 /
      * 1000 sigma. */
@@ -191,7 +196,6 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
     q->arrival_par_max =
         spvs_qf_to_q32(spvs_qf_mul(par, qf_real(p->arrival_sigma_px, &sat)), SPVS_QCTL_PX, &sat);
     q->arrival_frames = p->arrival_frames;
-    q->arrival_max_frames = p->arrival_max_frames;
     *bad |= sat;
 }
 
@@ -391,9 +395,9 @@ static int32_t fit_min_span(const spvs_q_ctl_params_t *p)
     return p->fit_min_span;
 }
 
-static spvs_qf_t arrival_resolution(const spvs_q_ctl_params_t *p)
+static spvs_qf_t arrival_threshold(const spvs_q_ctl_params_t *p)
 {
-    return p->resolution;
+    return p->arrival_k;
 }
 
 /* Converted once (params_arrival). */
@@ -643,19 +647,45 @@ static SPVS_Q_NOINLINE int32_t reentry_remaining(spvs_q_ctl_t *c)
     return spvs_q_sat32(D64, sat);
 }
 
+/* A residual in Q16 pixels held to +-1024 px, so that the sums of squares
+ * (Q32) of SPVS_CTL_ARRIVAL_MAX_FRAMES frames stay under 2^62; a frame
+ * that far from the target fails the check either way. */
+static int32_t residual_clamp(int32_t v)
+{
+    const int32_t lim = (int32_t)1024 << SPVS_QCTL_PX;
+    return v > lim ? lim : (v < -lim ? -lim : v);
+}
+
 /* Standing still after step 3: H - I summed exactly (Q27, at most
- * SPVS_CTL_ARRIVAL_MAX_FRAMES x 2^32), 1 / n_inliers in Q32 (each rounded,
- * 2^-33). */
-static void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_input_t *in, uint32_t n)
+ * SPVS_CTL_ARRIVAL_MAX_FRAMES x 2^32), and the residuals in Q16 pixels
+ * with their squares (control.c's arrival_add). */
+static SPVS_Q_NOINLINE void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                        const spvs_q_ctl_input_t *in, int with_parallax)
 {
     const int32_t *H = in->H;
-    c->arrive_sum[0] += (int64_t)H[SPVS_H11] - ONE27;
-    c->arrive_sum[1] += H[SPVS_H12];
-    c->arrive_sum[2] += H[SPVS_H13];
-    c->arrive_sum[3] += H[SPVS_H31];
-    c->arrive_sum[4] += H[SPVS_H32];
-    c->arrive_sum[5] += (int64_t)H[SPVS_H33] - ONE27;
-    c->arrive_inv_n += div_rnd((int64_t)1 << 32, n);
+    int64_t e[6];
+    e[0] = (int64_t)H[SPVS_H11] - ONE27;
+    e[1] = H[SPVS_H12];
+    e[2] = H[SPVS_H13];
+    e[3] = H[SPVS_H31];
+    e[4] = H[SPVS_H32];
+    e[5] = (int64_t)H[SPVS_H33] - ONE27;
+    uint32_t tel = 0;
+    for (int k = 0; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
+        int32_t v;
+        if (k < 6) {
+            c->arrive_sum[k] += e[k];
+            v = spvs_qf_to_q32(spvs_qf_mul(qf_of(e[k], SPVS_QH), p->res_scale[k]), SPVS_QCTL_PX,
+                               &tel);
+        } else if (with_parallax) {
+            v = in->parallax_x;
+        } else {
+            break;
+        }
+        v = residual_clamp(v);
+        c->arrive_res[k] += v;
+        c->arrive_sq[k] += (int64_t)v * v;
+    }
 }
 
 /* spvs_qf_t operations on pointers for the arrival check, out of line:
@@ -738,38 +768,64 @@ static SPVS_Q_NOINLINE void corner_figures(const spvs_q_ctl_params_t *p, const s
     }
 }
 
-/* bound^2 = 2 (k sigma)^2 L sum(1 / n) / frames^2, its root in pixels. */
-static SPVS_Q_NOINLINE spvs_qf_t arrival_bound(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p)
+/* control.c's residual_mean_sd: residual k's mean over n frames and its
+ * standard deviation, pixels. */
+static SPVS_Q_NOINLINE spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                                  int k, uint32_t n, spvs_qf_t *sd)
 {
-    const spvs_qf_t nf = qf_of(c->arrive_n, 0);
-    const spvs_qf_t var = spvs_qf_mul(spvs_qf_mul(p->arrival_a, qf_of(c->arrive_inv_n, 32)),
-                                      spvs_qf_recip(spvs_qf_mul(nf, nf), &c->sat));
-    return qf_sqrt(var);
+    const spvs_qf_t inv = spvs_qf_recip(qf_of(n, 0), &c->sat);
+    const spvs_qf_t sum = qf_of(c->arrive_res[k], SPVS_QCTL_PX);
+    const spvs_qf_t mean = spvs_qf_mul(sum, inv);
+    spvs_qf_t var = spvs_qf_add(qf_of(c->arrive_sq[k], 2 * SPVS_QCTL_PX),
+                                spvs_qf_neg(spvs_qf_mul(mean, sum)));
+    var = var.m > 0 ? qf_div(var, qf_of(n - 1u, 0), &c->sat) : qf_of(0, 0);
+    var = spvs_qf_mul(var, spvs_qf_add(qf_of(1, 0), inv));
+    *sd = qf_sqrt(spvs_qf_add(var, spvs_qf_mul(p->resolution, p->resolution)));
+    return mean;
+}
+
+static spvs_qf_t qf_max(spvs_qf_t a, spvs_qf_t b)
+{
+    return spvs_qf_le(a, b) ? b : a;
 }
 
 /* The averaged residual r (scaled units, as the sums), the check's figures
  * in spvs_qf_t (control_steps.inc's order) and, for the telemetry, in int32
- * Q16 pixels (a clamp there, for a corner behind the camera, changes no
- * decision). */
+ * Q16 (control.c's arrival_figures). */
 static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                            spvs_qf_t r[6], spvs_qf_t fig[5])
+                                            spvs_qf_t r[6], spvs_qf_t fig[4])
 {
     uint32_t *sat = &c->sat;
     uint32_t tel = 0;
-    spvs_qf_t t, a;
+    spvs_qf_t t, a, m[SPVS_CTL_ARRIVAL_RESIDUALS], sd[SPVS_CTL_ARRIVAL_RESIDUALS];
+    spvs_qf_t z[SPVS_CTL_ARRIVAL_RESIDUALS];
     t = spvs_qf_recip(qf_of(c->arrive_n, 0), sat);
     for (int k = 0; k < 6; k++) {
         a = qf_of(c->arrive_sum[k], SPVS_QH);
         qmul(&r[k], &a, &t);
+        m[k] = residual_mean_sd(c, p, k, c->arrive_n, &sd[k]);
+        z[k] = qf_div(qf_abs(m[k]), sd[k], sat);
     }
-    corner_figures(p, r, fig, sat);
-    c->arrival_corner_px = spvs_qf_to_q32(fig[0], SPVS_QCTL_PX, &tel);
-    c->arrival_lateral_px = spvs_qf_to_q32(fig[1], SPVS_QCTL_PX, &tel);
-    c->arrival_depth_px = spvs_qf_to_q32(fig[2], SPVS_QCTL_PX, &tel);
-    c->arrival_h13_px = spvs_qf_to_q32(qf_scale2(r[2], 9), SPVS_QCTL_PX, &tel);
-    fig[3] = qf_abs(qf_scale2(r[2], 9)); /* the heading's share: |h13|, pixels */
-    fig[4] = arrival_bound(c, p);
-    c->arrival_bound_px = spvs_qf_to_q32(fig[4], SPVS_QCTL_PX, &tel);
+    const int par = c->arrive_par_n >= 2u;
+    m[6] = sd[6] = z[6] = qf_of(0, 0);
+    if (par) {
+        m[6] = residual_mean_sd(c, p, 6, c->arrive_par_n, &sd[6]);
+        z[6] = qf_div(qf_abs(m[6]), sd[6], sat);
+    }
+    fig[0] = qf_max(qf_max(z[0], z[1]), z[6]);
+    fig[1] = qf_max(qf_max(z[3], z[4]), z[5]);
+    fig[2] = z[2];
+    fig[3] = qf_max(qf_max(fig[0], fig[1]), fig[2]);
+    spvs_qf_t cf[3];
+    corner_figures(p, r, cf, sat);
+    c->arrival_corner_px = spvs_qf_to_q32(cf[0], SPVS_QCTL_PX, &tel);
+    c->arrival_stat = spvs_qf_to_q32(fig[3], SPVS_QCTL_PX, &tel);
+    c->arrival_lateral_px = spvs_qf_to_q32(par ? m[6] : m[0], SPVS_QCTL_PX, &tel);
+    c->arrival_lateral_sd_px = spvs_qf_to_q32(par ? sd[6] : sd[0], SPVS_QCTL_PX, &tel);
+    c->arrival_depth_px = spvs_qf_to_q32(m[5], SPVS_QCTL_PX, &tel);
+    c->arrival_depth_sd_px = spvs_qf_to_q32(sd[5], SPVS_QCTL_PX, &tel);
+    c->arrival_h13_px = spvs_qf_to_q32(m[2], SPVS_QCTL_PX, &tel);
+    c->arrival_h13_sd_px = spvs_qf_to_q32(sd[2], SPVS_QCTL_PX, &tel);
 }
 
 /* The frames' mean parallax, Q16 pixels, rounded. */

@@ -102,14 +102,13 @@ typedef struct {
     uint16_t fit_min_frames;
     int32_t fit_min_span;     /* metres, Q24 */
     spvs_qf_t fit_min_den;    /* (SPVS_CTL_FIT_MIN_SPREAD_UM um)^2 in Q48 m^2 */
-    /* The arrival check: bound^2 = arrival_a sum(1 / n) / frames^2 with
-     * arrival_a = 2 (k sigma)^2 leverage. */
-    spvs_qf_t arrival_a;
+    /* The arrival check (control.h). */
+    spvs_qf_t arrival_k;
+    spvs_qf_t res_scale[6];   /* pixels per scaled-unit entry of H - I */
     spvs_qf_t corner_x, corner_y, corner_r; /* pixels; corner_r = |(x, y)| */
     spvs_qf_t resolution;     /* pixels */
     int32_t arrival_par_max;  /* pixels, Q16: 1.75 x 1.665 sigma */
     uint16_t arrival_frames;
-    uint16_t arrival_max_frames;
 } spvs_q_ctl_params_t;
 
 /* What the estimation stages hand to the controller for one frame. */
@@ -118,6 +117,7 @@ typedef struct {
     int32_t e_x;        /* pixels, Q16 (when e_valid)             */
     int8_t e_side;      /* sign of the epipole's z: +1, -1, 0     */
     int32_t parallax;   /* pixels, Q16; negative: unknown          */
+    int32_t parallax_x; /* horizontal parallax, signed, pixels, Q16 */
     int32_t t;          /* seconds, Q16                            */
     uint8_t e_valid;
     uint16_t n_inliers;
@@ -150,9 +150,11 @@ typedef struct {
     uint8_t arriving, reentries, reentered, backing, arrival_next;
     uint16_t arrive_n;
     int64_t arrive_sum[6];    /* Q27: h11 - 1, h12, h13 (scaled), h31, h32 (scaled), h33 - 1 */
-    int64_t arrive_inv_n;     /* Q32 */
-    int32_t arrival_corner_px, arrival_bound_px, arrival_lateral_px,
-        arrival_depth_px, arrival_h13_px, arrival_parallax_px; /* Q16 px */
+    int64_t arrive_res[SPVS_CTL_ARRIVAL_RESIDUALS]; /* Q16 px (control.h) */
+    int64_t arrive_sq[SPVS_CTL_ARRIVAL_RESIDUALS];  /* Q32 px^2 */
+    int32_t arrival_stat;     /* Q16 */
+    int32_t arrival_corner_px, arrival_lateral_px, arrival_lateral_sd_px, arrival_depth_px,
+        arrival_depth_sd_px, arrival_h13_px, arrival_h13_sd_px, arrival_parallax_px; /* Q16 px */
     int64_t arrive_par_sum;   /* Q16 px */
     uint16_t arrive_par_n;
     spvs_qf_t slope_sig;      /* Q27 signal units per metre, as a value */

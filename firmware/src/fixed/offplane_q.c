@@ -240,6 +240,23 @@ static int32_t median_px(int32_t *v, uint16_t n)
     return spvs_q_select_i32(v, 1u, n, n / 2u);
 }
 
+/* The horizontal transfer error, current minus transferred, in Q16 pixels:
+ * Q26 scaled units times SPVS_COORD_SCALE (2^9) are Q17 pixels. */
+static int cand_du(const int32_t H[9], const int32_t row[4], int32_t *du_q16)
+{
+    int32_t du, dv;
+    if (!spvs_q_transfer(H, row, &du, &dv)) {
+        return 0;
+    }
+    *du_q16 = (int32_t)spvs_q_rsh(-(int64_t)du, 1);
+    return 1;
+}
+
+static int32_t median_of(int32_t *v, uint16_t n)
+{
+    return spvs_q_select_i32(v, 1u, n, n / 2u);
+}
+
 static int32_t parallax_none(void)
 {
     return -SPVS_Q16_ONE;
@@ -279,6 +296,12 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
                              int32_t offplane_q16)
 {
     collect(o, e, offplane_q16);
+}
+
+int32_t spvs_q_offplane_known_lateral_q16(const spvs_q_offplane_t *o, const int32_t H[9],
+                                          int32_t *scratch)
+{
+    return known_lateral(o, H, scratch);
 }
 
 int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],

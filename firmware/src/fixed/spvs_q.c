@@ -273,6 +273,8 @@ static int frame_epipole(spvs_q_t *s, spvs_q_epipole_t *ep, int32_t *parallax)
     spvs_q_offplane_t *const o = &s->off;
     spvs_q_offplane_collect(o, &s->est, s->p.offplane_q16);
     *parallax = spvs_q_offplane_known_parallax_q16(o, s->est.H, s->scratch);
+    s->lateral_q16 =
+        *parallax < 0 ? 0 : spvs_q_offplane_known_lateral_q16(o, s->est.H, s->scratch);
     return spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts, o->cand_ord,
                                    o->n_cand, s->p.sin_tol2_q30, s->p.min_support, ep,
                                    o->support, &s->ework) == SPVS_OK;
@@ -314,6 +316,7 @@ static void control_input(const spvs_q_t *s, spvs_q_ctl_input_t *in, int32_t t, 
     in->e_x = 0;
     in->e_side = 0;
     in->parallax = parallax;
+    in->parallax_x = s->lateral_q16;
     in->t = t;
     in->e_valid = (uint8_t)e_ok;
     in->n_inliers = out->n_inliers;
@@ -339,6 +342,18 @@ static spvs_real cmd_out(int32_t x)
 static spvs_real px_out(int32_t x)
 {
     return real_out(x, SPVS_QCTL_PX);
+}
+
+/* The arrival statistic, Q16. */
+static spvs_real stat_out(int32_t x)
+{
+    return real_out(x, SPVS_QCTL_PX);
+}
+
+static spvs_real threshold_out(const spvs_q_t *s)
+{
+    uint32_t tel = 0;
+    return real_out(spvs_qf_to_q32(s->p.ctl_p.arrival_k, SPVS_QCTL_PX, &tel), SPVS_QCTL_PX);
 }
 
 #include "../pipeline.inc"
