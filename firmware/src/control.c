@@ -145,6 +145,11 @@ static spvs_real tol_h13(const spvs_control_params_t *p)
     return p->tol_h13_px;
 }
 
+static spvs_real tol_ex(const spvs_control_params_t *p)
+{
+    return p->tol_h13_px;
+}
+
 static spvs_real switch_parallax(const spvs_control_params_t *p)
 {
     return p->switch_parallax_px;
@@ -313,6 +318,15 @@ static spvs_real w_eq22(const spvs_control_t *c, const spvs_control_params_t *p,
     return -p->k_w * in->e_x_px;
 }
 
+/* Eq. (22) with step 3's gain: w = -k_w3 e_x (e_x and h13 are both
+ * alpha_x times the heading's error near the line). */
+static spvs_real w_ex(const spvs_control_t *c, const spvs_control_params_t *p,
+                      const spvs_control_input_t *in)
+{
+    (void)c;
+    return -p->k_w3 * in->e_x_px;
+}
+
 /* Eq. (17): w = -k_w3 h13. */
 static spvs_real w_eq17(const spvs_control_t *c, const spvs_control_params_t *p,
                         const spvs_control_input_t *in)
@@ -411,7 +425,8 @@ static void arrival_add(spvs_control_t *c, const spvs_control_params_t *p,
         s[k] *= scale[k];
     }
     s[6] = in->parallax_x_px;
-    const int n = with_parallax ? SPVS_CTL_ARRIVAL_RESIDUALS : SPVS_CTL_ARRIVAL_RESIDUALS - 1;
+    s[7] = in->parallax_r_px;
+    const int n = with_parallax ? SPVS_CTL_ARRIVAL_RESIDUALS : 6;
     for (int k = 0; k < n; k++) {
         c->arrive_res[k] += s[k];
         c->arrive_sq[k] += s[k] * s[k];
@@ -482,11 +497,19 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
     /* The parallax needs two frames for its spread; without, row 1 of H
      * speaks for the sideways offset alone. */
     const int par = c->arrive_par_n >= 2u;
-    m[6] = par ? residual_mean_sd(c, p, 6, (spvs_real)c->arrive_par_n, &sd[6])
-               : SPVS_R(0.0);
-    z[6] = par ? SPVS_FABS(m[6]) / sd[6] : SPVS_R(0.0);
+    for (int k = 6; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
+        m[k] = sd[k] = z[k] = SPVS_R(0.0);
+        if (par) {
+            m[k] = residual_mean_sd(c, p, k, (spvs_real)c->arrive_par_n, &sd[k]);
+            z[k] = SPVS_FABS(m[k]) / sd[k];
+        }
+    }
     fig[0] = max3(z[0], z[1], z[6]);
-    fig[1] = max3(z[3], z[4], z[5]);
+    /* Along the optical axis the plane's row 3 and the radial parallax
+     * (independent points) each see little: h33 - 1 and the radial
+     * parallax are taken together, as a chi-square of two. */
+    const spvs_real z57 = SPVS_SQRT(z[5] * z[5] + z[7] * z[7]);
+    fig[1] = max3(z[3], z[4], z57);
     fig[2] = z[2];
     fig[3] = max3(fig[0], fig[1], fig[2]);
     spvs_real lateral = SPVS_R(0.0), depth = SPVS_R(0.0);
@@ -494,8 +517,8 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
     c->arrival_stat = fig[3];
     c->arrival_lateral_px = par ? m[6] : m[0];
     c->arrival_lateral_sd_px = par ? sd[6] : sd[0];
-    c->arrival_depth_px = m[5];
-    c->arrival_depth_sd_px = sd[5];
+    c->arrival_depth_px = par ? m[7] : m[5];
+    c->arrival_depth_sd_px = par ? sd[7] : sd[5];
     c->arrival_h13_px = m[2];
     c->arrival_h13_sd_px = sd[2];
 }

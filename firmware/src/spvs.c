@@ -97,9 +97,12 @@ static int frame_epipole(spvs_t *s, spvs_epipole_t *ep, spvs_real *parallax)
     spvs_offplane_t *const o = &s->off;
     spvs_offplane_collect(o, &s->est, s->p.offplane_px);
     *parallax = spvs_offplane_known_parallax_px(o, s->est.H_sc, s->ework.n2);
-    s->lateral_px = *parallax < SPVS_R(0.0)
-                        ? SPVS_R(0.0)
-                        : spvs_offplane_known_lateral_px(o, s->est.H_sc, s->ework.n2);
+    /* The parallax's direction, for the arrival check only. */
+    const int dir = s->ctl.arriving && *parallax >= SPVS_R(0.0);
+    s->lateral_px = dir ? spvs_offplane_known_direction_px(o, s->est.H_sc, 0, s->ework.n2)
+                        : SPVS_R(0.0);
+    s->radial_px = dir ? spvs_offplane_known_direction_px(o, s->est.H_sc, 1, s->ework.n2)
+                       : SPVS_R(0.0);
     const spvs_real sin_tol2 = s->p.epipole_sin_tol * s->p.epipole_sin_tol;
     return spvs_epipole_estimate(s->est.H_sc, (const spvs_real(*)[4])o->cand_pts,
                                  o->cand_ord, o->n_cand, sin_tol2, s->p.min_support, ep,
@@ -147,6 +150,7 @@ static void control_input(const spvs_t *s, spvs_control_input_t *in, spvs_real t
     in->e_dir_z = SPVS_R(0.0);
     in->parallax_px = parallax;
     in->parallax_x_px = s->lateral_px;
+    in->parallax_r_px = s->radial_px;
     in->t_s = t_s;
     in->e_valid = (uint8_t)e_ok;
     in->n_inliers = out->n_inliers;

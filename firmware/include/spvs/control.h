@@ -112,8 +112,9 @@ typedef struct {
     spvs_real e_dir_x;   /* signed epipole direction (see epipole.h); only  */
     spvs_real e_dir_z;   /*   the sign of e_dir_z is used: target ahead     */
     spvs_real parallax_px; /* median off-plane parallax, negative: unknown  */
-    spvs_real parallax_x_px; /* median horizontal parallax of the remembered
-                                off-plane points, signed (parallax_px >= 0) */
+    spvs_real parallax_x_px; /* median horizontal and radial parallax of the */
+    spvs_real parallax_r_px; /*   remembered off-plane points, signed, while
+                                  arriving (parallax_px >= 0)             */
     spvs_real t_s;       /* frame time, seconds                             */
     uint8_t e_valid;     /* the epipole estimate is usable this frame       */
     uint16_t n_inliers;  /* plane inliers behind H (the arrival check's
@@ -159,11 +160,15 @@ typedef struct {
     uint8_t reentries;       /* checks failed so far (each re-entered a step) */
     uint8_t reentered;       /* the steps now running are a re-entry        */
     uint8_t backing;         /* re-entry: backing off for a new start       */
+    uint8_t depth_fixed;     /* the depth correction before the verdict is done */
+    uint8_t ex_steer;        /* after backing off: steps 1 and 2 steer on
+                                the epipole (Methods I, II)                */
     uint8_t arrival_next;    /* step the last failed check pointed to, 0    */
     uint16_t arrive_n;       /* frames averaged so far                      */
     spvs_real arrive_sum[6]; /* sums of h11 - 1, h12, h13, h31, h32, h33 - 1 */
     /* Sums and sums of squares of the residuals, pixels: those six at the
-     * corner, and the horizontal parallax (over arrive_par_n frames). */
+     * corner, and the horizontal and radial parallax (over arrive_par_n
+     * frames). */
     spvs_real arrive_res[SPVS_CTL_ARRIVAL_RESIDUALS];
     spvs_real arrive_sq[SPVS_CTL_ARRIVAL_RESIDUALS];
     spvs_real arrival_stat;       /* largest |mean| / sd                    */

@@ -109,7 +109,8 @@ typedef struct {
     int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
     uint8_t n_ehist;
     uint8_t i_ehist;
-    spvs_real lateral_px;     /* the frame's horizontal parallax (offplane.h) */
+    spvs_real lateral_px;     /* the frame's horizontal and radial parallax */
+    spvs_real radial_px;      /*   (offplane.h), while arriving            */
 } spvs_t;
 #endif
 

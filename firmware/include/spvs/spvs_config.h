@@ -311,9 +311,9 @@
 #ifndef SPVS_CTL_NOISE_PARALLAX_X1000
 #define SPVS_CTL_NOISE_PARALLAX_X1000 1665
 #endif
-/* The arrival check's residuals: six entries of H - I and the horizontal
- * parallax (control.h). */
-#define SPVS_CTL_ARRIVAL_RESIDUALS 7
+/* The arrival check's residuals: six entries of H - I, the horizontal and
+ * the radial parallax (control.h). */
+#define SPVS_CTL_ARRIVAL_RESIDUALS 8
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
 #endif

@@ -380,6 +380,12 @@ static int32_t tol_h13(const spvs_q_ctl_params_t *p)
     return p->tol_h13;
 }
 
+/* tol_h13_px in e_x's Q16. */
+static int32_t tol_ex(const spvs_q_ctl_params_t *p)
+{
+    return (int32_t)spvs_q_rshift_rnd64(p->tol_h13, QH13_PX - SPVS_QCTL_PX);
+}
+
 static int32_t switch_parallax(const spvs_q_ctl_params_t *p)
 {
     return p->switch_parallax;
@@ -558,6 +564,12 @@ static int64_t w_eq22(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
     return -kx(p->k_w, in->e_x, SPVS_QCTL_PX, SPVS_QCTL_CMD, &c->sat);
 }
 
+/* control.c's w_ex: w = -k_w3 e_x. */
+static int64_t w_ex(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, const spvs_q_ctl_input_t *in)
+{
+    return -kx(p->k_w3, in->e_x, SPVS_QCTL_PX, SPVS_QCTL_CMD, &c->sat);
+}
+
 /* Eq. (17): w = -k_w3 h13, h13 in pixels (Q18). */
 static int64_t w_eq17(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
                       const spvs_q_ctl_input_t *in)
@@ -678,7 +690,7 @@ static SPVS_Q_NOINLINE void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_params
             v = spvs_qf_to_q32(spvs_qf_mul(qf_of(e[k], SPVS_QH), p->res_scale[k]), SPVS_QCTL_PX,
                                &tel);
         } else if (with_parallax) {
-            v = in->parallax_x;
+            v = k == 6 ? in->parallax_x : in->parallax_r;
         } else {
             break;
         }
@@ -807,13 +819,16 @@ static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_pa
         z[k] = qf_div(qf_abs(m[k]), sd[k], sat);
     }
     const int par = c->arrive_par_n >= 2u;
-    m[6] = sd[6] = z[6] = qf_of(0, 0);
-    if (par) {
-        m[6] = residual_mean_sd(c, p, 6, c->arrive_par_n, &sd[6]);
-        z[6] = qf_div(qf_abs(m[6]), sd[6], sat);
+    for (int k = 6; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
+        m[k] = sd[k] = z[k] = qf_of(0, 0);
+        if (par) {
+            m[k] = residual_mean_sd(c, p, k, c->arrive_par_n, &sd[k]);
+            z[k] = qf_div(qf_abs(m[k]), sd[k], sat);
+        }
     }
     fig[0] = qf_max(qf_max(z[0], z[1]), z[6]);
-    fig[1] = qf_max(qf_max(z[3], z[4]), z[5]);
+    const spvs_qf_t z57 = qf_sqrt(spvs_qf_add(spvs_qf_mul(z[5], z[5]), spvs_qf_mul(z[7], z[7])));
+    fig[1] = qf_max(qf_max(z[3], z[4]), z57);
     fig[2] = z[2];
     fig[3] = qf_max(qf_max(fig[0], fig[1]), fig[2]);
     spvs_qf_t cf[3];
@@ -822,8 +837,8 @@ static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_pa
     c->arrival_stat = spvs_qf_to_q32(fig[3], SPVS_QCTL_PX, &tel);
     c->arrival_lateral_px = spvs_qf_to_q32(par ? m[6] : m[0], SPVS_QCTL_PX, &tel);
     c->arrival_lateral_sd_px = spvs_qf_to_q32(par ? sd[6] : sd[0], SPVS_QCTL_PX, &tel);
-    c->arrival_depth_px = spvs_qf_to_q32(m[5], SPVS_QCTL_PX, &tel);
-    c->arrival_depth_sd_px = spvs_qf_to_q32(sd[5], SPVS_QCTL_PX, &tel);
+    c->arrival_depth_px = spvs_qf_to_q32(par ? m[7] : m[5], SPVS_QCTL_PX, &tel);
+    c->arrival_depth_sd_px = spvs_qf_to_q32(par ? sd[7] : sd[5], SPVS_QCTL_PX, &tel);
     c->arrival_h13_px = spvs_qf_to_q32(m[2], SPVS_QCTL_PX, &tel);
     c->arrival_h13_sd_px = spvs_qf_to_q32(sd[2], SPVS_QCTL_PX, &tel);
 }

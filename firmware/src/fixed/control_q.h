@@ -118,6 +118,7 @@ typedef struct {
     int8_t e_side;      /* sign of the epipole's z: +1, -1, 0     */
     int32_t parallax;   /* pixels, Q16; negative: unknown          */
     int32_t parallax_x; /* horizontal parallax, signed, pixels, Q16 */
+    int32_t parallax_r; /* radial parallax, signed, pixels, Q16     */
     int32_t t;          /* seconds, Q16                            */
     uint8_t e_valid;
     uint16_t n_inliers;
@@ -147,7 +148,7 @@ typedef struct {
     uint32_t fit_n;
     int64_t fit_s, fit_d, fit_ax; /* Q24, Q27, Q27 (ax = h33 - h11) */
     spvs_qf_t fit_ss, fit_sd, fit_sax;
-    uint8_t arriving, reentries, reentered, backing, arrival_next;
+    uint8_t arriving, reentries, reentered, backing, arrival_next, ex_steer, depth_fixed;
     uint16_t arrive_n;
     int64_t arrive_sum[6];    /* Q27: h11 - 1, h12, h13 (scaled), h31, h32 (scaled), h33 - 1 */
     int64_t arrive_res[SPVS_CTL_ARRIVAL_RESIDUALS]; /* Q16 px (control.h) */

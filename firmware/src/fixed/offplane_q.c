@@ -240,15 +240,22 @@ static int32_t median_px(int32_t *v, uint16_t n)
     return spvs_q_select_i32(v, 1u, n, n / 2u);
 }
 
-/* The horizontal transfer error, current minus transferred, in Q16 pixels:
- * Q26 scaled units times SPVS_COORD_SCALE (2^9) are Q17 pixels. */
-static int cand_du(const int32_t H[9], const int32_t row[4], int32_t *du_q16)
+/* The transfer error, current minus transferred, in Q16 pixels (Q26
+ * scaled units times SPVS_COORD_SCALE, 2^9, are Q17 pixels): horizontal,
+ * and along the current point's radius (the dot product in Q52 over the
+ * radius in Q26; every term under 2^60 for points within 2^15 px). */
+static int cand_dir(const int32_t H[9], const int32_t row[4], int32_t d[2])
 {
     int32_t du, dv;
     if (!spvs_q_transfer(H, row, &du, &dv)) {
         return 0;
     }
-    *du_q16 = (int32_t)spvs_q_rsh(-(int64_t)du, 1);
+    d[0] = (int32_t)spvs_q_rsh(-(int64_t)du, 1);
+    const int64_t x = row[2], y = row[3];
+    const int64_t r = (int64_t)spvs_q_isqrt64((uint64_t)(x * x + y * y));
+    const int64_t dot = -((int64_t)du * x + (int64_t)dv * y);
+    uint32_t sat = 0;
+    d[1] = r > 0 ? spvs_q_sat32(spvs_q_rsh(dot / r, 1), &sat) : 0;
     return 1;
 }
 
@@ -298,10 +305,10 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
     collect(o, e, offplane_q16);
 }
 
-int32_t spvs_q_offplane_known_lateral_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                          int32_t *scratch)
+int32_t spvs_q_offplane_known_direction_q16(const spvs_q_offplane_t *o, const int32_t H[9],
+                                            int radial, int32_t *scratch)
 {
-    return known_lateral(o, H, scratch);
+    return known_direction(o, H, radial != 0, scratch);
 }
 
 int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],

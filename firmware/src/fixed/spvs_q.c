@@ -273,8 +273,10 @@ static int frame_epipole(spvs_q_t *s, spvs_q_epipole_t *ep, int32_t *parallax)
     spvs_q_offplane_t *const o = &s->off;
     spvs_q_offplane_collect(o, &s->est, s->p.offplane_q16);
     *parallax = spvs_q_offplane_known_parallax_q16(o, s->est.H, s->scratch);
-    s->lateral_q16 =
-        *parallax < 0 ? 0 : spvs_q_offplane_known_lateral_q16(o, s->est.H, s->scratch);
+    /* The parallax's direction, for the arrival check only. */
+    const int dir = s->ctl.arriving && *parallax >= 0;
+    s->lateral_q16 = dir ? spvs_q_offplane_known_direction_q16(o, s->est.H, 0, s->scratch) : 0;
+    s->radial_q16 = dir ? spvs_q_offplane_known_direction_q16(o, s->est.H, 1, s->scratch) : 0;
     return spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts, o->cand_ord,
                                    o->n_cand, s->p.sin_tol2_q30, s->p.min_support, ep,
                                    o->support, &s->ework) == SPVS_OK;
@@ -317,6 +319,7 @@ static void control_input(const spvs_q_t *s, spvs_q_ctl_input_t *in, int32_t t, 
     in->e_side = 0;
     in->parallax = parallax;
     in->parallax_x = s->lateral_q16;
+    in->parallax_r = s->radial_q16;
     in->t = t;
     in->e_valid = (uint8_t)e_ok;
     in->n_inliers = out->n_inliers;

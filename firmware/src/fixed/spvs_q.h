@@ -68,7 +68,8 @@ typedef struct spvs_q_s {
     int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
     uint8_t n_ehist;
     uint8_t i_ehist;
-    int32_t lateral_q16;      /* the frame's horizontal parallax, Q16 px   */
+    int32_t lateral_q16;      /* the frame's horizontal and radial         */
+    int32_t radial_q16;       /*   parallax, Q16 px, while arriving        */
 } spvs_q_t;
 
 /* spvs_init: p converted and checked (SPVS_E_ARG for NULL, SPVS_E_CONFIG
