@@ -507,11 +507,13 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
     fig[0] = max3(z[0], z[1], z[6]);
     /* Along the optical axis the plane's row 3 and the radial parallax
      * (independent points) each see little: h33 - 1 and the radial
-     * parallax are taken together, as a chi-square of two. */
+     * parallax are taken together, as a chi-square of two.  h31 moves with
+     * the heading and the depth alike: it counts in the verdict, not in
+     * the direction. */
     const spvs_real z57 = SPVS_SQRT(z[5] * z[5] + z[7] * z[7]);
-    fig[1] = max3(z[3], z[4], z57);
+    fig[1] = z[4] > z57 ? z[4] : z57;
     fig[2] = z[2];
-    fig[3] = max3(fig[0], fig[1], fig[2]);
+    fig[3] = max3(max3(fig[0], fig[1], fig[2]), z[3], z[3]);
     spvs_real lateral = SPVS_R(0.0), depth = SPVS_R(0.0);
     corner_figures(p, r, &c->arrival_corner_px, &lateral, &depth);
     c->arrival_stat = fig[3];

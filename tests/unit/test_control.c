@@ -283,10 +283,13 @@ static void test_method3_eq11(void)
 }
 
 /* The arrival check: a controller that has just ended step 3 at pose, fed
- * arrival_frames exact frames from there (the robot stands still), each
- * with the remembered off-plane points' parallax par_px. */
-static int arrival_at_par(spvs_control_t *c, const spvs_control_params_t *p,
-                          const synth_pose_t *pose, double t0, double par_px)
+ * arrival_frames frames from there (the robot stands still), each with the
+ * remembered off-plane points' parallax par_px, and h33 moved by
+ * h33_bias + (-1)^k h33_noise (a goal image's fixed share and a current
+ * image's noise, frame to frame). */
+static int arrival_noisy(spvs_control_t *c, const spvs_control_params_t *p,
+                         const synth_pose_t *pose, double t0, double par_px, double h33_bias,
+                         double h33_noise)
 {
     const synth_plane_t pl = default_plane();
     c->checked_plane = 1;
@@ -296,20 +299,34 @@ static int arrival_at_par(spvs_control_t *c, const spvs_control_params_t *p,
     c->sign_v = 1;
     c->arriving = 1;
     c->arrive_n = 0;
+    c->arrive_par_n = 0;
+    c->arrive_par_sum = 0;
     for (int k = 0; k < 6; k++) {
         c->arrive_sum[k] = 0;
     }
-    c->arrive_inv_n = 0;
+    for (int k = 0; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
+        c->arrive_res[k] = 0;
+        c->arrive_sq[k] = 0;
+    }
     int rc = SPVS_OK;
     for (int k = 0; k < p->arrival_frames && rc == SPVS_OK; k++) {
         spvs_control_input_t in;
         make_input(pose, &pl, t0 + 0.1 * k, &in);
         in.parallax_px = (spvs_real)par_px;
+        in.parallax_x_px = 0;
+        in.parallax_r_px = 0;
+        in.H[SPVS_H33] += (spvs_real)(h33_bias + ((k & 1) ? -h33_noise : h33_noise));
         spvs_real v = 1, w = 1;
         rc = spvs_control_step(c, p, &in, &v, &w);
         TEST_ASSERT_TRUE(v == 0 && w == 0);
     }
     return rc;
+}
+
+static int arrival_at_par(spvs_control_t *c, const spvs_control_params_t *p,
+                          const synth_pose_t *pose, double t0, double par_px)
+{
+    return arrival_noisy(c, p, pose, t0, par_px, 0.0, 0.0);
 }
 
 /* ... with no off-plane point in view (the H figures alone decide). */
@@ -334,12 +351,13 @@ static double corner_px(const synth_pose_t *pose)
     return sum;
 }
 
-/* Accepted at the target, with the telemetry's bound from the noise model:
- * 4 sigma sqrt(2 L / n / N) for sigma = 1 px, L = 23.5, n = 100 inliers,
- * N = 20 frames = 0.6131 px; rejected 0.3 m along the axis (step 2 again),
- * 0.3 m sideways facing the target heading's h13 = 0 (step 1's verdict:
- * the robot backs off, in step 2, for a new start) and 0.5 deg off the
- * heading (step 3 again), each with the figures of that pose's exact H. */
+/* Exact frames have no spread: every residual's sd is
+ * arrival_resolution_px (0.05 px).  Accepted at the target; rejected 0.3 m
+ * along the axis (first the one depth correction, then a failed check:
+ * step 2 again), 0.3 m sideways facing the target heading's h13 = 0 (step
+ * 1's verdict: the robot backs off, in step 2, for a new start) and 0.5
+ * deg off the heading (step 3 again), each with the mean corner transfer
+ * of that pose's exact H. */
 static void test_arrival_check(void)
 {
     for (int m = 1; m <= 3; m++) {
@@ -350,7 +368,9 @@ static void test_arrival_check(void)
         synth_pose_t home = {0, 0, 0};
         TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &home, 0));
         TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, c.step);
-        TEST_ASSERT_TRUE(fabs((double)c.arrival_bound_px - 0.61311) < 1e-4);
+        TEST_ASSERT_TRUE(c.arrival_stat < 1e-2);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_h13_sd_px - 0.05) < 1e-6);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_sd_px - 0.05) < 1e-6);
         TEST_ASSERT_TRUE(c.arrival_corner_px < 1e-3);
         TEST_ASSERT_EQUAL_INT64(0, c.reentries);
 
@@ -364,15 +384,62 @@ static void test_arrival_check(void)
         for (int i = 0; i < 3; i++) {
             spvs_control_reset(&c);
             TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &cases[i].pose, 0));
-            UNIT_NOTE("method %d case %d: corner %.3f px (bound %.3f), lateral %.3f, depth %.3f, h13 %.3f\n", m, i, (double)c.arrival_corner_px, (double)c.arrival_bound_px, (double)c.arrival_lateral_px, (double)c.arrival_depth_px, (double)c.arrival_h13_px);
+            if (i == 0) {
+                /* The depth correction: not a failed check. */
+                TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
+                TEST_ASSERT_EQUAL_INT64(0, c.reentries);
+                TEST_ASSERT_EQUAL_INT64(1, c.depth_fixed);
+                TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &cases[i].pose, 10.0));
+            }
+            UNIT_NOTE("method %d case %d: statistic %.1f, lateral %.3f, depth %.3f, h13 %.3f px\n", m, i, (double)c.arrival_stat, (double)c.arrival_lateral_px, (double)c.arrival_depth_px, (double)c.arrival_h13_px);
             TEST_ASSERT_EQUAL_INT64(cases[i].step, c.step);
             TEST_ASSERT_EQUAL_INT64(cases[i].verdict, c.arrival_next);
             TEST_ASSERT_EQUAL_INT64(cases[i].verdict == SPVS_STEP_ROTATE, c.backing);
             TEST_ASSERT_EQUAL_INT64(1, c.reentries);
-            TEST_ASSERT_TRUE(c.arrival_corner_px > c.arrival_bound_px);
+            TEST_ASSERT_TRUE(c.arrival_stat > p.arrival_k);
             TEST_ASSERT_TRUE(fabs((double)c.arrival_corner_px - corner_px(&cases[i].pose)) <
                         1e-3 * corner_px(&cases[i].pose));
         }
+    }
+}
+
+/* The spread comes from the hold's own frames, and the goal image's share
+ * (a bias the same in every frame) is counted once, not averaged: with h33
+ * moved by b + (-1)^k s over N = 20 frames, the depth residual is b |c|
+ * (|c| = 400 px, the corner's radius) with sd = |c| sqrt(s^2 N/(N - 1)
+ * (1 + 1/N) + ...) = sqrt((400 s)^2 (21/19) + 0.05^2).  A bias of 1.5 sd is
+ * accepted (a bound averaging both images' noise over the frames would
+ * have been 3.2 times tighter); one of 3 sd is driven off once (the
+ * correction), then accepted; one of 6 sd fails the check after its
+ * correction. */
+static void test_arrival_goal_share(void)
+{
+    spvs_control_params_t p;
+    spvs_control_params_default(&p, SPVS_METHOD_I);
+    const synth_pose_t home = {0, 0, 0};
+    const double s = 1e-3; /* 0.4 px at the corner */
+    const double sd = sqrt(400.0 * 400.0 * s * s * 21.0 / 19.0 + 0.05 * 0.05);
+    const struct {
+        double z;
+        int corrections, reentries;
+        spvs_step_t step;
+    } cases[] = {{1.5, 0, 0, SPVS_STEP_DONE}, {3.0, 1, 0, SPVS_STEP_DONE},
+                 {6.0, 1, 1, SPVS_STEP_TRANSLATE}};
+    for (int i = 0; i < 3; i++) {
+        spvs_control_t c;
+        spvs_control_reset(&c);
+        const double b = cases[i].z * sd / 400.0;
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_noisy(&c, &p, &home, 0, -1.0, b, s));
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_px - 400.0 * b) < 1e-3);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_sd_px - sd) < 1e-3 * sd);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_stat - cases[i].z) < 0.01);
+        if (cases[i].corrections) {
+            TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
+            TEST_ASSERT_EQUAL_INT64(0, c.reentries);
+            TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_noisy(&c, &p, &home, 10.0, -1.0, b, s));
+        }
+        TEST_ASSERT_EQUAL_INT64(cases[i].step, c.step);
+        TEST_ASSERT_EQUAL_INT64(cases[i].reentries, c.reentries);
     }
 }
 
@@ -444,8 +511,9 @@ static void test_arrival_parallax(void)
 }
 
 /* The re-entries are bounded: a robot that stays 0.3 m short is sent back
- * SPVS_CTL_ARRIVAL_MAX_REENTRIES times, then the run ends with
- * SPVS_E_NOT_AT_TARGET, latched with a stop, never converged. */
+ * once to correct it, then SPVS_CTL_ARRIVAL_MAX_REENTRIES times, then the
+ * run ends with SPVS_E_NOT_AT_TARGET, latched with a stop, never
+ * converged. */
 static void test_arrival_bound_spent(void)
 {
     spvs_control_params_t p;
@@ -453,8 +521,11 @@ static void test_arrival_bound_spent(void)
     spvs_control_t c;
     spvs_control_reset(&c);
     synth_pose_t shortp = {0, 0.3, 0};
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &shortp, 0.0));
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
+    TEST_ASSERT_EQUAL_INT64(0, c.reentries);
     for (int k = 0; k < SPVS_CTL_ARRIVAL_MAX_REENTRIES; k++) {
-        TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &shortp, 10.0 * k));
+        TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &shortp, 10.0 * (k + 1)));
         TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
         TEST_ASSERT_EQUAL_INT64(k + 1, c.reentries);
     }
@@ -548,6 +619,7 @@ void suite_control(void)
     RUN_TEST(test_no_parallax_and_timeout);
     RUN_TEST(test_method3_eq11);
     RUN_TEST(test_arrival_check);
+    RUN_TEST(test_arrival_goal_share);
     RUN_TEST(test_arrival_parallax);
     RUN_TEST(test_arrival_bound_spent);
     RUN_TEST(test_reentry_slope_slip);

@@ -263,6 +263,8 @@ int spvs_q_ctl_input_from_real(spvs_q_ctl_input_t *q, const spvs_control_input_t
     /* Any negative parallax is "unknown", however small. */
     q->parallax = (par.neg && par.mant != 0u) ? -((int32_t)1 << SPVS_QCTL_PX)
                                               : q_real(in->parallax_px, SPVS_QCTL_PX, &clamp);
+    q->parallax_x = q_real(in->parallax_x_px, SPVS_QCTL_PX, &clamp);
+    q->parallax_r = q_real(in->parallax_r_px, SPVS_QCTL_PX, &clamp);
     q->n_inliers = in->n_inliers;
     if (((sat | clamp) & SPVS_Q_NONFINITE) != 0u || ez.nonfinite) {
         return SPVS_E_NONFINITE;
@@ -828,9 +830,9 @@ static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_pa
     }
     fig[0] = qf_max(qf_max(z[0], z[1]), z[6]);
     const spvs_qf_t z57 = qf_sqrt(spvs_qf_add(spvs_qf_mul(z[5], z[5]), spvs_qf_mul(z[7], z[7])));
-    fig[1] = qf_max(qf_max(z[3], z[4]), z57);
+    fig[1] = qf_max(z[4], z57);
     fig[2] = z[2];
-    fig[3] = qf_max(qf_max(fig[0], fig[1]), fig[2]);
+    fig[3] = qf_max(qf_max(qf_max(fig[0], fig[1]), fig[2]), z[3]);
     spvs_qf_t cf[3];
     corner_figures(p, r, cf, sat);
     c->arrival_corner_px = spvs_qf_to_q32(cf[0], SPVS_QCTL_PX, &tel);
