@@ -299,7 +299,10 @@ static int arrival_at_par(spvs_control_t *c, const spvs_control_params_t *p,
     for (int k = 0; k < 6; k++) {
         c->arrive_sum[k] = 0;
     }
-    c->arrive_inv_n = 0;
+    for (int k = 0; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
+        c->arrive_res[k] = 0;
+        c->arrive_sq[k] = 0;
+    }
     int rc = SPVS_OK;
     for (int k = 0; k < p->arrival_frames && rc == SPVS_OK; k++) {
         spvs_control_input_t in;
@@ -350,7 +353,7 @@ static void test_arrival_check(void)
         synth_pose_t home = {0, 0, 0};
         TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &home, 0));
         TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, c.step);
-        TEST_ASSERT_TRUE(fabs((double)c.arrival_bound_px - 0.61311) < 1e-4);
+        TEST_ASSERT_TRUE(c.arrival_stat <= p.arrival_k);
         TEST_ASSERT_TRUE(c.arrival_corner_px < 1e-3);
         TEST_ASSERT_EQUAL_INT64(0, c.reentries);
 
@@ -364,12 +367,12 @@ static void test_arrival_check(void)
         for (int i = 0; i < 3; i++) {
             spvs_control_reset(&c);
             TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &cases[i].pose, 0));
-            UNIT_NOTE("method %d case %d: corner %.3f px (bound %.3f), lateral %.3f, depth %.3f, h13 %.3f\n", m, i, (double)c.arrival_corner_px, (double)c.arrival_bound_px, (double)c.arrival_lateral_px, (double)c.arrival_depth_px, (double)c.arrival_h13_px);
+            UNIT_NOTE("method %d case %d: corner %.3f px (statistic %.3f), lateral %.3f, depth %.3f, h13 %.3f\n", m, i, (double)c.arrival_corner_px, (double)c.arrival_stat, (double)c.arrival_lateral_px, (double)c.arrival_depth_px, (double)c.arrival_h13_px);
             TEST_ASSERT_EQUAL_INT64(cases[i].step, c.step);
             TEST_ASSERT_EQUAL_INT64(cases[i].verdict, c.arrival_next);
             TEST_ASSERT_EQUAL_INT64(cases[i].verdict == SPVS_STEP_ROTATE, c.backing);
             TEST_ASSERT_EQUAL_INT64(1, c.reentries);
-            TEST_ASSERT_TRUE(c.arrival_corner_px > c.arrival_bound_px);
+            TEST_ASSERT_TRUE(c.arrival_stat > p.arrival_k);
             TEST_ASSERT_TRUE(fabs((double)c.arrival_corner_px - corner_px(&cases[i].pose)) <
                         1e-3 * corner_px(&cases[i].pose));
         }

@@ -75,6 +75,7 @@ static void rebuild_input(const spvs_t *s, const spvs_output_t *out, double t,
         in->e_dir_z = (spvs_real)side;
     }
     in->parallax_px = out->parallax_px;
+    in->parallax_x_px = s->lateral_px;
     in->t_s = (spvs_real)t;
     in->n_inliers = out->n_inliers;
 }
@@ -427,10 +428,10 @@ static int stuck_at(pair_t *pr, const synth_pose_t *pose, double sigma, int *fra
 }
 
 /* The arrival check's three paths, in both: at the target it accepts
- * (DONE, bound and figures equal within 1e-4 px); 0.3 m short along the
- * axis it re-enters step 2 SPVS_CTL_ARRIVAL_MAX_REENTRIES times (the robot
- * never moves) and then latches SPVS_E_NOT_AT_TARGET; 0.3 m sideways it
- * backs off.  Each for every method, exact H and H with noise. */
+ * (DONE; statistic, standard deviations and corner transfer equal within
+ * 1e-4); 0.3 m short along the axis it re-enters step 2
+ * SPVS_CTL_ARRIVAL_MAX_REENTRIES times (the robot never moves) and then
+ * latches SPVS_E_NOT_AT_TARGET; 0.3 m sideways it backs off.  Each for every method, exact H and H with noise. */
 static void test_arrival_paths(void)
 {
     const synth_pose_t home = {0, 0, 0}, shortp = {0, 0.3, 0}, side = {0.3, 0, 0};
@@ -442,7 +443,11 @@ static void test_arrival_paths(void)
             pair_arriving(&pr, 0);
             TEST_ASSERT_EQUAL_INT64(SPVS_OK, stuck_at(&pr, &home, noisy, &frames));
             TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, pr.f.step);
-            TEST_ASSERT_TRUE(fabs(pr.q.arrival_bound_px / 65536.0 - (double)pr.f.arrival_bound_px) < 1e-4);
+            UNIT_NOTE("  M%d home, noise %d: statistic %.6f / %.6f, sd lateral %.6f / %.6f, depth %.6f / %.6f, h13 %.6f / %.6f (float / Q)\n", m, noisy, (double)pr.f.arrival_stat, pr.q.arrival_stat / 65536.0, (double)pr.f.arrival_lateral_sd_px, pr.q.arrival_lateral_sd_px / 65536.0, (double)pr.f.arrival_depth_sd_px, pr.q.arrival_depth_sd_px / 65536.0, (double)pr.f.arrival_h13_sd_px, pr.q.arrival_h13_sd_px / 65536.0);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_stat / 65536.0 - (double)pr.f.arrival_stat) < 1e-4);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_lateral_sd_px / 65536.0 - (double)pr.f.arrival_lateral_sd_px) < 1e-4);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_depth_sd_px / 65536.0 - (double)pr.f.arrival_depth_sd_px) < 1e-4);
+            TEST_ASSERT_TRUE(fabs(pr.q.arrival_h13_sd_px / 65536.0 - (double)pr.f.arrival_h13_sd_px) < 1e-4);
             TEST_ASSERT_TRUE(fabs(pr.q.arrival_corner_px / 65536.0 - (double)pr.f.arrival_corner_px) < 1e-4);
 
             pair_init(&pr, (spvs_method_t)m);
@@ -518,23 +523,21 @@ static const struct {
     RF(w_max), RF(w_min_escape), RF(tol_align), RF(tol_translate), RF(tol_h13_px),
     RF(lock_ex_px), RF(switch_parallax_px), RF(hold_heading_ratio), RF(tol_det),
     RF(min_signal_ratio), RF(step_timeout_s), RF(fit_min_span_m), RF(arrival_sigma_px),
-    RF(arrival_k), RF(arrival_leverage), RF(arrival_corner_x_px), RF(arrival_corner_y_px),
+    RF(arrival_k), RF(arrival_corner_x_px), RF(arrival_corner_y_px),
     RF(arrival_resolution_px)};
 /* ... and every integer one. */
 static const struct {
     size_t off;
     const char *name;
-} u16_fields[] = {RF(hold_frames), RF(fit_min_frames), RF(arrival_frames),
-                  RF(arrival_max_frames)};
+} u16_fields[] = {RF(hold_frames), RF(fit_min_frames), RF(arrival_frames)};
 #define N_REAL_FIELDS (sizeof real_fields / sizeof real_fields[0])
-_Static_assert(sizeof real_fields / sizeof real_fields[0] == 25 &&
-                   sizeof u16_fields / sizeof u16_fields[0] == 4,
-               "control.h's parameters: 25 reals, 4 counts and the method");
+_Static_assert(sizeof real_fields / sizeof real_fields[0] == 24 &&
+                   sizeof u16_fields / sizeof u16_fields[0] == 3,
+               "control.h's parameters: 24 reals, 3 counts and the method");
 
 /* Magnitudes the values are made around: control.c's bounds (0, 1,
- * SPVS_REAL_MAX; w_max for w_min_escape, arrival_frames for
- * arrival_max_frames: the other field's defaults), the type's extremes
- * and every default of the three methods. */
+ * SPVS_REAL_MAX; w_max for w_min_escape: the other field's default), the
+ * type's extremes and every default of the three methods. */
 #define MAX_MAGS (5 + 3 * N_REAL_FIELDS)
 /* Each magnitude, the next float down and up, in both signs; infinity,
  * NaN and the NaN next to infinity's bits (a signalling NaN, payload 1),
