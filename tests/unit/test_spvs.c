@@ -177,7 +177,7 @@ static void test_every_status_stops(void)
     /* The arrival check: 2 mm short of the target with plane points only,
      * the translation signals are under their tolerances and the controller
      * goes straight to step 3; with exact frames and a least standard
-     * deviation of 1e-4 px the 2 mm (about 0.02 px at the corners) are many
+     * deviation of 1e-4 px the 2 mm (0.013 px at the corners) are many
      * standard deviations, the robot standing still cannot close them, and
      * once the re-entries are spent the run ends not at the target
      * (latched), its statistic over the threshold. */
