@@ -82,26 +82,48 @@ def check_converged(obj):
                                                obj["time_s"]))
 
 
-ARRIVAL_KEYS = ("corner_px", "bound_px", "lateral_px", "depth_px", "h13_px",
+ARRIVAL_KEYS = ("statistic", "threshold", "lateral_px", "lateral_sd_px",
+                "depth_px", "depth_sd_px", "h13_px", "h13_sd_px", "corner_px",
                 "parallax_px", "frames", "reentries", "next_step")
+# The check's threshold, arrival_k, and the least standard deviation,
+# arrival_resolution_px, by default (params.c).
+ARRIVAL_K = 4.0
+ARRIVAL_RESOLUTION_PX = 0.05
 # The arrival check's parallax limit (control.c, arrival_decide):
 # SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x 1.665 x arrival_sigma_px, with the
 # defaults 175 and 1 px.
 ARRIVAL_PARALLAX_MAX_PX = 1.75 * 1.665 * 1.0
+# The figures are printed with 6 significant digits (and the fixed-point
+# core rounds its own): ratios are compared with this relative slack.
+ARRIVAL_REL = 1e-3
 
 
 def check_arrival(obj):
-    """A converged run's last check accepted: its figures are under their
-    limits (docs/CONTROL.md, "A verified arrival")."""
+    """A converged run's last check accepted: its statistic is within the
+    threshold, and each direction's residual within that many of its
+    standard deviations (docs/CONTROL.md, "A verified arrival")."""
     a = obj.get("arrival")
     if not isinstance(a, dict):
         fail("JSON lacks the arrival object: %r" % a)
     for k in ARRIVAL_KEYS:
         if not isinstance(a.get(k), (int, float)):
             fail("arrival.%s missing or not a number: %s" % (k, a))
-    if not a["corner_px"] <= a["bound_px"]:
-        fail("converged with corner transfer %g px over its bound %g px"
-             % (a["corner_px"], a["bound_px"]))
+    if a["threshold"] != ARRIVAL_K:
+        fail("arrival threshold %g, want arrival_k's default %g"
+             % (a["threshold"], ARRIVAL_K))
+    if not 0.0 <= a["statistic"] <= a["threshold"]:
+        fail("converged with statistic %g over its threshold %g"
+             % (a["statistic"], a["threshold"]))
+    # The statistic is the largest |residual| / sd of the check, so no
+    # direction's exceeds it, and no sd is under arrival_resolution_px.
+    for d in ("lateral", "depth", "h13"):
+        res, sd = a[d + "_px"], a[d + "_sd_px"]
+        if not sd >= ARRIVAL_RESOLUTION_PX * (1.0 - ARRIVAL_REL):
+            fail("arrival %s sd %g px under arrival_resolution_px %g"
+                 % (d, sd, ARRIVAL_RESOLUTION_PX))
+        if not abs(res) / sd <= a["statistic"] * (1.0 + ARRIVAL_REL) + 1e-4:
+            fail("arrival %s %g px / sd %g px over the statistic %g"
+                 % (d, res, sd, a["statistic"]))
     # -1: no remembered off-plane point was seen over the hold.
     par = a["parallax_px"]
     if not (par == -1 or 0.0 <= par <= ARRIVAL_PARALLAX_MAX_PX):

@@ -81,6 +81,11 @@ static void expect_stop(const spvs_match_t *m, uint16_t n, double t_s, int want)
      * their "no check" zeros, not the caller's stale bytes. */
     if (want >= SPVS_E_STALE) {
         assert_true(out.arrival_corner_px == SPVS_R(0.0));
+        assert_true(out.arrival_stat == SPVS_R(0.0));
+        assert_true(out.arrival_threshold == SPVS_R(0.0));
+        assert_true(out.arrival_lateral_sd_px == SPVS_R(0.0));
+        assert_true(out.arrival_depth_sd_px == SPVS_R(0.0));
+        assert_true(out.arrival_h13_sd_px == SPVS_R(0.0));
         assert_true(out.arrival_parallax_px == SPVS_R(0.0));
         assert_int_equal(out.arrival_frames, 0);
     }

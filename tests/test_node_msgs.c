@@ -271,6 +271,11 @@ static void test_valid_frames_match_core(void **state)
             assert_true(g_state.H[k] == (double)ref.H[k]);
         assert_int_equal(g_state.n_inliers, ref.n_inliers);
         assert_true(g_state.arrival_corner_px == (double)ref.arrival_corner_px);
+        assert_true(g_state.arrival_stat == (double)ref.arrival_stat);
+        assert_true(g_state.arrival_threshold == (double)ref.arrival_threshold);
+        assert_true(g_state.arrival_lateral_sd_px == (double)ref.arrival_lateral_sd_px);
+        assert_true(g_state.arrival_depth_sd_px == (double)ref.arrival_depth_sd_px);
+        assert_true(g_state.arrival_h13_sd_px == (double)ref.arrival_h13_sd_px);
         assert_true(g_state.arrival_parallax_px == (double)ref.arrival_parallax_px);
         assert_int_equal(g_state.arrival_frames, ref.arrival_frames);
         assert_int_equal(g_state.arriving, ref.arriving);
@@ -281,22 +286,26 @@ static void test_valid_frames_match_core(void **state)
 }
 
 /* An output through state_t and back (wire.c, both ways): the layout
- * docs/LCM.md and docs/ZENOH.md give (fingerprint, 193 bytes), and every
- * arrival check figure exact, the parallax's -1 (none seen) included. */
+ * docs/LCM.md and docs/ZENOH.md give (fingerprint, 225 bytes), and every
+ * arrival check figure exact (statistic, threshold, each residual and its sd), the parallax's -1 (none seen) included. */
 static void test_state_round_trip(void **state)
 {
     (void)state;
-    assert_true((uint64_t)__spvs_state_t_get_hash() == 0xd837a84b24213a12ull);
+    assert_true((uint64_t)__spvs_state_t_get_hash() == 0x62032d1020f36306ull);
     spvs_output_t out, back;
     memset(&out, 0, sizeof out);
     out.step = SPVS_STEP_ALIGN;
     out.status = SPVS_OK;
     out.n_inliers = 97;
     out.arrival_corner_px = (spvs_real)0.75;
-    out.arrival_bound_px = (spvs_real)0.61311;
+    out.arrival_stat = (spvs_real)3.4375;
+    out.arrival_threshold = (spvs_real)4.0;
     out.arrival_lateral_px = (spvs_real)0.5;
-    out.arrival_depth_px = (spvs_real)0.25;
+    out.arrival_lateral_sd_px = (spvs_real)0.1875;
+    out.arrival_depth_px = (spvs_real)-0.25;
+    out.arrival_depth_sd_px = (spvs_real)0.0625;
     out.arrival_h13_px = (spvs_real)-0.125;
+    out.arrival_h13_sd_px = (spvs_real)0.046875;
     out.arrival_frames = 21;
     out.arrival_reentries = 2;
     out.arrival_next = SPVS_STEP_ROTATE;
@@ -309,17 +318,21 @@ static void test_state_round_trip(void **state)
         assert_true(st.arrival_parallax_px == (double)parallax[i]);
         uint8_t buf[256];
         const int len = spvs_state_t_encode(buf, 0, (int)sizeof buf, &st);
-        assert_int_equal(len, 193);
-        assert_int_equal(spvs_state_t_encoded_size(&st), 193);
+        assert_int_equal(len, 225);
+        assert_int_equal(spvs_state_t_encoded_size(&st), 225);
         assert_int_equal(spvs_state_t_decode(buf, 0, len, &st_back), len);
         spvs_cmd_t cmd;
         spvs_wire_cmd_from_output(&cmd, 7, 700000, &out);
         spvs_wire_output_from_msgs(&back, &cmd, &st_back);
         assert_true(back.arrival_corner_px == out.arrival_corner_px);
-        assert_true(back.arrival_bound_px == out.arrival_bound_px);
+        assert_true(back.arrival_stat == out.arrival_stat);
+        assert_true(back.arrival_threshold == out.arrival_threshold);
         assert_true(back.arrival_lateral_px == out.arrival_lateral_px);
+        assert_true(back.arrival_lateral_sd_px == out.arrival_lateral_sd_px);
         assert_true(back.arrival_depth_px == out.arrival_depth_px);
+        assert_true(back.arrival_depth_sd_px == out.arrival_depth_sd_px);
         assert_true(back.arrival_h13_px == out.arrival_h13_px);
+        assert_true(back.arrival_h13_sd_px == out.arrival_h13_sd_px);
         assert_true(back.arrival_parallax_px == parallax[i]);
         assert_int_equal(back.arrival_frames, 21);
         assert_int_equal(back.arrival_reentries, 2);

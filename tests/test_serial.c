@@ -171,31 +171,47 @@ static void test_result_status_config(void **state)
     r.out.v = (spvs_real)0.123456789; r.out.w = (spvs_real)-0.0625; r.out.status = SPVS_E_NO_PARALLAX;
     r.out.step = 2; r.out.n_matches = 125; r.out.n_inliers = 90; r.out.n_offplane = 20;
     for (int k = 0; k < 9; ++k) r.out.H[k] = (spvs_real)(0.1 * k - 0.3);
-    r.out.arrival_corner_px = (spvs_real)0.75; r.out.arrival_bound_px = (spvs_real)0.61311;
-    r.out.arrival_lateral_px = (spvs_real)0.5; r.out.arrival_depth_px = (spvs_real)0.25;
+    r.out.arrival_corner_px = (spvs_real)0.75; r.out.arrival_stat = (spvs_real)3.4375;
+    r.out.arrival_lateral_px = (spvs_real)0.5; r.out.arrival_depth_px = (spvs_real)-0.25;
     r.out.arrival_h13_px = (spvs_real)-0.125; r.out.arrival_parallax_px = (spvs_real)2.9;
     r.out.arrival_frames = 21; r.out.arrival_reentries = 2; r.out.arrival_next = 1;
+    r.out.arrival_threshold = (spvs_real)4.0; r.out.arrival_lateral_sd_px = (spvs_real)0.1875;
+    r.out.arrival_depth_sd_px = (spvs_real)0.0625; r.out.arrival_h13_sd_px = (spvs_real)0.046875;
     int len = spvs_serial_encode_result(&r, wire, sizeof(wire));
-    assert_int_equal(len, 1 + 112 + 1); /* 104-byte body: 114 B on the wire, no zeros to spare */
+    assert_int_equal(len, 1 + 128 + 1); /* 120-byte body: 130 B on the wire, no zeros to spare */
+    assert_int_equal(len, SPVS_SERIAL_WIRE_BYTES(SPVS_SERIAL_RESULT_BODY));
     spvs_serial_frame_t f;
     spvs_serial_rx_init(&rx);
     assert_int_equal(receive(wire, len, &rx, &f), SPVS_SERIAL_OK);
     assert_int_equal(f.len, SPVS_SERIAL_RESULT_BODY);
+    assert_int_equal(f.len, 120);
     assert_int_equal(spvs_serial_parse_result(&f, &rb), SPVS_SERIAL_OK);
-    /* The arrival check's figures, float32 at 76..99 (docs/SERIAL.md). */
+    /* The arrival check's figures, float32 at 76..99 and 104..119
+     * (docs/SERIAL.md). */
     assert_true((float)rb.out.arrival_corner_px == 0.75f);
-    assert_true((float)rb.out.arrival_bound_px == (float)r.out.arrival_bound_px);
+    assert_true((float)rb.out.arrival_stat == 3.4375f);
     assert_true((float)rb.out.arrival_lateral_px == 0.5f);
-    assert_true((float)rb.out.arrival_depth_px == 0.25f);
+    assert_true((float)rb.out.arrival_depth_px == -0.25f);
     assert_true((float)rb.out.arrival_h13_px == -0.125f);
     assert_true((float)rb.out.arrival_parallax_px == (float)r.out.arrival_parallax_px);
-    /* The parallax is the sixth figure, at body offset 96, little-endian. */
-    const uint8_t *b = f.body + 96;
-    const uint32_t par_bits = (uint32_t)b[0] | (uint32_t)b[1] << 8 |
+    assert_true((float)rb.out.arrival_threshold == 4.0f);
+    assert_true((float)rb.out.arrival_lateral_sd_px == 0.1875f);
+    assert_true((float)rb.out.arrival_depth_sd_px == 0.0625f);
+    assert_true((float)rb.out.arrival_h13_sd_px == 0.046875f);
+    /* Where docs/SERIAL.md puts them, little-endian: the statistic at body
+     * offset 80, the parallax at 96, the threshold at 104 and the three
+     * standard deviations at 108, 112, 116. */
+    static const struct { unsigned off; float want; } at[] = {
+        {80u, 3.4375f}, {96u, 2.9f}, {104u, 4.0f},
+        {108u, 0.1875f}, {112u, 0.0625f}, {116u, 0.046875f}};
+    for (size_t i = 0; i < sizeof at / sizeof at[0]; ++i) {
+        const uint8_t *b = f.body + at[i].off;
+        const uint32_t bits = (uint32_t)b[0] | (uint32_t)b[1] << 8 |
                               (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-    float par_f32;
-    memcpy(&par_f32, &par_bits, sizeof(par_f32));
-    assert_true(par_f32 == (float)r.out.arrival_parallax_px);
+        float v;
+        memcpy(&v, &bits, sizeof(v));
+        assert_true(v == at[i].want);
+    }
     assert_int_equal(rb.out.arrival_frames, 21);
     assert_int_equal(rb.out.arrival_reentries, 2);
     assert_int_equal(rb.out.arrival_next, 1);

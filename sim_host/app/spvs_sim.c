@@ -574,8 +574,10 @@ static void json_string(FILE *f, const char *s)
 }
 
 /* The arrival check after step 3 (docs/CONTROL.md): the figures of the last
- * check, pixels of mean corner transfer, and the mean parallax of the
- * remembered off-plane points (pixels, -1: none seen). */
+ * check, its statistic and threshold (standard deviations), each
+ * direction's mean residual and its standard deviation (pixels), the mean
+ * corner transfer and the mean parallax of the remembered off-plane points
+ * (pixels, -1: none seen); docs/SIM.md lists the keys. */
 static void print_json_arrival(const sinks_t *s)
 {
     const spvs_output_t *a = &s->last;

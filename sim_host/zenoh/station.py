@@ -30,12 +30,13 @@ sys.path.insert(0, HERE)
 import spvs_zenoh_common as common  # noqa: E402
 
 PROG = "spvs-station"
-STATE_FINGERPRINT = bytes.fromhex("d837a84b24213a12")
+STATE_FINGERPRINT = bytes.fromhex("62032d1020f36306")
 # seq, utime (us), H[9], h_valid, n_matches, n_inliers, n_offplane, e_x (px),
 # e_valid, parallax (px), eq11, v (m/s), w (rad/s), step, status, then the
-# arrival check: corner, bound, lateral, depth, h13, parallax (px; parallax
-# -1: no off-plane point seen), frames, re-entries, next step, arriving
-STATE_FIELDS = struct.Struct(">qq9dbhhhdbdbddbh6dhbbb")
+# arrival check: statistic, threshold (standard deviations), lateral and its
+# sd, depth and its sd, h13 and its sd, corner, parallax (px; parallax -1: no
+# off-plane point seen), frames, re-entries, next step, arriving
+STATE_FIELDS = struct.Struct(">qq9dbhhhdbdbddbh10dhbbb")
 STATE_SIZE = 8 + STATE_FIELDS.size
 
 # The core's status enum (firmware/include/spvs/common.h).

@@ -29,7 +29,7 @@ static spvs_t core;
 static spvs_match_t m_in[SPVS_MAX_MATCHES];
 static spvs_match_t m_out[SPVS_MAX_MATCHES];
 static uint8_t wire[SPVS_SERIAL_MAX_WIRE];
-static uint8_t tx[128];
+static uint8_t tx[SPVS_SERIAL_WIRE_BYTES(SPVS_SERIAL_RESULT_BODY)];
 static spvs_serial_rx_t rx;
 
 static uint32_t to_instructions(uint64_t ticks)

@@ -50,5 +50,17 @@ if bad:
 if a["status"] != "converged":
     print("FAIL: the run did not converge (%s), so it shows little" % a["status"])
     sys.exit(1)
+# The arrival check's figures came through the RESULT frame: the threshold
+# and the three standard deviations (its last 16 bytes) are never 0 after a
+# check, so equal figures show the whole body travelled.
+arr = b["arrival"]
+zero = [k for k in ("threshold", "lateral_sd_px", "depth_sd_px", "h13_sd_px")
+        if not arr[k] > 0]
+if zero:
+    print("FAIL: arrival figures at 0 after the check: " + ", ".join(zero))
+    sys.exit(1)
+print("arrival check through the link: statistic %g of threshold %g, sd %g / %g / %g px"
+      % (arr["statistic"], arr["threshold"], arr["lateral_sd_px"],
+         arr["depth_sd_px"], arr["h13_sd_px"]))
 print("mcu closed loop: bit for bit the in-process run (%d frames)" % a["frames"])
 PY

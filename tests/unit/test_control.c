@@ -41,6 +41,9 @@ static void make_input(const synth_pose_t *p, const synth_plane_t *pl, double t,
     in->e_dir_x = (spvs_real)(800 * e1);
     in->e_dir_z = (spvs_real)e3;
     in->parallax_px = (spvs_real)(20.0 * r);
+    /* The remembered points' parallax has no direction here. */
+    in->parallax_x_px = 0;
+    in->parallax_r_px = 0;
     in->t_s = (spvs_real)t;
     in->n_inliers = 100;
 }

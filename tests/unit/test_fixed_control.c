@@ -312,6 +312,8 @@ static void exact_input(const synth_pose_t *p, const synth_plane_t *pl, double t
     in->e_dir_x = (spvs_real)e1;
     in->e_dir_z = (spvs_real)e3;
     in->parallax_px = (spvs_real)(parallax >= 0 ? parallax : 20.0 * r);
+    in->parallax_x_px = 0; /* no direction in the remembered points' parallax */
+    in->parallax_r_px = 0;
     in->t_s = (spvs_real)t;
     in->n_inliers = 100;
 }

@@ -176,15 +176,17 @@ static void test_every_status_stops(void)
 
     /* The arrival check: 2 mm short of the target with plane points only,
      * the translation signals are under their tolerances and the controller
-     * goes straight to step 3; with an image-noise sigma of 1e-3 px assumed
-     * the 2 mm (0.013 px at the corners) exceed the check's bound, the robot
-     * standing still cannot close them, and once the re-entries are spent
-     * the run ends not at the target (latched). */
+     * goes straight to step 3; with exact frames and a least standard
+     * deviation of 1e-4 px the 2 mm (0.013 px at the corners) are many
+     * standard deviations, the robot standing still cannot close them, and
+     * once the re-entries are spent the run ends not at the target
+     * (latched), its statistic over the threshold. */
     init(SPVS_METHOD_III);
     {
         spvs_params_t pa;
         spvs_params_default(&pa, SPVS_METHOD_III);
         pa.ctl.arrival_sigma_px = SPVS_R(1.0e-3);
+        pa.ctl.arrival_resolution_px = SPVS_R(1.0e-4);
         TEST_ASSERT_EQUAL_INT64(SPVS_OK, spvs_init(&s, &pa));
         synth_pose_t home = {0, 0.002, 0};
         uint64_t r1 = rng;
@@ -196,7 +198,8 @@ static void test_every_status_stops(void)
         }
         TEST_ASSERT_EQUAL_INT64(SPVS_E_NOT_AT_TARGET, rc);
         TEST_ASSERT_EQUAL_INT64(SPVS_STEP_FAILED, g.out.step);
-        TEST_ASSERT_TRUE(g.out.arrival_corner_px > g.out.arrival_bound_px);
+        TEST_ASSERT_TRUE(g.out.arrival_stat > g.out.arrival_threshold);
+        TEST_ASSERT_TRUE(g.out.arrival_threshold == pa.ctl.arrival_k);
     }
 
     /* Bad parameters and NULL arguments. */

@@ -602,16 +602,18 @@ def check_decode(env, a):
     expect(station.STATE_FINGERPRINT == fp,
            "station fingerprint %s, lcm-gen's state_t %s"
            % (station.STATE_FINGERPRINT.hex(), fp.hex()))
-    expect(fp.hex() == "d837a84b24213a12" and station.STATE_SIZE == 193,
+    expect(fp.hex() == "62032d1020f36306" and station.STATE_SIZE == 225,
            "state_t fingerprint %s, station size %d (docs/ZENOH.md: "
-           "d837a84b24213a12, 193 B)" % (fp.hex(), station.STATE_SIZE))
+           "62032d1020f36306, 225 B)" % (fp.hex(), station.STATE_SIZE))
     s = spvs.state_t()
     s.seq, s.utime, s.step, s.status = 41, 4100000, 4, -14
     s.n_matches, s.n_inliers = 125, 97
     s.v, s.w = 0.0, 0.0
-    s.arrival_corner_px, s.arrival_bound_px = 0.75, 0.61311
-    s.arrival_lateral_px, s.arrival_depth_px = 0.5, 0.25
-    s.arrival_h13_px, s.arrival_parallax_px = -0.125, 2.9
+    s.arrival_stat, s.arrival_threshold = 3.4375, 4.0
+    s.arrival_lateral_px, s.arrival_lateral_sd_px = 0.5, 0.1875
+    s.arrival_depth_px, s.arrival_depth_sd_px = -0.25, 0.0625
+    s.arrival_h13_px, s.arrival_h13_sd_px = -0.125, 0.046875
+    s.arrival_corner_px, s.arrival_parallax_px = 0.75, 2.9
     s.arrival_frames, s.arrival_reentries = 21, 3
     s.arrival_next, s.arriving = 1, 0
     data = s.encode()
@@ -619,14 +621,17 @@ def check_decode(env, a):
            "an encoded state_t has %d bytes, the station expects %d"
            % (len(data), station.STATE_SIZE))
     f = station.STATE_FIELDS.unpack(data[8:])
-    # The arrival check's figures follow status (index 22).
-    want = (0.75, 0.61311, 0.5, 0.25, -0.125, 2.9, 21, 3, 1, 0)
-    expect(tuple(f[23:33]) == want, "arrival figures unpacked as %r, want %r"
-           % (tuple(f[23:33]), want))
+    # The arrival check's figures follow status (index 22): statistic,
+    # threshold, lateral, its sd, depth, its sd, h13, its sd, corner,
+    # parallax, frames, re-entries, next step, arriving.
+    want = (3.4375, 4.0, 0.5, 0.1875, -0.25, 0.0625, -0.125, 0.046875,
+            0.75, 2.9, 21, 3, 1, 0)
+    expect(tuple(f[23:37]) == want, "arrival figures unpacked as %r, want %r"
+           % (tuple(f[23:37]), want))
     s.arrival_parallax_px = -1.0
     f = station.STATE_FIELDS.unpack(s.encode()[8:])
-    expect(f[28] == -1.0 and f[29] == 21,
-           "parallax -1 (none seen) unpacked as %r, frames %r" % (f[28], f[29]))
+    expect(f[32] == -1.0 and f[33] == 21,
+           "parallax -1 (none seen) unpacked as %r, frames %r" % (f[32], f[33]))
 
     class Sample:
         def __init__(self, key, payload):

@@ -104,7 +104,7 @@ static void stages_q(spvs_q_t *s, const char *pre)
 }
 /* The arrival check: a controller standing still after step 3 on H near
  * the identity, frame after frame until it decides; the deciding frame's
- * count (the check's averages, corner transfers and bound). */
+ * count (the check's means, standard deviations and statistic). */
 #define ARR_H11 1.0004f
 #define ARR_H13 0.3f
 #define ARR_H33 0.9997f
@@ -113,8 +113,9 @@ static void arrive_f(const spvs_control_params_t *p)
     static spvs_control_t c;
     spvs_control_reset(&c);
     c.step = SPVS_STEP_ALIGN; c.checked_plane = 1; c.arriving = 1;
-    spvs_control_input_t in = {{ARR_H11, 0.0f, ARR_H13, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, ARR_H33},
-                               0.0f, 0.0f, 1.0f, 0.2f, 0.0f, 1, 100};
+    spvs_control_input_t in = {.H = {ARR_H11, 0.0f, ARR_H13, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, ARR_H33},
+                               .e_dir_z = 1.0f, .parallax_px = 0.2f, .parallax_x_px = 0.0f, .parallax_r_px = 0.0f,
+                               .t_s = 0.0f, .e_valid = 1, .n_inliers = 100};
     uint32_t last = 0; int k = 0, rc = 0;
     while (c.arriving && k < 1000) {
         in.t_s = 0.125f * (float)k++;
@@ -129,7 +130,8 @@ static void arrive_q(const spvs_q_ctl_params_t *p)
     spvs_q_ctl_reset(&c);
     c.step = SPVS_STEP_ALIGN; c.checked_plane = 1; c.arriving = 1;
     const float hf[9] = {ARR_H11, 0.0f, ARR_H13, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, ARR_H33};
-    spvs_control_input_t fin = {{0}, 0.0f, 0.0f, 1.0f, 0.2f, 0.0f, 1, 100};
+    spvs_control_input_t fin = {.e_dir_z = 1.0f, .parallax_px = 0.2f, .parallax_x_px = 0.0f, .parallax_r_px = 0.0f,
+                                .t_s = 0.0f, .e_valid = 1, .n_inliers = 100};
     memcpy(fin.H, hf, sizeof hf);
     spvs_q_ctl_input_t in;
     const int rin = spvs_q_ctl_input_from_real(&in, &fin);
