@@ -66,12 +66,6 @@
 #define SPVS_RANSAC_MAX_ITERS 200
 #endif
 
-/* Most Gauss-Newton steps spvs_h_refit takes (callers ask for fewer; it
- * stops earlier once a step gains under 1e-4 of the cost). */
-#ifndef SPVS_REFIT_MAX_ITERS
-#define SPVS_REFIT_MAX_ITERS 5
-#endif
-
 /* Steps of the estimator's final refit (plane_h.c): each solves the
  * joint linear fit on the final inliers with Sampson weights taken at the
  * current H, and is kept only if it lowers their summed Sampson error
@@ -217,17 +211,14 @@
 #if (SPVS_RANSAC_MAX_ITERS < 1) || (SPVS_RANSAC_MAX_ITERS > 100000)
 #error "SPVS_RANSAC_MAX_ITERS must be in 1..100000"
 #endif
-#if (SPVS_REFIT_MAX_ITERS < 0) || (SPVS_REFIT_MAX_ITERS > 20)
-#error "SPVS_REFIT_MAX_ITERS must be in 0..20"
-#endif
 #if (SPVS_REFIT_ROUNDS < 1) || (SPVS_REFIT_ROUNDS > 8)
 #error "SPVS_REFIT_ROUNDS must be in 1..8"
 #endif
 #if (SPVS_LO_POINTS < 8) || (SPVS_LO_POINTS > 4096)
 #error "SPVS_LO_POINTS must be in 8..4096"
 #endif
-#if (SPVS_FINAL_STEPS < 1) || (SPVS_FINAL_STEPS > SPVS_REFIT_MAX_ITERS)
-#error "SPVS_FINAL_STEPS must be in 1..SPVS_REFIT_MAX_ITERS"
+#if (SPVS_FINAL_STEPS < 1) || (SPVS_FINAL_STEPS > 20)
+#error "SPVS_FINAL_STEPS must be in 1..20"
 #endif
 #if (SPVS_INLIER_CHI2_X100 < 100) || (SPVS_INLIER_CHI2_X100 > 10000)
 #error "SPVS_INLIER_CHI2_X100 must be in 100..10000"
