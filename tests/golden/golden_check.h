@@ -25,6 +25,9 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "spvs/common.h"
+#include "spvs/epipole.h"
+#include "spvs/homography.h"
 #include "spvs/spvs.h"
 #include "support/h_refit.h"
 

@@ -6,6 +6,7 @@
 #include <math.h>
 
 #include "h_refit.h"
+#include "spvs/common.h"
 
 /* A point's third coordinate must exceed this to be in front. */
 #define W_EPS SPVS_R(1.0e-6)

@@ -5,6 +5,6 @@
 if(NOT TARGET spvs_test_support)
   add_library(spvs_test_support STATIC ${CMAKE_CURRENT_LIST_DIR}/h_refit.c)
   target_include_directories(spvs_test_support PUBLIC ${CMAKE_CURRENT_LIST_DIR}/..)
-  target_link_libraries(spvs_test_support PUBLIC spvs::core)
+  target_link_libraries(spvs_test_support PUBLIC spvs::internal)
   target_compile_options(spvs_test_support PRIVATE -Wall -Wextra -Wshadow -Wdouble-promotion)
 endif()

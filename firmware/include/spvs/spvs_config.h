@@ -11,7 +11,8 @@
  *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
  *   SPVS_MAX_OFFPLANE x (7 scalars + 4 index bytes + 1 flag byte)
  *   SPVS_LO_POINTS    x 1 byte
- * whatever the point layout (points.h).
+ * whatever the point layout (points.h); SPVS_INSTANCE_BYTES at the bottom
+ * is the sum.
  */
 #ifndef SPVS_CONFIG_H
 #define SPVS_CONFIG_H
@@ -351,5 +352,24 @@
 #if (SPVS_CTL_ARRIVAL_MAX_FRAMES < 1) || (SPVS_CTL_ARRIVAL_MAX_FRAMES > 65535)
 #error "SPVS_CTL_ARRIVAL_MAX_FRAMES must be in 1..65535"
 #endif
+
+/* Bytes of one spvs_t instance (spvs.h): the terms above with a scalar of
+ * SPVS_SCALAR_BYTES (4 for float, 8 for double; the fixed-point state
+ * holds int32 where the float core holds a scalar), two scalars per slot of
+ * the epipole's median, and SPVS_INSTANCE_FIXED_BYTES for the parameters,
+ * the controller's state and the rest, whose size no setting changes.  The
+ * core checks at compile time that its state fits (firmware/src/spvs/
+ * instance.h); a state grown past this figure is a compile error there, to
+ * be answered here. */
+#if SPVS_USE_FIXED || !SPVS_USE_DOUBLE
+#define SPVS_SCALAR_BYTES 4
+#else
+#define SPVS_SCALAR_BYTES 8
+#endif
+#define SPVS_INSTANCE_FIXED_BYTES (176 * SPVS_SCALAR_BYTES + (SPVS_USE_FIXED ? 384 : 0))
+#define SPVS_INSTANCE_BYTES                                                            \
+    ((SPVS_MAX_MATCHES) * (4 * SPVS_SCALAR_BYTES + 6) + (SPVS_MAX_FEATURES) +           \
+     (SPVS_MAX_OFFPLANE) * (7 * SPVS_SCALAR_BYTES + 5) + (SPVS_LO_POINTS) +             \
+     (SPVS_EPIPOLE_MEDIAN) * 2 * SPVS_SCALAR_BYTES + SPVS_INSTANCE_FIXED_BYTES)
 
 #endif /* SPVS_CONFIG_H */
