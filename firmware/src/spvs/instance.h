@@ -5,9 +5,11 @@
  * spvs.h gives the caller storage of SPVS_INSTANCE_BYTES; the core's state
  * lives in it as spvs_state_t: the float core's stage states below, or in
  * the fixed-point build (SPVS_FIXED=ON) the Q pipeline's state, spvs_q_t
- * of fixed/spvs_q.h.  spvs_state() views an instance as its state.  The
- * checks below make a state that outgrows the storage, or needs a stricter
- * alignment, a compile error in every build and configuration.
+ * of fixed/spvs_q.h.  spvs_state() views an instance as its state; the
+ * core reads and writes an instance only through that view, and the caller
+ * never through its bytes, so the storage is only ever accessed as one
+ * type.  The checks below make a state that outgrows the storage, or needs
+ * a stricter alignment, a compile error in every build and configuration.
  */
 #ifndef SPVS_INSTANCE_H
 #define SPVS_INSTANCE_H
