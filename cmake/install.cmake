@@ -1,9 +1,9 @@
-# Install rules, the CMake package, the pkg-config file and the version
-# header of spvs (included once, at the end of the top-level CMakeLists.txt,
-# when every target exists).  Layout under the GNU install dirs (docs/INSTALL.md):
+# Install rules, the CMake package and the pkg-config file of spvs
+# (included once, at the end of the top-level CMakeLists.txt, when every
+# target exists).  Layout under the GNU install dirs (docs/INSTALL.md):
 #
-#   include/spvs/*.h                 the core's headers, spvs_config.h, abi.h,
-#                                    and the generated version.h
+#   include/spvs/*.h                 the installed API: spvs.h, status.h,
+#                                    abi.h (with the version), spvs_config.h
 #   lib/libspvs_core.a               the core
 #   lib/cmake/spvs/                  spvsConfig.cmake (spvs::core),
 #                                    spvsConfigVersion.cmake, spvsTargets*.cmake
@@ -37,15 +37,10 @@ option(SPVS_INSTALL "Generate the install rules of spvs" ${spvs_install_default}
 # share/spvs/lcm_types/ as it finds lcm_types/ in a checkout.
 set(SPVS_ZENOH_BRIDGE_DIR ${PROJECT_SOURCE_DIR}/sim_host/zenoh)
 
-# ---- version header (used by the build tree too) ------------------------
-set(spvs_gen_include ${PROJECT_BINARY_DIR}/generated/include)
-configure_file(${CMAKE_CURRENT_LIST_DIR}/version.h.in
-               ${spvs_gen_include}/spvs/version.h @ONLY)
-
 # spvs_core's include directories as the build tree and an installed tree
 # each see them: the folders firmware/CMakeLists.txt gives (absolute source
-# paths, which cannot go into an installed package) for the build tree only,
-# plus the generated version.h; include/ once installed.
+# paths, which cannot go into an installed package) for the build tree only;
+# include/ once installed.
 get_target_property(spvs_core_inc spvs_core INTERFACE_INCLUDE_DIRECTORIES)
 set(spvs_core_iface "")
 foreach(dir IN LISTS spvs_core_inc)
@@ -57,7 +52,6 @@ foreach(dir IN LISTS spvs_core_inc)
 endforeach()
 set_property(TARGET spvs_core PROPERTY INTERFACE_INCLUDE_DIRECTORIES
   ${spvs_core_iface}
-  $<BUILD_INTERFACE:${spvs_gen_include}>
   $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
 set_target_properties(spvs_core PROPERTIES EXPORT_NAME core)
 # The core calls sqrtf and logf.  The cross build links libm in the image
@@ -84,7 +78,7 @@ if(SPVS_FIXED)
   set(SPVS_FIXED_BOOL ON)
   # The interface's scalar stays spvs_real; the core computes in Q formats.
   set(SPVS_SCALAR_NAME "fixed-point (${SPVS_SCALAR_NAME} interface)")
-  set(SPVS_PC_FIXED " -I\${includedir}/spvs/fixed -DSPVS_USE_FIXED=1")
+  set(SPVS_PC_FIXED " -DSPVS_USE_FIXED=1")
 else()
   set(SPVS_FIXED_BOOL OFF)
   set(SPVS_PC_FIXED " -DSPVS_USE_FIXED=0")
@@ -97,20 +91,6 @@ set(SPVS_INSTALL_SHAREDIR ${CMAKE_INSTALL_DATADIR}/spvs)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/firmware/include/spvs
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         COMPONENT core FILES_MATCHING PATTERN "*.h")
-install(FILES ${spvs_gen_include}/spvs/version.h
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spvs COMPONENT core)
-if(SPVS_FIXED)
-  # spvs.h includes the Q pipeline's header (spvs_t is spvs_q_t): the Q
-  # stages' headers in spvs/fixed/, and the point store's declarations they
-  # include (../points.h) beside the public headers.
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/firmware/src/fixed/
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spvs/fixed
-          COMPONENT core FILES_MATCHING PATTERN "*.h")
-  install(FILES ${PROJECT_SOURCE_DIR}/firmware/src/points.h
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/spvs COMPONENT core)
-  target_include_directories(spvs_core PUBLIC
-    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/spvs/fixed>)
-endif()
 install(TARGETS spvs_core EXPORT spvsTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT core)
 install(EXPORT spvsTargets NAMESPACE spvs:: FILE spvsTargets.cmake

@@ -15,7 +15,7 @@ foreach(src IN LISTS srcs)
     COMMAND ${CC} -std=c11 -mcpu=cortex-m3 -mthumb -mfloat-abi=soft -Os
             -Wall -Wextra -Werror -Wconversion -Wshadow -Wundef -Wdouble-promotion
             -Wvla -Wstrict-prototypes -Wmissing-prototypes -fno-common
-            -I${INC} -I${SRCDIR} -DSPVS_USE_DOUBLE=${DOUBLE} -DSPVS_USE_FIXED=1
+            -I${INC} -I${SRCDIR} -I${SRCDIR}/.. -DSPVS_USE_DOUBLE=${DOUBLE} -DSPVS_USE_FIXED=1
             -c ${src} -o ${OBJ}
     RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)

@@ -41,6 +41,7 @@
 
 #include "board.h"
 #include "fmt.h"
+#include "spvs/ransac.h"
 #include "spvs/spvs.h"
 
 #ifndef MEASURE_FP_HELPERS

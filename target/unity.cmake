@@ -61,7 +61,7 @@ function(spvs_unit_image name)
   target_compile_options(${name} PRIVATE -ffp-contract=off -Wall -Wextra -Wno-unused-variable
                          -Wno-unused-but-set-variable -Wno-unused-function)
   target_link_libraries(${name} PRIVATE -Wl,--whole-archive spvs_board -Wl,--no-whole-archive
-                        spvs_unity_target spvs_board_float spvs::fixed spvs::core m)
+                        spvs_unity_target spvs_board_float spvs_test_support spvs::fixed spvs::core m)
   target_link_options(${name} PRIVATE -nostartfiles --specs=nano.specs
                       -T${SPVS_UNIT_LD} -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map
                       -Wl,--print-memory-usage)

@@ -21,6 +21,7 @@
 
 #include "sim/scene.h"
 #include "sim/sim.h"
+#include "spvs/common.h"
 #include "spvs/spvs.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -328,7 +329,7 @@ static void plane_case(spvs_method_t method, const double normal[3], double d_m,
     }
     assert_int_equal(rc, want);
     expect_stop(g_m, n, t_s, want);
-    assert_int_equal(g_s.ctl.step, SPVS_STEP_FAILED);
+    assert_int_equal(spvs_step(&g_s), SPVS_STEP_FAILED);
 }
 
 static void test_plane_nz_method1(void **state)

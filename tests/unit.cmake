@@ -6,6 +6,7 @@
 # test reported FAIL.  Label unity.
 include(${PROJECT_SOURCE_DIR}/cmake/unity.cmake)
 spvs_unity_library(spvs_unity)
+include(${PROJECT_SOURCE_DIR}/tests/support/support.cmake)
 
 set(SPVS_UNITY_PASS_REGEX "[1-9][0-9]* Tests 0 Failures 0 Ignored")
 set(SPVS_UNITY_FAIL_REGEX ":FAIL;[1-9][0-9]* Failures;[1-9][0-9]* Ignored")
@@ -23,7 +24,7 @@ function(spvs_unity_test)
   target_include_directories(${T_NAME} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}
                              ${PROJECT_SOURCE_DIR}/firmware/src)
   target_compile_definitions(${T_NAME} PRIVATE ${T_DEFINES})
-  target_link_libraries(${T_NAME} PRIVATE spvs::core ${T_LIBS} spvs_unity m)
+  target_link_libraries(${T_NAME} PRIVATE spvs::core ${T_LIBS} spvs_test_support spvs_unity m)
   target_compile_options(${T_NAME} PRIVATE -Wall -Wextra)
   add_test(NAME ${T_NAME} COMMAND ${T_NAME})
   if(NOT T_TIMEOUT)

@@ -147,7 +147,7 @@ for m in re.finditer(section, text[kept_at:], re.M):
 print("  total              %d" % intl)
 tot += intl
 # The budget's figure: what the image holds of the core (kept sections:
-# the public calls spvs_update does not reach, such as spvs_h_refit, are
+# the public calls spvs_update does not reach, such as spvs_update_with_h, are
 # dropped from an image that does not call them), plus the routines it
 # calls.
 print("flash, core kept + library routines + float helpers: %d B" % (flash + tot + helpers))

@@ -22,7 +22,6 @@
 #include <stdio.h>
 
 #include <spvs/spvs.h>
-#include <spvs/version.h>
 
 #define PI 3.14159265358979323846
 #define ALPHA_PX 800.0

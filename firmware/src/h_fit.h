@@ -15,11 +15,9 @@ SPVS_NODISCARD int spvs_h_solve3_strided(const spvs_real *const pc[4], const uin
 
 /* ---- the fits, on either point source (homography.c) ------------------- */
 
-/* spvs_h_fit_linear and spvs_h_refit (homography.h) on a point source. */
+/* spvs_h_fit_linear (homography.h) on a point source. */
 SPVS_NODISCARD int spvs_hf_fit_linear(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
                                       spvs_real H[9]);
-SPVS_NODISCARD int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
-                                 uint16_t max_iters, spvs_real H[9]);
 
 /* Joint linear fit at fixed weights, kept as sums that follow the set.
  *

@@ -1,8 +1,8 @@
 /*
  * homography.c - planar-motion homography: 3-point minimal solver, the
- * linear fit and the Gauss-Newton transfer-error refit (paper, section 2),
- * on rows the caller gives (homography.h) or on the estimator's point store
- * (h_fit.h).
+ * linear fit and the joint linear fit at Sampson weights (paper, section
+ * 2), on rows the caller gives (homography.h) or on the estimator's point
+ * store (h_fit.h).
  */
 #include <math.h>
 
@@ -13,9 +13,6 @@
 /* A 3x3 determinant this small (scaled units, so entries are O(1)) means the
  * sample is degenerate: collinear target points or a y-row with no content. */
 #define DET_EPS SPVS_R(1.0e-7)
-/* A refit step counts as coming from far only while the mean transfer error
- * before it is above 0.01 px (in scaled units). */
-#define FAR_RMS_SC (SPVS_R(0.01) / (spvs_real)SPVS_COORD_SCALE)
 
 /* Solve the 3x3 system A x = b by the adjugate; returns 0 when |det| is
  * below det_eps (relative to nothing: callers keep entries O(1)). */
@@ -125,16 +122,6 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4])
  * Each fit is a few sums over the flagged points (points.h, spvs_pts_sum),
  * then a small solve. */
 
-/* The number of points flagged in use[0..n). */
-static uint16_t count_used(const uint8_t *use, uint16_t n)
-{
-    uint16_t used = 0;
-    for (uint16_t i = 0; i < n; i++) {
-        used = (uint16_t)(used + (use[i] != 0));
-    }
-    return used;
-}
-
 /* Solves the 3x3 normal equations of a linear-fit pass: s[0..5] the upper
  * triangle of the symmetric matrix, s[6..8] the right side. */
 static int solve_fit(const spvs_real s[SPVS_NT_FIT], spvs_real x[3])
@@ -236,9 +223,9 @@ static int cholesky6(spvs_real N[6][6], const spvs_real g[6], spvs_real x[6])
     return 1;
 }
 
-/* The 6x6 normal matrix from the 18 sums laid out as SPVS_T_GN's terms 0-17
- * (and SPVS_T_LIN's): the symmetric 3x3 blocks N11, N13 and N33, each six
- * entries of q = (x^2, x y, x, y^2, y, 1). */
+/* The 6x6 normal matrix from the 18 sums laid out as SPVS_T_LIN's terms
+ * 0-17: the symmetric 3x3 blocks N11, N13 and N33, each six entries of
+ * q = (x^2, x y, x, y^2, y, 1). */
 static void unpack_normal(const spvs_real *s, spvs_real N[6][6])
 {
     /* Index of (r, c) in q. */
@@ -253,62 +240,6 @@ static void unpack_normal(const spvs_real *s, spvs_real N[6][6])
     }
 }
 
-/* One pass over the used points at H: the summed squared transfer error
- * (returned; SPVS_REAL_MAX when a point is behind the camera) and the
- * Gauss-Newton normal equations N d = g for theta = (h11 h12 h13 h31 h32 h33)
- * with residuals r_x = (h1 . p) / w - x_cur, r_y = y_tgt / w - y_cur,
- * w = h3 . p.  With u = (h1 . p) / w and v = y_tgt / w the Jacobian rows are
- * d r_x = [p / w, -u p / w] and d r_y = [0, -v p / w], so every block of N
- * is a weighted sum of p p^T:
- *   N11 = sum p p^T / w^2, N13 = -sum u p p^T / w^2,
- *   N33 = sum (u^2 + v^2) p p^T / w^2,
- * and only the six distinct entries of p p^T, q = (x^2, x y, x, y^2, y, 1),
- * are summed per weight (terms 0-17 of SPVS_T_GN), then the gradient halves
- * g1 = -sum r_x p / w and g3 = sum (u r_x + v r_y) p / w (terms 18-23) and
- * the cost (term 24). */
-static SPVS_ALWAYS_INLINE spvs_real refit_pass(const spvs_pts_in_t *in, const uint8_t *use,
-                                               uint16_t n, const spvs_real H[9],
-                                               spvs_real N[6][6], spvs_real g[6])
-{
-    spvs_real s[SPVS_NT_GN];
-    if (spvs_pts_sum(SPVS_T_GN, H, in, use, n, s) < 0) {
-        return SPVS_REAL_MAX;
-    }
-    unpack_normal(s, N);
-    for (int k = 0; k < 6; k++) {
-        g[k] = s[18 + k];
-    }
-    return s[24];
-}
-
-/* The gradient half g of refit_pass alone (terms 18-24 of SPVS_T_GN, in the
- * same order: SPVS_T_GRAD), and the cost it returns. */
-static spvs_real refit_grad(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
-                            const spvs_real H[9], spvs_real g[6])
-{
-    spvs_real s[SPVS_NT_GRAD];
-    if (spvs_pts_sum(SPVS_T_GRAD, H, in, use, n, s) < 0) {
-        return SPVS_REAL_MAX;
-    }
-    for (int k = 0; k < 6; k++) {
-        g[k] = s[k];
-    }
-    return s[6];
-}
-
-/* The summed squared transfer error of the used points at H, alone (the
- * check of a last Gauss-Newton step needs no normal equations);
- * SPVS_REAL_MAX when a point is behind the camera. */
-static spvs_real refit_cost(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n,
-                            const spvs_real H[9])
-{
-    spvs_real c;
-    if (spvs_pts_sum(SPVS_T_COST, H, in, use, n, &c) < 0) {
-        return SPVS_REAL_MAX;
-    }
-    return c;
-}
-
 /* Moves rows 1 and 3 of H by the step d = (h11 h12 h13 h31 h32 h33). */
 static void add_step(spvs_real H[9], const spvs_real d[6])
 {
@@ -318,102 +249,6 @@ static void add_step(spvs_real H[9], const spvs_real d[6])
     H[6] += d[3];
     H[7] += d[4];
     H[8] += d[5];
-}
-
-int spvs_hf_refit(const spvs_pts_in_t *in, const uint8_t *use, uint16_t n, uint16_t max_iters,
-                  spvs_real H[9])
-{
-    if (max_iters < 1u) {
-        max_iters = 1u;
-    }
-    if (max_iters > SPVS_REFIT_MAX_ITERS) {
-        max_iters = SPVS_REFIT_MAX_ITERS;
-    }
-    const uint16_t used = count_used(use, n);
-    if (used < 3) {
-        return SPVS_E_TOO_FEW;
-    }
-    /* Below this cost the points are fitted to a small fraction of a pixel
-     * and no step is "far" (with exact data the cost is rounding noise). */
-    const spvs_real far_floor = (spvs_real)used * FAR_RMS_SC * FAR_RMS_SC;
-
-    spvs_real Hc[9];
-    spvs_real Hprev[9];
-    for (int k = 0; k < 9; k++) {
-        Hc[k] = H[k];
-        Hprev[k] = H[k];
-    }
-    spvs_real N[6][6] = {{0}};
-    spvs_real g[6] = {0};
-    spvs_real prev = SPVS_REAL_MAX;
-    int have = 0;
-    /* Each pass evaluates the cost of the last step and its gradient there;
-     * the first also builds the normal matrix N, which later steps reuse
-     * while they stay close (chord Gauss-Newton: from a RANSAC start N
-     * hardly changes over two steps, and a gradient pass sums 7 terms per
-     * point instead of 25; docs/ESTIMATION.md).  A step
-     * that raises the cost is undone and ends the refit; so does a
-     * relative improvement under 1e-4.  The pass after the last step only
-     * evaluates the cost.  Bound: max_iters + 1 <= SPVS_REFIT_MAX_ITERS + 1
-     * passes, and at most one rebuild of N after each. */
-    for (uint16_t it = 0; it <= max_iters; it++) {
-        spvs_real cost;
-        if (it == max_iters) {
-            cost = refit_cost(in, use, n, Hc);
-        } else if (it == 0) {
-            cost = refit_pass(in, use, n, Hc, N, g);
-        } else {
-            cost = refit_grad(in, use, n, Hc, g);
-        }
-        if (!(cost <= prev)) {
-            for (int k = 0; k < 9; k++) {
-                Hc[k] = Hprev[k];
-            }
-            break;
-        }
-        have = 1;
-        int small = (prev - cost) <= SPVS_R(1.0e-4) * cost;
-        /* A step that more than halved the cost came from far away: the
-         * normal matrix of its start no longer fits, so it is rebuilt here
-         * (the same gradient and cost, and N). */
-        const int far = it > 0 && it < max_iters && !small && cost < SPVS_R(0.5) * prev &&
-                        prev > far_floor;
-        prev = cost;
-        if (small || it == max_iters) {
-            break;
-        }
-        if (far && refit_pass(in, use, n, Hc, N, g) == SPVS_REAL_MAX) {
-            break;
-        }
-        spvs_real d[6];
-        if (!cholesky6(N, g, d)) {
-            if (it == 0) {
-                return SPVS_E_DEGENERATE;
-            }
-            break;
-        }
-        for (int k = 0; k < 9; k++) {
-            Hprev[k] = Hc[k];
-        }
-        add_step(Hc, d);
-    }
-    if (!have) {
-        return SPVS_E_DEGENERATE;
-    }
-    if (!spvs_finite3x2(Hc, Hc + 6)) {
-        return SPVS_E_DEGENERATE;
-    }
-    for (int k = 0; k < 9; k++) {
-        H[k] = Hc[k];
-    }
-    return SPVS_OK;
-}
-
-int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use, uint16_t n,
-                 uint16_t max_iters, spvs_real H[9])
-{
-    const spvs_pts_in_t in = {pts, 0};
-    return spvs_hf_refit(&in, use, n, max_iters, H);
 }
 
 /* ---- the joint linear fit at fixed weights ------------------------------ */

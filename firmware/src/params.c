@@ -5,7 +5,8 @@
  * link no floating-point helper, takes the same defaults without linking
  * the float control law or pipeline.
  */
-#include "spvs/spvs.h"
+#include "spvs/common.h"
+#include "spvs/control.h"
 
 void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
 {

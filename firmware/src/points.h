@@ -38,24 +38,16 @@ typedef struct {
  *   SPVS_T_FIT_X  linear fit, row 1 given row 3 (9 terms);
  *   SPVS_T_LIN    joint linear fit at the Sampson weights of H
  *                 (SPVS_H_LIN_SUMS);
- *   SPVS_T_GN     Gauss-Newton normal equations, gradient and cost (25);
- *   SPVS_T_COST   the squared transfer error (1);
- *   SPVS_T_GRAD   SPVS_T_GN's gradient and cost alone (7);
  *   SPVS_T_SAMPSON  the squared Sampson error (1). */
 typedef enum {
     SPVS_T_FIT_Y,
     SPVS_T_FIT_X,
     SPVS_T_LIN,
-    SPVS_T_GN,
-    SPVS_T_COST,
-    SPVS_T_GRAD,
     SPVS_T_SAMPSON
 } spvs_terms_t;
 
 #define SPVS_NT_FIT 9
-#define SPVS_NT_GN 25
-#define SPVS_NT_COST 1
-#define SPVS_NT_GRAD 7
+#define SPVS_NT_SAMPSON 1
 
 /* A point's third coordinate H p_tgt must exceed this to be in front. */
 #define SPVS_W_EPS SPVS_R(1.0e-6)

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "core_util.h"
-#include "spvs/spvs.h"
+#include "spvs/instance.h"
 
 spvs_real spvs_inlier_px(const spvs_params_t *p)
 {
@@ -19,7 +19,7 @@ spvs_real spvs_inlier_px(const spvs_params_t *p)
 
 /* ---- the float core's side of pipeline.inc ----------------------------- */
 
-typedef spvs_t pl_t;
+typedef spvs_state_t pl_t;
 typedef spvs_control_input_t pl_input_t;
 typedef spvs_epipole_t pl_epipole_t;
 typedef spvs_real pl_time_t;
@@ -50,19 +50,19 @@ static int frame_check(const spvs_match_t *m, uint16_t n)
     return spvs_plane_h_check(m, n);
 }
 
-static uint16_t offplane_split(spvs_t *s, const spvs_match_t *m, uint16_t n)
+static uint16_t offplane_split(spvs_state_t *s, const spvs_match_t *m, uint16_t n)
 {
     return spvs_offplane_split(&s->off, m, n, s->est.idx);
 }
 
-static int plane_load(spvs_t *s, const spvs_match_t *m, uint16_t n, const uint16_t *order,
+static int plane_load(spvs_state_t *s, const spvs_match_t *m, uint16_t n, const uint16_t *order,
                       uint16_t n_plane)
 {
     return spvs_plane_h_load(&s->est, m, n, order, n_plane);
 }
 
 /* H_px (pixels) in scaled units as the loaded frame's estimate. */
-static int adopt_h(spvs_t *s, const spvs_real *H_px)
+static int adopt_h(spvs_state_t *s, const spvs_real *H_px)
 {
     spvs_real H_sc[9];
     for (int k = 0; k < 9; k++) {
@@ -72,13 +72,13 @@ static int adopt_h(spvs_t *s, const spvs_real *H_px)
     return spvs_plane_h_adopt(&s->est, H_sc, spvs_inlier_px(&s->p));
 }
 
-static int plane_estimate(spvs_t *s, uint32_t *iters)
+static int plane_estimate(spvs_state_t *s, uint32_t *iters)
 {
     return spvs_plane_h_estimate(&s->est, spvs_inlier_px(&s->p), s->p.confidence,
                                  s->p.max_iters, &s->rng, iters);
 }
 
-static void h_to_output(const spvs_t *s, spvs_output_t *out)
+static void h_to_output(const spvs_state_t *s, spvs_output_t *out)
 {
     for (int k = 0; k < 9; k++) {
         out->H[k] = s->est.H_sc[k];
@@ -92,7 +92,7 @@ static int time_in(spvs_real t_s, spvs_real *t)
     return spvs_is_finite(t_s) ? SPVS_OK : SPVS_E_NONFINITE;
 }
 
-static int frame_epipole(spvs_t *s, spvs_epipole_t *ep, spvs_real *parallax)
+static int frame_epipole(spvs_state_t *s, spvs_epipole_t *ep, spvs_real *parallax)
 {
     spvs_offplane_t *const o = &s->off;
     spvs_offplane_collect(o, &s->est, s->p.offplane_px);
@@ -119,7 +119,7 @@ static spvs_real ep_parallax(const spvs_epipole_t *ep)
     return ep->parallax_px;
 }
 
-static void offplane_learn(spvs_t *s, int e_ok, spvs_real parallax)
+static void offplane_learn(spvs_state_t *s, int e_ok, spvs_real parallax)
 {
     spvs_offplane_remember(&s->off, &s->est, e_ok, parallax, s->p.offplane_px);
 }
@@ -139,7 +139,7 @@ static void input_epipole(spvs_control_input_t *in, spvs_real x, int8_t side,
 }
 
 /* The controller's input but for the epipole: H in pixels (out->H). */
-static void control_input(const spvs_t *s, spvs_control_input_t *in, spvs_real t_s, int e_ok,
+static void control_input(const spvs_state_t *s, spvs_control_input_t *in, spvs_real t_s, int e_ok,
                           spvs_real parallax, const spvs_output_t *out)
 {
     for (int k = 0; k < 9; k++) {
@@ -161,7 +161,7 @@ static spvs_real input_ex(const spvs_control_input_t *in)
     return in->e_x_px;
 }
 
-static int control_step(spvs_t *s, const spvs_control_input_t *in, spvs_real *v, spvs_real *w)
+static int control_step(spvs_state_t *s, const spvs_control_input_t *in, spvs_real *v, spvs_real *w)
 {
     return spvs_control_step(&s->ctl, &s->p.ctl, in, v, w);
 }
@@ -181,30 +181,32 @@ static spvs_real stat_out(spvs_real x)
     return x;
 }
 
-static spvs_real threshold_out(const spvs_t *s)
+static spvs_real threshold_out(const spvs_state_t *s)
 {
     return s->p.ctl.arrival_k;
 }
 
 #include "pipeline.inc"
 
-int spvs_init(spvs_t *s, const spvs_params_t *p)
+int spvs_init(spvs_t *inst, const spvs_params_t *p)
 {
-    if (s == 0 || p == 0) {
+    if (inst == 0 || p == 0) {
         return SPVS_E_ARG;
     }
     int rc = pipeline_rules(p);
     if (rc != SPVS_OK) {
         return rc;
     }
+    spvs_state_t *s = spvs_state(inst);
     s->p = *p;
-    spvs_reset(s);
+    spvs_reset(inst);
     return SPVS_OK;
 }
 
-void spvs_reset(spvs_t *s)
+void spvs_reset(spvs_t *inst)
 {
-    SPVS_ASSERT(s != 0);
+    SPVS_ASSERT(inst != 0);
+    spvs_state_t *s = spvs_state(inst);
     spvs_control_reset(&s->ctl);
     spvs_rng_seed(&s->rng, s->p.seed);
     reset_frames(s);
@@ -213,17 +215,22 @@ void spvs_reset(spvs_t *s)
 
 int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_output_t *out)
 {
-    return estimate_only(s, m, n, out);
+    return estimate_only(spvs_state(s), m, n, out);
 }
 
 int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                 spvs_output_t *out)
 {
-    return update(s, m, n, t_s, 0, out);
+    return update(spvs_state(s), m, n, t_s, 0, out);
 }
 
 int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t n, spvs_real t_s,
                        const spvs_real H_px[9], spvs_output_t *out)
 {
-    return update_with_h(s, m, n, t_s, H_px, out);
+    return update_with_h(spvs_state(s), m, n, t_s, H_px, out);
+}
+
+spvs_step_t spvs_step(const spvs_t *s)
+{
+    return spvs_state_c(s)->ctl.step;
 }

@@ -202,7 +202,7 @@ int spvs_node_dds_run(const spvs_params_t *p, const spvs_node_dds_opts_t *o,
         /* The robot must not drive on after the controller is gone. */
         spvs_cmd_t last;
         spvs_wire_cmd_stop(&last, -1, 0, SPVS_E_STALE,
-                           (int)nd->node.core.ctl.step);
+                           (int)spvs_step(&nd->node.core));
         send_cmd(nd, &last, NULL);
     }
     if (o->log_level >= 2)

@@ -37,7 +37,7 @@ static void node_publish_stop(spvs_node_t *node, int64_t seq, int64_t utime,
                               int status)
 {
     spvs_cmd_t cmd;
-    spvs_wire_cmd_stop(&cmd, seq, utime, status, (int)node->core.ctl.step);
+    spvs_wire_cmd_stop(&cmd, seq, utime, status, (int)spvs_step(&node->core));
     node_publish(node, NULL, &cmd);
 }
 

@@ -39,7 +39,7 @@ STATE_FINGERPRINT = bytes.fromhex("62032d1020f36306")
 STATE_FIELDS = struct.Struct(">qq9dbhhhdbdbddbh10dhbbb")
 STATE_SIZE = 8 + STATE_FIELDS.size
 
-# The core's status enum (firmware/include/spvs/common.h).
+# The core's status enum (firmware/include/spvs/status.h).
 STATUS_NAMES = {0: "ok", -1: "arg", -2: "too_few", -3: "nonfinite",
                 -4: "range", -5: "capacity", -6: "degenerate",
                 -7: "no_consensus", -8: "stale", -9: "no_parallax",

@@ -17,7 +17,7 @@ static void send_status(app_t *a, uint8_t reason, uint32_t now_ms)
 {
     spvs_serial_status_frame_t *s = &a->st;
     s->reason = reason;
-    s->step = a->configured ? a->core.ctl.step : 0u;
+    s->step = a->configured ? spvs_step(&a->core) : 0u;
     s->method = a->configured ? a->cfg.method : 0u;
     s->seed = a->cfg.seed;
     s->alpha_px = a->cfg.alpha_px;
@@ -44,7 +44,7 @@ static void send_stop(app_t *a, const spvs_serial_matches_hdr_t *h, int status)
     r.t_ms = h->t_ms;
     r.flags = SPVS_SERIAL_F_REJECTED;
     r.out.status = (int16_t)status;
-    r.out.step = a->configured ? a->core.ctl.step : 0u;
+    r.out.step = a->configured ? spvs_step(&a->core) : 0u;
     r.out.n_matches = h->count;
     send_result(a, &r);
 }

@@ -40,6 +40,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "spvs/common.h"
 #include "spvs/spvs.h"
 #include "fuzz_reader.h"
 

@@ -25,7 +25,11 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "spvs/common.h"
+#include "spvs/epipole.h"
+#include "spvs/homography.h"
 #include "spvs/spvs.h"
+#include "support/h_refit.h"
 
 #if SPVS_USE_DOUBLE
 #define GOLDEN_TOL_SOLVE3_REL SPVS_R(1e-9)
@@ -113,7 +117,7 @@ typedef struct {
     int st_solve3;           /* status of spvs_h_solve3 on the exact triple   */
     spvs_real solve3_rel;    /* golden_h_rel_err of its H                     */
     int st_start;            /* status of spvs_h_solve3 on the start triple   */
-    int st_refit;            /* status of spvs_h_refit on the 40 noisy points */
+    int st_refit;            /* status of h_refit on the 40 noisy points      */
     spvs_real refit_corner_px;   /* corner error of the refit vs true H       */
     spvs_real optimum_corner_px; /* corner error of the refit vs the optimum  */
     int sentinel_ok;         /* output buffers not overrun                     */
@@ -147,8 +151,8 @@ static inline void golden_run_h(const spvs_golden_h_t *g, golden_h_result_t *r)
         use[i] = 1u;
     }
     use[SPVS_GOLDEN_N_NOISY] = 0xA5u;
-    r->st_refit = spvs_h_refit((const spvs_real(*)[4])noisy, use,
-                               SPVS_GOLDEN_N_NOISY, SPVS_REFIT_MAX_ITERS, H);
+    r->st_refit = h_refit((const spvs_real(*)[4])noisy, use, SPVS_GOLDEN_N_NOISY,
+                          H_REFIT_MAX_ITERS, H);
     spvs_h_rescale(H, (spvs_real)SPVS_COORD_SCALE);
     golden_h_copy(g->H, Hpx_true);
     golden_h_copy(g->H_fit, Hpx_fit);

@@ -27,7 +27,7 @@ check_consumer_output() {
   want_scalar=$2
   [ "$(value result "$out")" = ok ] || fail "the consumer's own checks failed: $(cat "$out")"
   [ "$(value version "$out")" = "$SPVS_VERSION" ] ||
-    fail "version $(value version "$out"), want $SPVS_VERSION (spvs/version.h)"
+    fail "version $(value version "$out"), want $SPVS_VERSION (spvs/abi.h)"
   [ "$(value scalar "$out")" = "$want_scalar" ] ||
     fail "scalar $(value scalar "$out"), want $want_scalar"
   [ "$(value matches "$out")" = 125 ] || fail "matches $(value matches "$out"), want 125"

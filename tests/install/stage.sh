@@ -18,7 +18,7 @@ libspvs=$(find "$prefix" -name libspvs_core.a | head -n 1)
 libdir=$(dirname "$libspvs")
 for f in "$libdir/cmake/spvs/spvsConfig.cmake" "$libdir/cmake/spvs/spvsConfigVersion.cmake" \
          "$libdir/cmake/spvs/spvsTargets.cmake" "$libdir/pkgconfig/spvs.pc" \
-         include/spvs/version.h share/spvs/cmake/toolchain-arm-none-eabi.cmake \
+         include/spvs/abi.h share/spvs/cmake/toolchain-arm-none-eabi.cmake \
          share/spvs/cmake/cpu/cortex-m4f.cmake \
          share/spvs/lcm_types/matches_t.lcm share/spvs/lcm_types/cmd_t.lcm \
          share/spvs/lcm_types/state_t.lcm share/doc/spvs/README.md share/doc/spvs/INSTALL.md; do
@@ -32,27 +32,22 @@ if [ -f "$SPVS_BUILD/tools/lcm_spy/spvs_lcm_types.jar" ]; then
   [ -f "$prefix/share/spvs/java/spvs_lcm_types.jar" ] || fail "not installed: share/spvs/java/spvs_lcm_types.jar"
 fi
 
-# Every public header of the source tree, and nothing from src/.
-n_src=0
-for h in "$SPVS_SOURCE"/firmware/include/spvs/*.h; do
-  n_src=$((n_src + 1))
-  cmp -s "$h" "$prefix/include/spvs/$(basename "$h")" || fail "header $(basename "$h") missing or different"
+# The installed API is the four headers of firmware/include/spvs/ (spvs.h,
+# status.h, abi.h, spvs_config.h), in every build, and nothing from src/.
+for h in spvs.h status.h abi.h spvs_config.h; do
+  cmp -s "$SPVS_SOURCE/firmware/include/spvs/$h" "$prefix/include/spvs/$h" ||
+    fail "header $h missing or different"
 done
-# The fixed-point build's spvs.h includes the Q stages' headers
-# (spvs/fixed/) and the point store's declarations they include.
-n_fixed=0
-case $SPVS_SCALAR in
-  fixed_*)
-    for h in "$SPVS_SOURCE"/firmware/src/fixed/*.h "$SPVS_SOURCE"/firmware/src/points.h; do
-      n_fixed=$((n_fixed + 1))
-      sub=$([ "$(basename "$h")" = points.h ] && echo "" || echo fixed/)
-      cmp -s "$h" "$prefix/include/spvs/$sub$(basename "$h")" ||
-        fail "header $sub$(basename "$h") missing or different"
-    done ;;
-esac
-n_inst=$(find "$prefix/include/spvs" -name '*.h' | wc -l)
-[ "$n_inst" -eq $((n_src + n_fixed + 1)) ] ||
-  fail "$n_inst installed headers, want $n_src + $n_fixed + version.h"
+n_inst=$(find "$prefix/include" -name '*.h' | wc -l)
+[ "$n_inst" -eq 4 ] || fail "$n_inst installed headers, want 4"
+# Each includes only the others (and the C library's).
+for h in "$prefix"/include/spvs/*.h; do
+  bad=$(grep -oE '#include [<"][^>"]+[>"]' "$h" | grep -vE 'spvs/(spvs|status|abi|spvs_config)\.h|<[a-z]+\.h>' || true)
+  [ -z "$bad" ] || fail "$(basename "$h") includes what is not installed: $bad"
+done
+# At most 12 functions, all of them spvs_ names.
+n_fn=$(cat "$prefix"/include/spvs/*.h | grep -cE '^(SPVS_NODISCARD )?[a-z_]+[a-z_0-9 ]*[ *]spvs_[a-z0-9_]+\(')
+[ "$n_fn" -le 12 ] || fail "$n_fn functions declared by the installed headers, want at most 12"
 
 # The library holds the core's objects and spvs_init under its ABI name.
 nm -g "$libspvs" | grep -q " T spvs_update$" || fail "spvs_update not defined in $libspvs"
@@ -62,9 +57,10 @@ case $abi in
   *) fail "spvs_init's ABI name is '$abi', want spvs_init__${SPVS_SCALAR}_..." ;;
 esac
 
-# version.h says the project's version.
-grep -q "#define SPVS_VERSION_STRING \"$SPVS_VERSION\"" "$prefix/include/spvs/version.h" ||
-  fail "version.h does not say $SPVS_VERSION"
+# abi.h says the project's version.
+[ "$(grep -E '^#define SPVS_VERSION_(MAJOR|MINOR|PATCH) ' "$prefix/include/spvs/abi.h" |
+     awk '{print $3}' | paste -sd.)" = "$SPVS_VERSION" ] ||
+  fail "abi.h does not say $SPVS_VERSION"
 
 # The programs run from the prefix.
 for p in spvs-sim spvs-node spvs-zenoh-bridge spvs-lcm-spy; do

@@ -8,6 +8,7 @@
 #include "unit_support.h"
 
 #include "spvs/control.h"
+#include "spvs/homography.h"
 #include "synth.h"
 
 #define DEG (SYNTH_PI / 180.0)

@@ -7,6 +7,7 @@
 #include "unit_support.h"
 
 #include "spvs/epipole.h"
+#include "spvs/homography.h"
 #include "synth.h"
 
 #define S ((double)SPVS_COORD_SCALE)

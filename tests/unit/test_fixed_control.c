@@ -25,7 +25,7 @@
 #include "unit_support.h"
 
 #include "fixed/control_q.h"
-#include "spvs/spvs.h"
+#include "spvs/instance.h"
 #include "synth.h"
 #include "synth_scene.h"
 
@@ -56,9 +56,10 @@
  * after_h): the output's H, epipole, parallax and inliers, and the side of
  * the epipole from the instance's history (the majority, or on a tie this
  * frame's side). */
-static void rebuild_input(const spvs_t *s, const spvs_output_t *out, double t,
+static void rebuild_input(const spvs_t *inst, const spvs_output_t *out, double t,
                           spvs_control_input_t *in)
 {
+    const spvs_state_t *s = spvs_state_c(inst);
     memset(in, 0, sizeof *in);
     for (int k = 0; k < 9; k++) {
         in->H[k] = out->H[k];

@@ -9,7 +9,7 @@
 #include "unit_support.h"
 
 #include "spvs/ransac.h"
-#include "spvs/spvs.h"
+#include "spvs/instance.h"
 #include "synth.h"
 
 #define SENTINEL 0x5EA1C0DEu

@@ -8,7 +8,7 @@
 #include "unity.h"
 #include "unit_support.h"
 
-#include "spvs/spvs.h"
+#include "spvs/instance.h"
 #include "synth.h"
 
 #define SENTINEL 0xC0FFEE11u
@@ -74,18 +74,18 @@ static void test_ok_and_remember(void)
     }
     /* Every off-plane feature is remembered, no plane feature is. */
     for (int i = 0; i < 125; i++) {
-        TEST_ASSERT_EQUAL_INT64(i >= 100, spvs_offplane_known(&s.off, (uint16_t)i));
+        TEST_ASSERT_EQUAL_INT64(i >= 100, spvs_offplane_known(&spvs_state(&s)->off, (uint16_t)i));
     }
     /* ... and counted: the frame copy skips its counting pass only at 0. */
-    TEST_ASSERT_EQUAL_INT64(25, s.off.n_known);
+    TEST_ASSERT_EQUAL_INT64(25, spvs_state(&s)->off.n_known);
     /* The epipole: alpha_x tan(phi - phi_t), phi_t = -atan(3/10). */
     double expect = 800 * tan(-30 * DEG + atan(0.3));
     TEST_ASSERT_TRUE(fabs((double)g.out.e_x_px - expect) < 0.05);
     /* A reset forgets everything. */
     spvs_reset(&s);
-    TEST_ASSERT_EQUAL_INT64(0, s.off.score[110]);
-    TEST_ASSERT_EQUAL_INT64(0, s.off.n_known);
-    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, s.ctl.step);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_state(&s)->off.score[110]);
+    TEST_ASSERT_EQUAL_INT64(0, spvs_state(&s)->off.n_known);
+    TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, spvs_step(&s));
 }
 
 static void test_every_status_stops(void)

@@ -124,7 +124,7 @@ PY
 cflags="$arch -ffunction-sections -fdata-sections -Os -DNDEBUG -std=c11"
 # shellcheck disable=SC2086 # $core holds several words
 arm-none-eabi-gcc $cflags $core -DSPVS_USE_DOUBLE=0 \
-  -I"$root/target" -I"$root/firmware/src/fixed" -I"$root/firmware/include" -I"$build/generated/include" \
+  -I"$root/target" -I"$root/firmware/src/fixed" -I"$root/firmware/include" -I"$root/firmware/src" \
   -c "$work/prof_main.c" -o "$work/prof_main.o"
 # shellcheck disable=SC2086
 arm-none-eabi-gcc $arch -Wl,--gc-sections -nostartfiles --specs=nano.specs \

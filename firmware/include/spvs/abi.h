@@ -1,6 +1,12 @@
 /*
- * abi.h - the core's configuration in a link-time name, so that code built
- * with one configuration never runs against a library built with another.
+ * abi.h - the version of spvs, and the core's configuration in a link-time
+ * name, so that code built with one configuration never runs against a
+ * library built with another.
+ *
+ * The version (semantic versioning: MAJOR changes break the API, MINOR adds
+ * to it, PATCH fixes; before 1.0.0 a MINOR change may also break it) is
+ * written here once: the top-level CMakeLists.txt reads it for project(),
+ * the CMake package and spvs.pc.
  *
  * spvs_t (spvs.h) is a plain struct the caller allocates, so its layout is
  * fixed by the settings the caller's compiler sees, while the library's code
@@ -33,6 +39,19 @@
 #define SPVS_ABI_H
 
 #include "spvs/spvs_config.h"
+
+#define SPVS_VERSION_MAJOR 0
+#define SPVS_VERSION_MINOR 1
+#define SPVS_VERSION_PATCH 0
+#define SPVS_VERSION_STR_(x) #x
+#define SPVS_VERSION_STR(x) SPVS_VERSION_STR_(x)
+/* "MAJOR.MINOR.PATCH" */
+#define SPVS_VERSION_STRING                                                           \
+    SPVS_VERSION_STR(SPVS_VERSION_MAJOR) "." SPVS_VERSION_STR(SPVS_VERSION_MINOR) "." \
+    SPVS_VERSION_STR(SPVS_VERSION_PATCH)
+/* MAJOR * 10000 + MINOR * 100 + PATCH, for #if comparisons. */
+#define SPVS_VERSION_NUMBER                                                    \
+    (SPVS_VERSION_MAJOR * 10000 + SPVS_VERSION_MINOR * 100 + SPVS_VERSION_PATCH)
 
 #if SPVS_USE_FIXED && SPVS_USE_DOUBLE
 #define SPVS_ABI_SCALAR fixed_double

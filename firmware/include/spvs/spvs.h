@@ -1,36 +1,130 @@
 /*
- * spvs.h - the update pipeline: one call per frame, matches in, command out.
+ * spvs.h - the spvs controller's API: one call per frame, matches in,
+ * command out.  This header, status.h, abi.h and spvs_config.h are all a
+ * program needs (and all that is installed).
  *
- *   matches -> H: planar-motion RANSAC, re-selection and refit (plane_h.h,
- *              on homography.h and ransac.h)
- *           -> off-plane candidates and memory (offplane.h)
- *           -> epipole and parallax (epipole.h)
- *           -> step logic and control law (control.h) -> (v, w)
+ *   matches -> H: planar-motion RANSAC, re-selection and refit
+ *           -> off-plane candidates and memory
+ *           -> epipole and parallax
+ *           -> step logic and control law -> (v, w)
  *
- * The instance is a plain struct the caller owns (usually static): no heap.
- * Its size is sizeof(spvs_t), about
- *   SPVS_MAX_MATCHES * (4 * sizeof(spvs_real) + 6) + SPVS_MAX_FEATURES
- *   + SPVS_MAX_OFFPLANE * (10 * sizeof(spvs_real) + 5) + a few hundred bytes
- * (spvs_config.h), the same whatever the point layout.
+ * The stages are the core's own (firmware/src/spvs/: plane_h.h,
+ * homography.h, ransac.h, offplane.h, epipole.h, control.h); tests and
+ * tools include them from the source tree.
  */
 #ifndef SPVS_SPVS_H
 #define SPVS_SPVS_H
 
+#include <stdint.h>
+
 #include "spvs/abi.h"
-#include "spvs/common.h"
-#include "spvs/control.h"
-#include "spvs/epipole.h"
-#include "spvs/homography.h"
-#include "spvs/offplane.h"
-#include "spvs/plane_h.h"
-#include "spvs/ransac.h"
+#include "spvs/spvs_config.h"
+#include "spvs/status.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+/* One scalar type for the whole core, chosen by SPVS_USE_DOUBLE
+ * (spvs_config.h).  SPVS_R() writes a literal in it, so a float build never
+ * promotes to double (it appends the f suffix). */
+#if SPVS_USE_DOUBLE
+typedef double spvs_real;
+#define SPVS_R(x) (x)
+#else
+typedef float spvs_real;
+#define SPVS_R(x) (x##f)
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define SPVS_NODISCARD __attribute__((warn_unused_result))
+#else
+#define SPVS_NODISCARD
+#endif
+
+/* One match: a target-image feature and where it is seen in the current image.
+ * Pixels, centred on the assumed principal point.  `feature` is the index of
+ * the feature in the target image, stable from frame to frame, and must be
+ * below SPVS_MAX_FEATURES. */
 typedef struct {
-    spvs_control_params_t ctl; /* control law, see control.h                 */
+    spvs_real x_tgt;
+    spvs_real y_tgt;
+    spvs_real x_cur;
+    spvs_real y_cur;
+    uint16_t feature;
+} spvs_match_t;
+
+/* ---- the controller's parameters (docs/CONTROL.md) --------------------- */
+
+typedef enum {
+    SPVS_METHOD_I = 1,   /* calibrated, eq. (20)   */
+    SPVS_METHOD_II = 2,  /* uncalibrated, eq. (21) */
+    SPVS_METHOD_III = 3  /* parallax, eq. (22)     */
+} spvs_method_t;
+
+typedef enum {
+    SPVS_STEP_ROTATE = 1,    /* step 1: turn to face the target             */
+    SPVS_STEP_TRANSLATE = 2, /* step 2: drive straight to it                */
+    SPVS_STEP_ALIGN = 3,     /* step 3: turn to the target heading          */
+    SPVS_STEP_DONE = 4,      /* converged: (v, w) = (0, 0) from now on      */
+    SPVS_STEP_FAILED = 5     /* a latched failure: (0, 0) until reset       */
+} spvs_step_t;
+
+typedef struct {
+    spvs_method_t method;
+    spvs_real alpha_x;        /* assumed focal length in x, pixels (Method I) */
+    spvs_real alpha_y;        /* assumed focal length in y, pixels            */
+    spvs_real k_w;            /* step 1 and 2 rotation gain (method's units)  */
+    spvs_real k_v;            /* step 2 translation gain                      */
+    spvs_real k_w3;           /* step 3 rotation gain, rad/s per pixel of h13 */
+    spvs_real k_w11;          /* Method III eq. (11) gain, rad/s              */
+    spvs_real v_max;          /* |v| saturation, m/s                          */
+    spvs_real w_max;          /* |w| saturation, rad/s                        */
+    spvs_real w_min_escape;   /* Method I: least |w| while the epipole says
+                                 the robot is not yet facing the target      */
+    spvs_real tol_align;      /* step 1 ends: |signal| under this ...         */
+    spvs_real tol_translate;  /* step 2 ends: |signal| under this, or a sign
+                                 change of the signal                        */
+    spvs_real tol_h13_px;     /* step 3 ends: |h13| under this (pixels)       */
+    spvs_real lock_ex_px;     /* |e_x| under this counts as facing the target */
+    spvs_real switch_parallax_px; /* Method III switches to eq. (11) below   */
+    spvs_real hold_heading_ratio; /* step 2: once the fitted signal is under
+                                 this fraction of its start value, the
+                                 heading is held (w = 0), except on eq. (11) */
+    spvs_real tol_det;        /* step 2 may end only with |det H - 1| under
+                                 this (det H = 1 + n^T c / d, eq. 2)         */
+    spvs_real min_signal_ratio;   /* plane check: the normal component the
+                                     method relies on, relative, must exceed */
+    spvs_real step_timeout_s; /* a step longer than this fails                */
+    uint16_t hold_frames;     /* consecutive frames a step-end test must hold */
+    uint16_t fit_min_frames;  /* step 2: frames before the fitted signal is used */
+    spvs_real fit_min_span_m; /* step 2: distance driven before it is used, m */
+    /* The arrival check after step 3 (beyond the paper; docs/CONTROL.md,
+     * "A verified arrival"): the robot stands still for arrival_frames
+     * frames and tests H = I (eq. 10; eq. 2 at the target whatever the
+     * calibration) and a zero parallax of the remembered off-plane points.
+     * Each of eight residuals (the six free entries of H - I at the image
+     * corner +-arrival_corner_x_px, +-arrival_corner_y_px, the horizontal
+     * and the radial parallax) is averaged over the hold; its standard
+     * deviation is measured from the hold's own frames, with the goal
+     * image's share, which does not average, counted once:
+     *   sd = sqrt(s^2 (1 + 1/frames) + arrival_resolution_px^2)
+     * (s^2 the residual's variance from frame to frame).  Converged when
+     * every |mean| / sd is at most arrival_k and the mean median parallax
+     * is under SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 of what noise of
+     * arrival_sigma_px gives. */
+    spvs_real arrival_sigma_px;   /* image noise sigma assumed, pixels      */
+    spvs_real arrival_k;          /* threshold, standard deviations         */
+    spvs_real arrival_corner_x_px; /* image half width, pixels              */
+    spvs_real arrival_corner_y_px; /* image half height, pixels             */
+    uint16_t arrival_frames;      /* frames averaged standing still, 2 to
+                                     SPVS_CTL_ARRIVAL_MAX_FRAMES             */
+    spvs_real arrival_resolution_px; /* the least sd: smaller residuals are
+                                        not resolved, pixels                */
+} spvs_control_params_t;
+
+typedef struct {
+    spvs_control_params_t ctl; /* control law, see above                     */
     spvs_real noise_px;        /* image noise sigma, pixels, in both images:
                                   inliers have a Sampson error within
                                   sqrt(SPVS_INLIER_CHI2_X100 / 100) of it  */
@@ -87,32 +181,24 @@ typedef struct {
     uint8_t arriving;             /* standing still for the check now       */
 } spvs_output_t;
 
-#if SPVS_USE_FIXED
-/* The fixed-point build (SPVS_FIXED=ON, docs/FIXED.md): the instance is
- * the Q pipeline's state, spvs_q_t of firmware/src/fixed/spvs_q.h (included
- * at the end of this header), and the functions below run the Q stages. */
-typedef struct spvs_q_s spvs_t;
-#else
-typedef struct {
-    spvs_params_t p;
-    spvs_control_t ctl;
-    spvs_rng_t rng;
-    spvs_real last_t_s;       /* time of the last update                      */
-    spvs_real last_good_t_s;  /* time of the last frame with a valid H        */
-    uint8_t has_last;
-    uint8_t has_good;
-    spvs_plane_h_t est;       /* the frame's points and H (plane_h.h)         */
-    spvs_offplane_t off;      /* off-plane memory and candidates (offplane.h) */
-    spvs_epipole_work_t ework;
-    /* The last SPVS_EPIPOLE_MEDIAN epipole estimates (x in pixels, side). */
-    spvs_real ehist_x[SPVS_EPIPOLE_MEDIAN];
-    int8_t ehist_z[SPVS_EPIPOLE_MEDIAN];
-    uint8_t n_ehist;
-    uint8_t i_ehist;
-    spvs_real lateral_px;     /* the frame's horizontal and radial parallax */
-    spvs_real radial_px;      /*   (offplane.h), while arriving            */
+/* The instance: caller-owned storage (usually static), passed by pointer;
+ * spvs_init() sets it up, spvs_reset() clears its state.  No heap.
+ *
+ * Its contents are the core's own (firmware/src/spvs/instance.h: the stage
+ * states of the float core, or the Q pipeline's in the fixed-point build),
+ * so this header declares only storage of the right size and alignment:
+ * SPVS_INSTANCE_BYTES (spvs_config.h, a formula in the SPVS_MAX_* settings
+ * and the scalar type), which the core checks at compile time to hold its
+ * state in every build.  Storage rather than the state's type keeps this
+ * header whole on its own: the state is built of every stage's types, and
+ * spelling them here would install every stage header with it.  abi.h
+ * makes a caller built with other settings fail to link. */
+typedef union {
+    unsigned char bytes[SPVS_INSTANCE_BYTES];
+    uint64_t align_u64;
+    double align_f64;
+    void *align_ptr;
 } spvs_t;
-#endif
 
 /* Parameters for a method: the defaults of docs/CONTROL.md. */
 void spvs_params_default(spvs_params_t *p, spvs_method_t method);
@@ -138,7 +224,8 @@ void spvs_reset(spvs_t *s);
  * error.  Returns the status (also in out->status):
  *   SPVS_OK, SPVS_E_ARG, SPVS_E_CAPACITY, SPVS_E_TOO_FEW, SPVS_E_NONFINITE,
  *   SPVS_E_RANGE, SPVS_E_STALE, SPVS_E_DEGENERATE, SPVS_E_NO_CONSENSUS,
- *   and those of spvs_control_step().
+ *   and the controller's: SPVS_E_NO_PARALLAX, SPVS_E_PLANE_NZ,
+ *   SPVS_E_PLANE_NY, SPVS_E_STEP_TIMEOUT, SPVS_E_NOT_AT_TARGET (status.h).
  * The robot has converged when out->step == SPVS_STEP_DONE. */
 SPVS_NODISCARD int spvs_update(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                spvs_real t_s, spvs_output_t *out);
@@ -172,18 +259,13 @@ SPVS_NODISCARD int spvs_update_with_h(spvs_t *s, const spvs_match_t *m, uint16_t
 SPVS_NODISCARD int spvs_estimate_h(spvs_t *s, const spvs_match_t *m, uint16_t n,
                                    spvs_output_t *out);
 
-#ifdef __cplusplus
-}
-#endif
+/* The controller's step now (SPVS_STEP_ROTATE .. SPVS_STEP_FAILED), as
+ * out->step after the last update; SPVS_STEP_ROTATE after spvs_init() or
+ * spvs_reset().  s must be an initialised instance (not checked). */
+spvs_step_t spvs_step(const spvs_t *s);
 
-#if SPVS_USE_FIXED
-#ifdef __cplusplus
-extern "C" {
-#endif
-#include "spvs_q.h"
 #ifdef __cplusplus
 }
-#endif
 #endif
 
 #endif /* SPVS_SPVS_H */

@@ -11,7 +11,8 @@
  *   SPVS_MAX_FEATURES x 1 byte (off-plane memory)
  *   SPVS_MAX_OFFPLANE x (7 scalars + 4 index bytes + 1 flag byte)
  *   SPVS_LO_POINTS    x 1 byte
- * whatever the point layout (points.h).
+ * whatever the point layout (points.h); SPVS_INSTANCE_BYTES at the bottom
+ * is the sum.
  */
 #ifndef SPVS_CONFIG_H
 #define SPVS_CONFIG_H
@@ -64,12 +65,6 @@
 /* RANSAC hypotheses: min(adaptive count for the confidence, this cap). */
 #ifndef SPVS_RANSAC_MAX_ITERS
 #define SPVS_RANSAC_MAX_ITERS 200
-#endif
-
-/* Most Gauss-Newton steps spvs_h_refit takes (callers ask for fewer; it
- * stops earlier once a step gains under 1e-4 of the cost). */
-#ifndef SPVS_REFIT_MAX_ITERS
-#define SPVS_REFIT_MAX_ITERS 5
 #endif
 
 /* Steps of the estimator's final refit (plane_h.c): each solves the
@@ -217,17 +212,14 @@
 #if (SPVS_RANSAC_MAX_ITERS < 1) || (SPVS_RANSAC_MAX_ITERS > 100000)
 #error "SPVS_RANSAC_MAX_ITERS must be in 1..100000"
 #endif
-#if (SPVS_REFIT_MAX_ITERS < 0) || (SPVS_REFIT_MAX_ITERS > 20)
-#error "SPVS_REFIT_MAX_ITERS must be in 0..20"
-#endif
 #if (SPVS_REFIT_ROUNDS < 1) || (SPVS_REFIT_ROUNDS > 8)
 #error "SPVS_REFIT_ROUNDS must be in 1..8"
 #endif
 #if (SPVS_LO_POINTS < 8) || (SPVS_LO_POINTS > 4096)
 #error "SPVS_LO_POINTS must be in 8..4096"
 #endif
-#if (SPVS_FINAL_STEPS < 1) || (SPVS_FINAL_STEPS > SPVS_REFIT_MAX_ITERS)
-#error "SPVS_FINAL_STEPS must be in 1..SPVS_REFIT_MAX_ITERS"
+#if (SPVS_FINAL_STEPS < 1) || (SPVS_FINAL_STEPS > 20)
+#error "SPVS_FINAL_STEPS must be in 1..20"
 #endif
 #if (SPVS_INLIER_CHI2_X100 < 100) || (SPVS_INLIER_CHI2_X100 > 10000)
 #error "SPVS_INLIER_CHI2_X100 must be in 100..10000"
@@ -363,5 +355,24 @@
 #if (SPVS_CTL_ARRIVAL_MAX_FRAMES < 1) || (SPVS_CTL_ARRIVAL_MAX_FRAMES > 65535)
 #error "SPVS_CTL_ARRIVAL_MAX_FRAMES must be in 1..65535"
 #endif
+
+/* Bytes of one spvs_t instance (spvs.h): the terms above with a scalar of
+ * SPVS_SCALAR_BYTES (4 for float, 8 for double; the fixed-point state
+ * holds int32 where the float core holds a scalar), two scalars per slot of
+ * the epipole's median, and SPVS_INSTANCE_FIXED_BYTES for the parameters,
+ * the controller's state and the rest, whose size no setting changes.  The
+ * core checks at compile time that its state fits (firmware/src/spvs/
+ * instance.h); a state grown past this figure is a compile error there, to
+ * be answered here. */
+#if SPVS_USE_FIXED || !SPVS_USE_DOUBLE
+#define SPVS_SCALAR_BYTES 4
+#else
+#define SPVS_SCALAR_BYTES 8
+#endif
+#define SPVS_INSTANCE_FIXED_BYTES (200 * SPVS_SCALAR_BYTES + (SPVS_USE_FIXED ? 512 : 0))
+#define SPVS_INSTANCE_BYTES                                                            \
+    ((SPVS_MAX_MATCHES) * (4 * SPVS_SCALAR_BYTES + 6) + (SPVS_MAX_FEATURES) +           \
+     (SPVS_MAX_OFFPLANE) * (7 * SPVS_SCALAR_BYTES + 5) + (SPVS_LO_POINTS) +             \
+     (SPVS_EPIPOLE_MEDIAN) * 2 * SPVS_SCALAR_BYTES + SPVS_INSTANCE_FIXED_BYTES)
 
 #endif /* SPVS_CONFIG_H */

@@ -114,10 +114,7 @@ static SPVS_ALWAYS_INLINE uint32_t sum_pairs(int kind, int nt, int count, const 
 SUM_PAIRS_AVX2(pairs_fit_y, SPVS_T_FIT_Y, SPVS_NT_FIT, 1)
 SUM_PAIRS_AVX2(pairs_fit_x, SPVS_T_FIT_X, SPVS_NT_FIT, 0)
 SUM_PAIRS_AVX2(pairs_lin, SPVS_T_LIN, SPVS_H_LIN_SUMS, 1)
-SUM_PAIRS_AVX2(pairs_gn, SPVS_T_GN, SPVS_NT_GN, 0)
-SUM_PAIRS_AVX2(pairs_cost, SPVS_T_COST, SPVS_NT_COST, 0)
-SUM_PAIRS_AVX2(pairs_grad, SPVS_T_GRAD, SPVS_NT_GRAD, 0)
-SUM_PAIRS_AVX2(pairs_sampson, SPVS_T_SAMPSON, SPVS_NT_COST, 0)
+SUM_PAIRS_AVX2(pairs_sampson, SPVS_T_SAMPSON, SPVS_NT_SAMPSON, 0)
 
 /* The pairs function of a kind (a constant where sum_store is inlined);
  * each takes the kind's term count and counting as spvs_pts_sum passes
@@ -134,12 +131,6 @@ static SPVS_ALWAYS_INLINE uint32_t sum_pairs_avx2(int kind, const spvs_real *h,
         return pairs_fit_x(h, c, use, n_rows, acc, all_ok, cnt);
     case SPVS_T_LIN:
         return pairs_lin(h, c, use, n_rows, acc, all_ok, cnt);
-    case SPVS_T_GN:
-        return pairs_gn(h, c, use, n_rows, acc, all_ok, cnt);
-    case SPVS_T_COST:
-        return pairs_cost(h, c, use, n_rows, acc, all_ok, cnt);
-    case SPVS_T_GRAD:
-        return pairs_grad(h, c, use, n_rows, acc, all_ok, cnt);
     default:
         return pairs_sampson(h, c, use, n_rows, acc, all_ok, cnt);
     }

@@ -13,7 +13,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
-#include "spvs/common.h"
+#include "spvs/spvs.h"
 
 #ifdef __cplusplus
 extern "C" {

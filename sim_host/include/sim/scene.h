@@ -13,7 +13,7 @@
 
 #include "sim/geometry.h"
 #include "sim/rng.h"
-#include "spvs/common.h"
+#include "spvs/spvs.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,7 +1,7 @@
 /*
  * homography.h - the planar-motion homography: 3-point minimal solver, the
- * linear fit and the least-squares refit on inliers (paper, section 2,
- * eqs. (2), (4), (5)).
+ * linear fit, the inverse and the pixel scaling (paper, section 2, eqs. (2),
+ * (4), (5)).
  *
  * Under planar motion H_cur_tgt = [[h11 h12 h13],[0 1 0],[h31 h32 h33]]
  * (eq. 4), stored row-major in 9 scalars with H[4] = h22 = 1 and H[3] = H[5] = 0.
@@ -55,18 +55,6 @@ spvs_real spvs_h_transfer_err2(const spvs_real H[9], const spvs_real pt[4]);
  * or a singular system); on error H is unchanged. */
 SPVS_NODISCARD int spvs_h_fit_linear(const spvs_real (*pts)[4], const uint8_t *use,
                                      uint16_t n, spvs_real H[9]);
-
-/* Least-squares refit of H on the points flagged in `use`, minimising the
- * sum of squared transfer errors in the current image (Gauss-Newton from
- * the given H, reusing the normal matrix of the first step while the steps
- * stay small, rebuilt after a step that halves the cost; stops when a step
- * gains under 1e-4 of the cost or raises it, which is undone).
- * pts: n points, scaled units; use: n flags; H: start value in, result out.
- * max_iters: Gauss-Newton steps at most, clamped to 1..SPVS_REFIT_MAX_ITERS.
- * Returns SPVS_OK, SPVS_E_TOO_FEW (fewer than 3 flagged points) or
- * SPVS_E_DEGENERATE (singular normal equations); on error H is unchanged. */
-SPVS_NODISCARD int spvs_h_refit(const spvs_real (*pts)[4], const uint8_t *use,
-                                uint16_t n, uint16_t max_iters, spvs_real H[9]);
 
 /* H^-1 normalised to h22 = 1 (the inverse of a planar-motion H has the
  * same form).  Returns SPVS_OK, or SPVS_E_DEGENERATE when
