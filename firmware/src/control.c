@@ -436,16 +436,27 @@ static void arrival_add(spvs_control_t *c, const spvs_control_params_t *p,
 /* Residual k's mean over n frames, pixels, and its standard deviation:
  * the frames' variance s^2 is one image's noise; the goal image's, as
  * large, is the same in every frame, so the mean's variance is s^2 / n +
- * s^2; arrival_resolution_px is the least. */
-static spvs_real residual_mean_sd(const spvs_control_t *c, const spvs_control_params_t *p, int k,
-                                  spvs_real n, spvs_real *sd)
+ * s^2 (at least SPVS_CTL_ARRIVAL_SD_MIN_MPX). */
+static spvs_real residual_mean_sd(const spvs_control_t *c, int k, spvs_real n, spvs_real *sd)
 {
     const spvs_real mean = c->arrive_res[k] / n;
     spvs_real var = (c->arrive_sq[k] - mean * c->arrive_res[k]) / (n - SPVS_R(1.0));
     var = var > SPVS_R(0.0) ? var : SPVS_R(0.0);
-    const spvs_real res = p->arrival_resolution_px;
-    *sd = SPVS_SQRT(var * (SPVS_R(1.0) + SPVS_R(1.0) / n) + res * res);
+    const spvs_real least = (spvs_real)SPVS_CTL_ARRIVAL_SD_MIN_MPX * SPVS_R(0.001);
+    *sd = SPVS_SQRT(var * (SPVS_R(1.0) + SPVS_R(1.0) / n) + least * least);
     return mean;
+}
+
+/* A residual's statistic: how many sd its mean lies beyond the dead zone
+ * (arrival_resolution_px; four times it for the horizontal parallax). */
+static spvs_real residual_stat(const spvs_control_params_t *p, int k, spvs_real m, spvs_real sd)
+{
+    spvs_real zone = p->arrival_resolution_px;
+    if (k == 6) {
+        zone *= (spvs_real)SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 * SPVS_R(0.1);
+    }
+    const spvs_real beyond = SPVS_FABS(m) - zone;
+    return beyond > SPVS_R(0.0) ? beyond / sd : SPVS_R(0.0);
 }
 
 /* Mean over the four image corners of the transfer |H p - p| (pixels), of H
@@ -490,9 +501,9 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
     spvs_real m[SPVS_CTL_ARRIVAL_RESIDUALS], sd[SPVS_CTL_ARRIVAL_RESIDUALS];
     spvs_real z[SPVS_CTL_ARRIVAL_RESIDUALS];
     for (int k = 0; k < 6; k++) {
-        m[k] = residual_mean_sd(c, p, k, nf, &sd[k]);
+        m[k] = residual_mean_sd(c, k, nf, &sd[k]);
         r[k] = c->arrive_sum[k] / nf;
-        z[k] = SPVS_FABS(m[k]) / sd[k];
+        z[k] = residual_stat(p, k, m[k], sd[k]);
     }
     /* The parallax needs two frames for its spread; without, row 1 of H
      * speaks for the sideways offset alone. */
@@ -500,8 +511,8 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
     for (int k = 6; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
         m[k] = sd[k] = z[k] = SPVS_R(0.0);
         if (par) {
-            m[k] = residual_mean_sd(c, p, k, (spvs_real)c->arrive_par_n, &sd[k]);
-            z[k] = SPVS_FABS(m[k]) / sd[k];
+            m[k] = residual_mean_sd(c, k, (spvs_real)c->arrive_par_n, &sd[k]);
+            z[k] = residual_stat(p, k, m[k], sd[k]);
         }
     }
     fig[0] = max3(z[0], z[1], z[6]);

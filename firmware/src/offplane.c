@@ -98,18 +98,22 @@ static spvs_real median_px(spvs_real *v, uint16_t n)
     return (spvs_real)SPVS_COORD_SCALE * SPVS_SQRT(v[n / 2]);
 }
 
-static int cand_dir(const spvs_real H[9], const spvs_real row[4], spvs_real d[2])
+static int cand_dir(const spvs_real H[9], const spvs_real row[4], const spvs_real *lateral,
+                    spvs_real *d)
 {
     const spvs_real w = H[6] * row[0] + H[7] * row[1] + H[8];
     if (!(w > SPVS_W_EPS)) {
         return 0;
     }
-    const spvs_real du = row[2] - (H[0] * row[0] + H[1] * row[1] + H[2]) / w;
-    const spvs_real dv = row[3] - row[1] / w;
+    const spvs_real scale = (spvs_real)SPVS_COORD_SCALE;
+    const spvs_real du = scale * (row[2] - (H[0] * row[0] + H[1] * row[1] + H[2]) / w);
+    if (lateral == 0) {
+        *d = du;
+        return 1;
+    }
+    const spvs_real dv = scale * (row[3] - row[1] / w);
     const spvs_real r = SPVS_SQRT(row[2] * row[2] + row[3] * row[3]);
-    d[0] = (spvs_real)SPVS_COORD_SCALE * du;
-    d[1] = r > SPVS_R(0.0) ? (spvs_real)SPVS_COORD_SCALE * (du * row[2] + dv * row[3]) / r
-                           : SPVS_R(0.0);
+    *d = r > SPVS_R(0.0) ? ((du - *lateral) * row[2] + dv * row[3]) / r : SPVS_R(0.0);
     return 1;
 }
 
@@ -157,9 +161,9 @@ void spvs_offplane_collect(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_rea
 }
 
 spvs_real spvs_offplane_known_direction_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
-                                            int radial, spvs_real *scratch)
+                                            const spvs_real *lateral, spvs_real *scratch)
 {
-    return known_direction(o, H_sc, radial != 0, scratch);
+    return known_direction(o, H_sc, lateral, scratch);
 }
 
 spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_real H_sc[9],

@@ -34,7 +34,7 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     p->arrival_corner_x_px = SPVS_R(320.0);
     p->arrival_corner_y_px = SPVS_R(240.0);
     p->arrival_frames = 20;
-    p->arrival_resolution_px = SPVS_R(0.05);
+    p->arrival_resolution_px = SPVS_R(0.5);
     switch (m) {
     case SPVS_METHOD_I:
         /* f of eq. (19) changes by about 2 (r/d) |n_x cos phi + n_z sin phi|

@@ -101,8 +101,9 @@ static int frame_epipole(spvs_state_t *s, spvs_epipole_t *ep, spvs_real *paralla
     const int dir = s->ctl.arriving && *parallax >= SPVS_R(0.0);
     s->lateral_px = dir ? spvs_offplane_known_direction_px(o, s->est.H_sc, 0, s->ework.n2)
                         : SPVS_R(0.0);
-    s->radial_px = dir ? spvs_offplane_known_direction_px(o, s->est.H_sc, 1, s->ework.n2)
-                       : SPVS_R(0.0);
+    s->radial_px =
+        dir ? spvs_offplane_known_direction_px(o, s->est.H_sc, &s->lateral_px, s->ework.n2)
+            : SPVS_R(0.0);
     const spvs_real sin_tol2 = s->p.epipole_sin_tol * s->p.epipole_sin_tol;
     return spvs_epipole_estimate(s->est.H_sc, (const spvs_real(*)[4])o->cand_pts,
                                  o->cand_ord, o->n_cand, sin_tol2, s->p.min_support, ep,

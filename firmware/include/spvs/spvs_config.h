@@ -304,8 +304,19 @@
 #define SPVS_CTL_NOISE_PARALLAX_X1000 1665
 #endif
 /* The arrival check's residuals: six entries of H - I, the horizontal and
- * the radial parallax (control.h). */
+ * the radial parallax (spvs.h, arrival_k). */
 #define SPVS_CTL_ARRIVAL_RESIDUALS 8
+/* The least standard deviation of a residual, thousandths of a pixel: exact
+ * frames (no spread) divide by it. */
+#ifndef SPVS_CTL_ARRIVAL_SD_MIN_MPX
+#define SPVS_CTL_ARRIVAL_SD_MIN_MPX 10
+#endif
+/* The horizontal parallax's dead zone, in tenths of arrival_resolution_px:
+ * the off-plane points see a sideways offset about four times as many
+ * pixels per metre as the plane's entries see theirs. */
+#ifndef SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10
+#define SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 40
+#endif
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
 #endif

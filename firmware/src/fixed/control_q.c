@@ -784,8 +784,8 @@ static SPVS_Q_NOINLINE void corner_figures(const spvs_q_ctl_params_t *p, const s
 
 /* control.c's residual_mean_sd: residual k's mean over n frames and its
  * standard deviation, pixels. */
-static SPVS_Q_NOINLINE spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                                  int k, uint32_t n, spvs_qf_t *sd)
+static SPVS_Q_NOINLINE spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, int k, uint32_t n,
+                                                  spvs_qf_t *sd)
 {
     const spvs_qf_t inv = spvs_qf_recip(qf_of(n, 0), &c->sat);
     const spvs_qf_t sum = qf_of(c->arrive_res[k], SPVS_QCTL_PX);
@@ -794,8 +794,22 @@ static SPVS_Q_NOINLINE spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, const spvs_q_
                                 spvs_qf_neg(spvs_qf_mul(mean, sum)));
     var = var.m > 0 ? qf_div(var, qf_of(n - 1u, 0), &c->sat) : qf_of(0, 0);
     var = spvs_qf_mul(var, spvs_qf_add(qf_of(1, 0), inv));
-    *sd = qf_sqrt(spvs_qf_add(var, spvs_qf_mul(p->resolution, p->resolution)));
+    const spvs_qf_t least = qf_div(qf_of(SPVS_CTL_ARRIVAL_SD_MIN_MPX, 0), qf_of(1000, 0), &c->sat);
+    *sd = qf_sqrt(spvs_qf_add(var, spvs_qf_mul(least, least)));
     return mean;
+}
+
+/* control.c's residual_stat. */
+static SPVS_Q_NOINLINE spvs_qf_t residual_stat(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+                                               int k, spvs_qf_t m, spvs_qf_t sd)
+{
+    spvs_qf_t zone = p->resolution;
+    if (k == 6) {
+        zone = qf_div(spvs_qf_mul(zone, qf_of(SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10, 0)),
+                      qf_of(10, 0), &c->sat);
+    }
+    const spvs_qf_t beyond = spvs_qf_add(qf_abs(m), spvs_qf_neg(zone));
+    return beyond.m > 0 ? qf_div(beyond, sd, &c->sat) : qf_of(0, 0);
 }
 
 static spvs_qf_t qf_max(spvs_qf_t a, spvs_qf_t b)
@@ -817,15 +831,15 @@ static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_pa
     for (int k = 0; k < 6; k++) {
         a = qf_of(c->arrive_sum[k], SPVS_QH);
         qmul(&r[k], &a, &t);
-        m[k] = residual_mean_sd(c, p, k, c->arrive_n, &sd[k]);
-        z[k] = qf_div(qf_abs(m[k]), sd[k], sat);
+        m[k] = residual_mean_sd(c, k, c->arrive_n, &sd[k]);
+        z[k] = residual_stat(c, p, k, m[k], sd[k]);
     }
     const int par = c->arrive_par_n >= 2u;
     for (int k = 6; k < SPVS_CTL_ARRIVAL_RESIDUALS; k++) {
         m[k] = sd[k] = z[k] = qf_of(0, 0);
         if (par) {
-            m[k] = residual_mean_sd(c, p, k, c->arrive_par_n, &sd[k]);
-            z[k] = qf_div(qf_abs(m[k]), sd[k], sat);
+            m[k] = residual_mean_sd(c, k, c->arrive_par_n, &sd[k]);
+            z[k] = residual_stat(c, p, k, m[k], sd[k]);
         }
     }
     fig[0] = qf_max(qf_max(z[0], z[1]), z[6]);

@@ -244,18 +244,24 @@ static int32_t median_px(int32_t *v, uint16_t n)
  * scaled units times SPVS_COORD_SCALE, 2^9, are Q17 pixels): horizontal,
  * and along the current point's radius (the dot product in Q52 over the
  * radius in Q26; every term under 2^60 for points within 2^15 px). */
-static int cand_dir(const int32_t H[9], const int32_t row[4], int32_t d[2])
+static int cand_dir(const int32_t H[9], const int32_t row[4], const int32_t *lateral,
+                    int32_t *d)
 {
     int32_t du, dv;
     if (!spvs_q_transfer(H, row, &du, &dv)) {
         return 0;
     }
-    d[0] = (int32_t)spvs_q_rsh(-(int64_t)du, 1);
+    if (lateral == 0) {
+        *d = (int32_t)spvs_q_rsh(-(int64_t)du, 1);
+        return 1;
+    }
+    /* The error less the horizontal part, in Q26 scaled units (Q16 px
+     * times 2). */
+    const int64_t ex = -(int64_t)du - 2 * (int64_t)*lateral, ey = -(int64_t)dv;
     const int64_t x = row[2], y = row[3];
     const int64_t r = (int64_t)spvs_q_isqrt64((uint64_t)(x * x + y * y));
-    const int64_t dot = -((int64_t)du * x + (int64_t)dv * y);
     uint32_t sat = 0;
-    d[1] = r > 0 ? spvs_q_sat32(spvs_q_rsh(dot / r, 1), &sat) : 0;
+    *d = r > 0 ? spvs_q_sat32(spvs_q_rsh((ex * x + ey * y) / r, 1), &sat) : 0;
     return 1;
 }
 
@@ -306,9 +312,9 @@ void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
 }
 
 int32_t spvs_q_offplane_known_direction_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                            int radial, int32_t *scratch)
+                                            const int32_t *lateral, int32_t *scratch)
 {
-    return known_direction(o, H, radial != 0, scratch);
+    return known_direction(o, H, lateral, scratch);
 }
 
 int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],

@@ -78,7 +78,7 @@ int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int
 /* spvs_offplane_known_direction_px in Q16 pixels (0 when none is in
  * view).  scratch: SPVS_MAX_OFFPLANE int32. */
 int32_t spvs_q_offplane_known_direction_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                            int radial, int32_t *scratch);
+                                            const int32_t *lateral, int32_t *scratch);
 
 /* spvs_offplane_remember: e_ok, parallax_q16 (Q16 px) and offplane_q16
  * as float's arguments.  Where e->H and offplane_q16 are those of the

@@ -276,7 +276,8 @@ static int frame_epipole(spvs_q_t *s, spvs_q_epipole_t *ep, int32_t *parallax)
     /* The parallax's direction, for the arrival check only. */
     const int dir = s->ctl.arriving && *parallax >= 0;
     s->lateral_q16 = dir ? spvs_q_offplane_known_direction_q16(o, s->est.H, 0, s->scratch) : 0;
-    s->radial_q16 = dir ? spvs_q_offplane_known_direction_q16(o, s->est.H, 1, s->scratch) : 0;
+    s->radial_q16 =
+        dir ? spvs_q_offplane_known_direction_q16(o, s->est.H, &s->lateral_q16, s->scratch) : 0;
     return spvs_q_epipole_estimate(s->est.H, (const int32_t(*)[4])o->cand_pts, o->cand_ord,
                                    o->n_cand, s->p.sin_tol2_q30, s->p.min_support, ep,
                                    o->support, &s->ework) == SPVS_OK;

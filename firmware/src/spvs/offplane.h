@@ -72,11 +72,12 @@ spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_r
 
 /* The median of one component of the same candidates' transfer errors,
  * signed, pixels (current minus transferred goal point; 0 when none is in
- * view): radial 0 the horizontal one, the arrival check's sideways
- * residual; radial 1 the one along the current point's radius, its
- * residual along the optical axis.  scratch: SPVS_MAX_OFFPLANE values. */
+ * view): with lateral NULL the horizontal one, the arrival check's
+ * sideways residual; else the one along the current point's radius of the
+ * error less *lateral horizontally, its residual along the optical axis.
+ * scratch: SPVS_MAX_OFFPLANE values. */
 spvs_real spvs_offplane_known_direction_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
-                                           int radial, spvs_real *scratch);
+                                           const spvs_real *lateral, spvs_real *scratch);
 
 /* Updates the memory after the epipole: e_ok says whether it was found
  * (o->support then holds its supporters), parallax_px is the frame's
