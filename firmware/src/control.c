@@ -94,6 +94,11 @@ static spvs_real val_abs(spvs_real a)
     return SPVS_FABS(a);
 }
 
+static spvs_real val_of_x10(int n)
+{
+    return (spvs_real)n * SPVS_R(0.1);
+}
+
 static spvs_real val_times(spvs_real a, int k)
 {
     return (spvs_real)k * a;
@@ -448,11 +453,15 @@ static spvs_real residual_mean_sd(const spvs_control_t *c, int k, spvs_real n, s
 }
 
 /* A residual's statistic: how many sd its mean lies beyond the dead zone
- * (arrival_resolution_px; four times it for the horizontal parallax). */
+ * (arrival_resolution_px; for h13 step 3's own tolerance, tol_h13_px; for
+ * the horizontal parallax SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 / 10 times
+ * arrival_resolution_px). */
 static spvs_real residual_stat(const spvs_control_params_t *p, int k, spvs_real m, spvs_real sd)
 {
     spvs_real zone = p->arrival_resolution_px;
-    if (k == 6) {
+    if (k == 2) {
+        zone = p->tol_h13_px;
+    } else if (k == 6) {
         zone *= (spvs_real)SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 * SPVS_R(0.1);
     }
     const spvs_real beyond = SPVS_FABS(m) - zone;

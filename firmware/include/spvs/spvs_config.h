@@ -311,11 +311,17 @@
 #ifndef SPVS_CTL_ARRIVAL_SD_MIN_MPX
 #define SPVS_CTL_ARRIVAL_SD_MIN_MPX 10
 #endif
-/* The horizontal parallax's dead zone, in tenths of arrival_resolution_px:
- * the off-plane points see a sideways offset about four times as many
- * pixels per metre as the plane's entries see theirs. */
+/* The horizontal parallax's dead zone, in tenths of arrival_resolution_px
+ * (2 px by default, about 0.08 m sideways on the default scene): a camera
+ * whose principal point is tens of pixels off ends that far beside the
+ * target (docs/CONTROL.md). */
 #ifndef SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10
 #define SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 40
+#endif
+/* The depth correction before the verdict (control_steps.inc): a depth
+ * figure over this many tenths of a standard deviation. */
+#ifndef SPVS_CTL_ARRIVAL_CORRECT_X10
+#define SPVS_CTL_ARRIVAL_CORRECT_X10 15
 #endif
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000

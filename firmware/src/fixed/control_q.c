@@ -330,6 +330,12 @@ static spvs_qf_t val_abs(spvs_qf_t a)
     return qf_abs(a);
 }
 
+static spvs_qf_t val_of_x10(int n)
+{
+    uint32_t sat = 0;
+    return spvs_qf_mul(qf_of(n, 0), spvs_qf_recip(qf_of(10, 0), &sat));
+}
+
 static spvs_qf_t val_times(spvs_qf_t a, int k)
 {
     return spvs_qf_mul(qf_of(k, 0), a);
@@ -804,7 +810,9 @@ static SPVS_Q_NOINLINE spvs_qf_t residual_stat(spvs_q_ctl_t *c, const spvs_q_ctl
                                                int k, spvs_qf_t m, spvs_qf_t sd)
 {
     spvs_qf_t zone = p->resolution;
-    if (k == 6) {
+    if (k == 2) {
+        zone = qf_of(p->tol_h13, QH13_PX);
+    } else if (k == 6) {
         zone = qf_div(spvs_qf_mul(zone, qf_of(SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10, 0)),
                       qf_of(10, 0), &c->sat);
     }
