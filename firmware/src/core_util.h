@@ -10,19 +10,16 @@
 
 #include "spvs/common.h"
 
-/* Inlined at every call, so that a helper called with a constant selector
- * (homography.c's point terms) compiles to the branch-free loop it names. */
-#if defined(__GNUC__) || defined(__clang__)
-#define SPVS_ALWAYS_INLINE inline __attribute__((always_inline))
+/* Compiler steering: SPVS_ALWAYS_INLINE marks the per-point helpers and
+ * SPVS_UNROLL the loops of a fixed trip count.  The reference path is plain
+ * C (an inline function, a loop); where the accelerators are built,
+ * accel/steer.h makes them the attribute and the pragma that let an
+ * in-order core run the per-point loops without calls
+ * (docs/EMBEDDED.md). */
+#if SPVS_ACCEL
+#include "accel/steer.h"
 #else
 #define SPVS_ALWAYS_INLINE inline
-#endif
-
-/* Unroll the next loop completely (a fixed trip count of at most 32), so that
- * the loop around it is a plain sequence a compiler can run on SIMD lanes. */
-#if defined(__GNUC__) || defined(__clang__)
-#define SPVS_UNROLL _Pragma("GCC unroll 32")
-#else
 #define SPVS_UNROLL
 #endif
 

@@ -37,15 +37,23 @@
 #define SPVS_Q_NONFINITE 2u /* a float input was NaN or infinite             */
 #define SPVS_Q_DIV0 4u      /* a division by zero (result clamped)           */
 
-/* Inlined at every call: the kernels' per-point helpers.  Never inlined:
- * a helper whose frame (or register pressure) should stay out of its
- * caller's. */
-#if defined(__GNUC__) || defined(__clang__)
-#define SPVS_Q_INLINE inline __attribute__((always_inline))
-#define SPVS_Q_NOINLINE __attribute__((noinline))
+/* Compiler steering: SPVS_Q_INLINE marks the kernels' per-point helpers,
+ * SPVS_Q_NOINLINE a helper whose frame (or register pressure) should stay
+ * out of its caller's, and spvs_q_opaque32() a 32-bit value that a product
+ * should take as it is.  The reference path is plain C (an inline
+ * function, a function, the value itself); where the accelerators are
+ * built, accel/steer_q.h makes them the attributes and the barrier that
+ * keep the Cortex-M3's loops in registers and its products 32 x 32 bits
+ * (docs/EMBEDDED.md). */
+#if SPVS_ACCEL
+#include "accel/steer_q.h"
 #else
 #define SPVS_Q_INLINE inline
 #define SPVS_Q_NOINLINE
+static inline int32_t spvs_q_opaque32(int32_t x)
+{
+    return x;
+}
 #endif
 
 #define SPVS_Q_I32_MAX INT32_MAX
@@ -87,19 +95,6 @@ static inline uint64_t spvs_q_abs64(int64_t x)
 static inline int spvs_q_bitlen64(uint64_t m)
 {
     return 64 - spvs_q_clz64(m);
-}
-
-/* x, opaque to the optimiser, at no cost: a 32-bit value taken from a 64-bit
- * shift stays a 32-bit value, so that a product with it is one 32 x 32 ->
- * 64-bit multiply (SMULL).  GCC otherwise folds the sign extension back
- * into the shift and multiplies in 64 bits (UMULL and two MLA on the
- * Cortex-M3). */
-static inline int32_t spvs_q_opaque32(int32_t x)
-{
-#if defined(__GNUC__) || defined(__clang__)
-    __asm__("" : "+r"(x));
-#endif
-    return x;
 }
 
 /* ---- shifts ------------------------------------------------------------- */
