@@ -35,9 +35,14 @@
  * both kernels are measured against. */
 #define HP_R double
 #define HP_M int32_t
-#define HP_SUFFIX _d
 #define HP_SCALAR 1
 #define HP_ANY(m) (m)
+#define HP_JJT hp_jjt_d
+#define HP_SAMPSON hp_sampson_d
+#define HP_E2 hp_e2_d
+#define HP_INLIER hp_inlier_d
+#define HP_TERMS_LIN hp_terms_lin_d
+#define HP_TERMS hp_terms_d
 #include "h_point.inc"
 #undef HP_ANY
 

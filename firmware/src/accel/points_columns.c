@@ -17,9 +17,14 @@
 #include "v4.h"
 #define HP_R spvs_v4
 #define HP_M spvs_v4i
-#define HP_SUFFIX _v
 #define HP_SCALAR 0
 #define HP_ANY(m) spvs_v4_any(m)
+#define HP_JJT hp_jjt_v
+#define HP_SAMPSON hp_sampson_v
+#define HP_E2 hp_e2_v
+#define HP_INLIER hp_inlier_v
+#define HP_TERMS_LIN hp_terms_lin_v
+#define HP_TERMS hp_terms_v
 #include "h_point.inc"
 #undef HP_ANY
 _Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
@@ -31,10 +36,15 @@ _Static_assert(SPVS_VLANES == SUM_LANES, "a vector holds one row of lanes");
 #include "v8.h"
 #define HP_R spvs_v8
 #define HP_M spvs_v8i
-#define HP_SUFFIX _v8
 #define HP_SCALAR 0
 #define HP_ANY(m) spvs_v8_any(m)
 #define HP_ADD(a, t) ((a) = (t))
+#define HP_JJT hp_jjt_v8
+#define HP_SAMPSON hp_sampson_v8
+#define HP_E2 hp_e2_v8
+#define HP_INLIER hp_inlier_v8
+#define HP_TERMS_LIN hp_terms_lin_v8
+#define HP_TERMS hp_terms_v8
 #include "h_point.inc"
 #undef HP_ANY
 #endif
