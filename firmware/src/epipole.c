@@ -17,9 +17,9 @@
  * e = (e_x, 0, e_z), so l1 e_x + l3 e_z = 0; with gamma > 0 the signed
  * direction of (e_x, e_z) is sign(y_cur) (l3, -l1) (see epipole.h).  The
  * directions go to work->dx, dz and their squared norms to work->n2. */
-static SPVS_ALWAYS_INLINE void line_directions(const spvs_real H[9], const spvs_real (*pts)[4],
-                                               const uint16_t *cand, uint16_t n_cand,
-                                               uint8_t *support_out, spvs_epipole_work_t *work)
+static inline void line_directions(const spvs_real H[9], const spvs_real (*pts)[4],
+                                   const uint16_t *cand, uint16_t n_cand, uint8_t *support_out,
+                                   spvs_epipole_work_t *work)
 {
     for (uint16_t i = 0; i < n_cand; i++) {
         const spvs_real *p = pts[cand[i]];
@@ -47,10 +47,9 @@ static SPVS_ALWAYS_INLINE void line_directions(const spvs_real H[9], const spvs_
  * Storage: the tangents go to n2[] and the squared parallaxes to dz[],
  * entry k <= i written only after entry i was read; the hypothesis is kept
  * in locals. */
-static SPVS_ALWAYS_INLINE void refine(const spvs_real H[9], const spvs_real (*pts)[4],
-                                      const uint16_t *cand, uint16_t n_cand,
-                                      const spvs_real *tol2, uint16_t best, spvs_epipole_t *out, uint8_t *support_out,
-                                      spvs_epipole_work_t *work)
+static inline void refine(const spvs_real H[9], const spvs_real (*pts)[4], const uint16_t *cand,
+                          uint16_t n_cand, const spvs_real *tol2, uint16_t best,
+                          spvs_epipole_t *out, uint8_t *support_out, spvs_epipole_work_t *work)
 {
     const spvs_real *dx = work->dx;
     spvs_real *dz = work->dz;
@@ -144,9 +143,8 @@ static int hyp_usable(const spvs_epipole_work_t *work, uint16_t j)
 /* The usable candidates within the angle whose squared sine is tol2 of
  * candidate j's direction, pointing the same way (no square roots, no
  * divisions); every one is counted. */
-static SPVS_ALWAYS_INLINE uint16_t support_count(const spvs_epipole_work_t *work,
-                                                 uint16_t n_cand, uint16_t j,
-                                                 const spvs_real *tol2, uint32_t need)
+static inline uint16_t support_count(const spvs_epipole_work_t *work, uint16_t n_cand, uint16_t j,
+                                     const spvs_real *tol2, uint32_t need)
 {
     (void)need;
     const spvs_real *dx = work->dx, *dz = work->dz, *n2 = work->n2;

@@ -27,8 +27,8 @@ void spvs_offplane_reset(spvs_offplane_t *o)
  * point's noise is magnified in the current image and its forward error is
  * large; its error back in the target image is not.  An off-plane point's
  * parallax shows in both, so both must exceed the threshold. */
-static SPVS_ALWAYS_INLINE int off_plane(const spvs_real H[9], const spvs_real *Hi,
-                                        const spvs_real q[4], spvs_real off2)
+static inline int off_plane(const spvs_real H[9], const spvs_real *Hi, const spvs_real q[4],
+                            spvs_real off2)
 {
     if (!(spvs_h_transfer_err2(H, q) > off2)) {
         return 0;
