@@ -355,8 +355,8 @@ static double corner_px(const synth_pose_t *pose)
     return sum;
 }
 
-/* Exact frames have no spread: every residual's sd is
- * arrival_resolution_px (0.05 px).  Accepted at the target; rejected 0.3 m
+/* Exact frames have no spread: every residual's sd is the least,
+ * SPVS_CTL_ARRIVAL_SD_MIN_MPX (0.01 px).  Accepted at the target; rejected 0.3 m
  * along the axis (first the one depth correction, then a failed check:
  * step 2 again), 0.3 m sideways facing the target heading's h13 = 0 (step
  * 1's verdict: the robot backs off, in step 2, for a new start) and 0.5
@@ -373,8 +373,8 @@ static void test_arrival_check(void)
         TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at(&c, &p, &home, 0));
         TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, c.step);
         TEST_ASSERT_TRUE(c.arrival_stat < 1e-2);
-        TEST_ASSERT_TRUE(fabs((double)c.arrival_h13_sd_px - 0.05) < 1e-6);
-        TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_sd_px - 0.05) < 1e-6);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_h13_sd_px - 0.01) < 1e-6);
+        TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_sd_px - 0.01) < 1e-6);
         TEST_ASSERT_TRUE(c.arrival_corner_px < 1e-3);
         TEST_ASSERT_EQUAL_INT64(0, c.reentries);
 
@@ -410,29 +410,30 @@ static void test_arrival_check(void)
 /* The spread comes from the hold's own frames, and the goal image's share
  * (a bias the same in every frame) is counted once, not averaged: with h33
  * moved by b + (-1)^k s over N = 20 frames, the depth residual is b |c|
- * (|c| = 400 px, the corner's radius) with sd = |c| sqrt(s^2 N/(N - 1)
- * (1 + 1/N) + ...) = sqrt((400 s)^2 (21/19) + 0.05^2).  A bias of 1.5 sd is
- * accepted (a bound averaging both images' noise over the frames would
- * have been 3.2 times tighter); one of 3 sd is driven off once (the
- * correction), then accepted; one of 6 sd fails the check after its
- * correction. */
+ * (|c| = 400 px, the corner's radius) with sd = sqrt((400 s)^2 N/(N - 1)
+ * (1 + 1/N) + 0.01^2) = sqrt((400 s)^2 (21/19) + 0.01^2), and the
+ * statistic is (b |c| - 0.5 px, the dead zone) / sd.  A bias 1.2 sd beyond
+ * the zone is accepted (a bound averaging both images' noise over the
+ * frames would have been 3.2 times tighter); one 3 sd beyond is driven off
+ * once (the correction, over 1.5 sd), then accepted; one 6 sd beyond
+ * fails the check after its correction. */
 static void test_arrival_goal_share(void)
 {
     spvs_control_params_t p;
     spvs_control_params_default(&p, SPVS_METHOD_I);
     const synth_pose_t home = {0, 0, 0};
     const double s = 1e-3; /* 0.4 px at the corner */
-    const double sd = sqrt(400.0 * 400.0 * s * s * 21.0 / 19.0 + 0.05 * 0.05);
+    const double sd = sqrt(400.0 * 400.0 * s * s * 21.0 / 19.0 + 0.01 * 0.01);
     const struct {
         double z;
         int corrections, reentries;
         spvs_step_t step;
-    } cases[] = {{1.5, 0, 0, SPVS_STEP_DONE}, {3.0, 1, 0, SPVS_STEP_DONE},
+    } cases[] = {{1.2, 0, 0, SPVS_STEP_DONE}, {3.0, 1, 0, SPVS_STEP_DONE},
                  {6.0, 1, 1, SPVS_STEP_TRANSLATE}};
     for (int i = 0; i < 3; i++) {
         spvs_control_t c;
         spvs_control_reset(&c);
-        const double b = cases[i].z * sd / 400.0;
+        const double b = (0.5 + cases[i].z * sd) / 400.0;
         TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_noisy(&c, &p, &home, 0, -1.0, b, s));
         TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_px - 400.0 * b) < 1e-3);
         TEST_ASSERT_TRUE(fabs((double)c.arrival_depth_sd_px - sd) < 1e-3 * sd);
