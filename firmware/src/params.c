@@ -30,7 +30,7 @@ void spvs_control_params_default(spvs_control_params_t *p, spvs_method_t m)
     p->fit_min_frames = 10;
     p->fit_min_span_m = SPVS_R(0.5);
     p->arrival_sigma_px = SPVS_R(1.0);
-    p->arrival_k = SPVS_R(4.0);
+    p->arrival_k = SPVS_R(3.0);
     p->arrival_corner_x_px = SPVS_R(320.0);
     p->arrival_corner_y_px = SPVS_R(240.0);
     p->arrival_frames = 20;

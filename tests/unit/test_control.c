@@ -412,11 +412,11 @@ static void test_arrival_check(void)
  * moved by b + (-1)^k s over N = 20 frames, the depth residual is b |c|
  * (|c| = 400 px, the corner's radius) with sd = sqrt((400 s)^2 N/(N - 1)
  * (1 + 1/N) + 0.01^2) = sqrt((400 s)^2 (21/19) + 0.01^2), and the
- * statistic is (b |c| - 0.5 px, the dead zone) / sd.  A bias 1.2 sd beyond
+ * statistic is (b |c| - 0.5 px, the dead zone) / sd.  A bias 0.8 sd beyond
  * the zone is accepted (a bound averaging both images' noise over the
- * frames would have been 3.2 times tighter); one 3 sd beyond is driven off
- * once (the correction, over 1.5 sd), then accepted; one 6 sd beyond
- * fails the check after its correction. */
+ * frames would have been 3.2 times tighter); one 2.5 sd beyond is driven
+ * off once (the correction, over 1 sd), then accepted (the threshold is
+ * 3); one 5 sd beyond fails the check after its correction. */
 static void test_arrival_goal_share(void)
 {
     spvs_control_params_t p;
@@ -428,8 +428,8 @@ static void test_arrival_goal_share(void)
         double z;
         int corrections, reentries;
         spvs_step_t step;
-    } cases[] = {{1.2, 0, 0, SPVS_STEP_DONE}, {3.0, 1, 0, SPVS_STEP_DONE},
-                 {6.0, 1, 1, SPVS_STEP_TRANSLATE}};
+    } cases[] = {{0.8, 0, 0, SPVS_STEP_DONE}, {2.5, 1, 0, SPVS_STEP_DONE},
+                 {5.0, 1, 1, SPVS_STEP_TRANSLATE}};
     for (int i = 0; i < 3; i++) {
         spvs_control_t c;
         spvs_control_reset(&c);
@@ -449,7 +449,7 @@ static void test_arrival_goal_share(void)
 }
 
 /* The off-plane points' parallax decides where H cannot: standing at the
- * target (H = I), a mean parallax under 1.75 x 1.665 sigma = 2.914 px (its
+ * target (H = I), a mean parallax under 1.5 x 1.665 sigma = 2.497 px (its
  * median there under the noise of both images, with margin) is accepted,
  * one over it is a sideways offset: the robot backs off at -v_max, straight,
  * for SPVS_CTL_ARRIVAL_BACKOFF_DM decimetres by odometry, then starts over
@@ -461,12 +461,12 @@ static void test_arrival_parallax(void)
     spvs_control_t c;
     const synth_pose_t home = {0, 0, 0};
     spvs_control_reset(&c);
-    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at_par(&c, &p, &home, 0, 2.90));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at_par(&c, &p, &home, 0, 2.48));
     TEST_ASSERT_EQUAL_INT64(SPVS_STEP_DONE, c.step);
-    TEST_ASSERT_TRUE(fabs((double)c.arrival_parallax_px - 2.90) < 1e-5);
+    TEST_ASSERT_TRUE(fabs((double)c.arrival_parallax_px - 2.48) < 1e-5);
 
     spvs_control_reset(&c);
-    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at_par(&c, &p, &home, 0, 2.93));
+    TEST_ASSERT_EQUAL_INT64(SPVS_OK, arrival_at_par(&c, &p, &home, 0, 2.51));
     TEST_ASSERT_EQUAL_INT64(SPVS_STEP_TRANSLATE, c.step);
     TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, c.arrival_next);
     TEST_ASSERT_EQUAL_INT64(1, c.backing);
@@ -497,7 +497,7 @@ static void test_arrival_parallax(void)
     TEST_ASSERT_EQUAL_INT64(0, c.sign_w);
     TEST_ASSERT_EQUAL_INT64(1, c.reentries);
     TEST_ASSERT_EQUAL_INT64(SPVS_STEP_ROTATE, c.arrival_next);
-    TEST_ASSERT_TRUE(fabs((double)c.arrival_parallax_px - 2.93) < 1e-5);
+    TEST_ASSERT_TRUE(fabs((double)c.arrival_parallax_px - 2.51) < 1e-5);
 
     /* A step 2 of the new homing that drives on past twice the back-off is
      * going the wrong way: a latched SPVS_E_NOT_AT_TARGET with a stop. */

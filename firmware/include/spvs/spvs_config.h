@@ -284,7 +284,7 @@
  * hundredths of its median at the target, SPVS_CTL_NOISE_PARALLAX_X1000
  * (control_steps.inc, arrival_decide). */
 #ifndef SPVS_CTL_ARRIVAL_PARALLAX_X100
-#define SPVS_CTL_ARRIVAL_PARALLAX_X100 175
+#define SPVS_CTL_ARRIVAL_PARALLAX_X100 150
 #endif
 /* ... and how far it backs off, in decimetres, when the check finds it
  * beside the target (control_steps.inc, reenter). */
@@ -318,10 +318,16 @@
 #ifndef SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10
 #define SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 40
 #endif
+/* The longest drive of a re-entered step 2 that measures its distance by
+ * the first line's slope (control_steps.inc, step_translate_again),
+ * decimetres. */
+#ifndef SPVS_CTL_REENTRY_DRIVE_MAX_DM
+#define SPVS_CTL_REENTRY_DRIVE_MAX_DM 10
+#endif
 /* The depth correction before the verdict (control_steps.inc): a depth
  * figure over this many tenths of a standard deviation. */
 #ifndef SPVS_CTL_ARRIVAL_CORRECT_X10
-#define SPVS_CTL_ARRIVAL_CORRECT_X10 15
+#define SPVS_CTL_ARRIVAL_CORRECT_X10 10
 #endif
 #ifndef SPVS_CTL_ARRIVAL_MAX_FRAMES
 #define SPVS_CTL_ARRIVAL_MAX_FRAMES 1000
