@@ -108,19 +108,21 @@ typedef struct {
      * and the radial parallax) is averaged over the hold; its standard
      * deviation is measured from the hold's own frames, with the goal
      * image's share, which does not average, counted once:
-     *   sd = sqrt(s^2 (1 + 1/frames) + arrival_resolution_px^2)
+     *   sd = sqrt(s^2 (1 + 1/frames) + (SPVS_CTL_ARRIVAL_SD_MIN_MPX / 1000)^2)
      * (s^2 the residual's variance from frame to frame).  Converged when
-     * every |mean| / sd is at most arrival_k and the mean median parallax
-     * is under SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 of what noise of
-     * arrival_sigma_px gives. */
+     * no mean lies more than arrival_k sd beyond its dead zone
+     * (arrival_resolution_px; tol_h13_px for h13; for the horizontal
+     * parallax SPVS_CTL_ARRIVAL_LATERAL_ZONE_X10 / 10 times it) and the
+     * mean median parallax is under SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100
+     * of what noise of arrival_sigma_px gives. */
     spvs_real arrival_sigma_px;   /* image noise sigma assumed, pixels      */
     spvs_real arrival_k;          /* threshold, standard deviations         */
     spvs_real arrival_corner_x_px; /* image half width, pixels              */
     spvs_real arrival_corner_y_px; /* image half height, pixels             */
     uint16_t arrival_frames;      /* frames averaged standing still, 2 to
                                      SPVS_CTL_ARRIVAL_MAX_FRAMES             */
-    spvs_real arrival_resolution_px; /* the least sd: smaller residuals are
-                                        not resolved, pixels                */
+    spvs_real arrival_resolution_px; /* the dead zone: residuals the check
+                                        ignores, pixels                     */
 } spvs_control_params_t;
 
 typedef struct {
@@ -160,15 +162,17 @@ typedef struct {
      * arrival_frames frames standing still.  Each residual is the mean over
      * the hold, in pixels, with its standard deviation (_sd_px) measured
      * from the hold's own frames, the goal image's share not averaged: */
-    spvs_real arrival_stat;       /* the largest |residual| / sd: converged
-                                     only if <= arrival_threshold          */
+    spvs_real arrival_stat;       /* the most sd a mean lies beyond its dead
+                                     zone: converged only if <=
+                                     arrival_threshold                     */
     spvs_real arrival_threshold;  /* arrival_k, standard deviations         */
     spvs_real arrival_lateral_px; /* sideways: the off-plane points'
                                      horizontal parallax (without them, row 1
                                      of H - I at the image corner)          */
     spvs_real arrival_lateral_sd_px;
-    spvs_real arrival_depth_px;   /* along the optical axis: (h33 - 1) times
-                                     the corner's distance from the centre  */
+    spvs_real arrival_depth_px;   /* along the optical axis: the radial
+                                     parallax (without off-plane points,
+                                     (h33 - 1) times the corner's radius)   */
     spvs_real arrival_depth_sd_px;
     spvs_real arrival_h13_px;     /* heading: h13                           */
     spvs_real arrival_h13_sd_px;
