@@ -5,6 +5,16 @@
  * epipole.h), and run the controller (control.h).  The flow and its
  * rules are pipeline.inc's, written once for this core and the
  * fixed-point one (fixed/spvs_q.c); this file gives it the float stages.
+ *
+ * Stage to file (float core; the fixed-point twin of each is in fixed/):
+ *   frame check, loader      plane_h.c, plane_h.inc, points.c (accel:
+ *                            accel/points_columns.c)
+ *   RANSAC, LO, refit        ransac.c, ransac.inc, homography.c, h_point.inc
+ *   Sampson inlier test      h_point.inc (hp_inlier)
+ *   off-plane memory         offplane.c, offplane.inc
+ *   epipole                  epipole.c, epipole.inc
+ *   controller, arrival      control.c, control_steps.inc
+ *   the flow of one frame    pipeline.inc
  */
 #include <math.h>
 #include <string.h>
