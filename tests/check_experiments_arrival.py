@@ -72,7 +72,8 @@ def rows(stdout):
     """{(method name, mismatches): (runs, converged outside)} of the table."""
     out = {}
     for line in stdout.splitlines():
-        m = re.match(r"\| (Method \w+) \| (\d+) % \| (\d+) \|.*\| (\d+) \| [^|]* \| [\d.]+ \|$", line)
+        m = re.match(r"\| (Method \w+) \| (\d+) % \| (\d+) \|.*\| (\d+) \| [^|]* \| [\d.]+ \| [^|]* \|$",
+                     line)
         if m:
             out[(m.group(1), int(m.group(2)))] = (int(m.group(3)), int(m.group(4)))
     return out

@@ -879,16 +879,21 @@ def arrival_check(runner, seeds, seed0=ARRIVAL_SEED0):
                 st[status_str(r)] = st.get(status_str(r), 0) + 1
             reent = sum(r.get("arrival", {}).get("reentries", 0) or 0 for r in rm
                         if r.get("arrival"))
-            rows.append("| %s | %.0f %% | %d | %d (%.1f %%) | %d (%.1f %%) | %d | %s | %.2f |" % (
+            # How far inside the tolerance the runs that end home end: the
+            # median of max(|x|, |z|) and of |phi| over them.
+            hm = [err(r) for r in rm if at_pose(r, TOL_NOISE)]
+            med_m = float(np.median([max(abs(e[0]), abs(e[1])) for e in hm])) if hm else float("nan")
+            med_deg = float(np.median([abs(e[2]) for e in hm])) if hm else float("nan")
+            rows.append("| %s | %.0f %% | %d | %d (%.1f %%) | %d (%.1f %%) | %d | %s | %.2f | %.3f m, %.3f deg |" % (
                 METHOD_NAME[m], 100 * outliers, len(rm), home, 100.0 * home / len(rm),
                 good, 100.0 * good / len(rm),
                 len(false), ", ".join("%s %d" % kv for kv in sorted(st.items())),
-                reent / len(rm)))
+                reent / len(rm), med_m, med_deg))
             for r in false:
                 sys.stderr.write("  converged outside 0.25 m / 0.5 deg: %s %s\n" %
                                  (r["job"], fmt_err(r)))
-    head = ["| method | mismatches | runs | end within 0.25 m / 0.5 deg | ... and `converged` | `converged` outside | statuses | re-entries per run |",
-            "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: |"]
+    head = ["| method | mismatches | runs | end within 0.25 m / 0.5 deg | ... and `converged` | `converged` outside | statuses | re-entries per run | median error of those home |",
+            "| --- | ---: | ---: | ---: | ---: | ---: | --- | ---: | ---: |"]
     print("\n".join(head + rows))
     return false_total
 
