@@ -432,9 +432,10 @@ def exp_fig7(runner, outdir, quick):
     lines += ["", "### 1 px noise from the six Figure 5 poses, seeds 0..%d" % (len(six_seeds) - 1), "",
               "Each seed changes the scene, the noise and the RANSAC stream. "
               "`tests/test_scenarios.c` asserts the first 20 seeds (120 runs per "
-              "method): no run `converged` outside 0.25 m / 0.5 deg, at least 97 % "
-              "of the runs ending within them whatever their status, at least "
-              "60 % ending there converged. Here, as in every section, a run "
+              "method): no run `converged` outside 0.25 m / 0.5 deg, and the share "
+              "of the runs ending within them, and of those ending there "
+              "converged, at least the rates of docs/CONTROL.md's table less "
+              "three binomial standard deviations. Here, as in every section, a run "
               "counts as within only when it is also converged; the others end "
               "`not_at_target` at home or short of it (docs/CONTROL.md, \"A "
               "verified arrival\").", "",
