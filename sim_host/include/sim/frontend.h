@@ -47,10 +47,10 @@ extern "C" {
  * the target line from the Figure 5 poses. */
 #define SIM_FRONTEND_FOCAL_MM 3.0
 /* The image noise the controller's arrival check is told for these matches
- * (docs/CONTROL.md): SIFT on rendered images at the target leaves a corner
- * figure of 0.5-0.85 px where the point scene's 1 px noise leaves 0.65 px
- * over 112 inliers, with fewer inliers and a bias of its own, so the check
- * assumes 1.5 px there. */
+ * (docs/CONTROL.md): it sets the gate on the remembered off-plane points'
+ * unsigned parallax, and SIFT on rendered images at the target leaves more
+ * of it than the point scene's 1 px noise, with a bias of its own, so the
+ * check assumes 1.5 px there. */
 #define SIM_FRONTEND_ARRIVAL_SIGMA_PX 1.5
 /* Most off-plane quads a scene can hold. */
 #define SIM_FRONTEND_MAX_OBJECTS 16
