@@ -85,14 +85,18 @@ def check_converged(obj):
 ARRIVAL_KEYS = ("statistic", "threshold", "lateral_px", "lateral_sd_px",
                 "depth_px", "depth_sd_px", "h13_px", "h13_sd_px", "corner_px",
                 "parallax_px", "frames", "reentries", "next_step")
-# The check's threshold, arrival_k, and the least standard deviation,
-# arrival_resolution_px, by default (params.c).
-ARRIVAL_K = 4.0
-ARRIVAL_RESOLUTION_PX = 0.05
-# The arrival check's parallax limit (control.c, arrival_decide):
+# The check's threshold, arrival_k, and the least standard deviation
+# (SPVS_CTL_ARRIVAL_SD_MIN_MPX), by default (params.c, spvs_config.h); the
+# dead zones each direction's residual may lie in without counting
+# (arrival_resolution_px for the depth, tol_h13_px for h13, four times
+# arrival_resolution_px for the horizontal parallax).
+ARRIVAL_K = 3.0
+ARRIVAL_SD_MIN_PX = 0.01
+ARRIVAL_ZONE_PX = {"lateral": 2.0, "depth": 0.5, "h13": 0.5}
+# The arrival check's parallax limit (control_steps.inc, arrival_decide):
 # SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x 1.665 x arrival_sigma_px, with the
-# defaults 175 and 1 px.
-ARRIVAL_PARALLAX_MAX_PX = 1.75 * 1.665 * 1.0
+# defaults 150 and 1 px.
+ARRIVAL_PARALLAX_MAX_PX = 1.5 * 1.665 * 1.0
 # The figures are printed with 6 significant digits (and the fixed-point
 # core rounds its own): ratios are compared with this relative slack.
 ARRIVAL_REL = 1e-3
@@ -114,15 +118,16 @@ def check_arrival(obj):
     if not 0.0 <= a["statistic"] <= a["threshold"]:
         fail("converged with statistic %g over its threshold %g"
              % (a["statistic"], a["threshold"]))
-    # The statistic is the largest |residual| / sd of the check, so no
-    # direction's exceeds it, and no sd is under arrival_resolution_px.
+    # The statistic is the most sd a residual lies beyond its dead zone, so
+    # no direction's exceeds it, and no sd is under the least.
     for d in ("lateral", "depth", "h13"):
         res, sd = a[d + "_px"], a[d + "_sd_px"]
-        if not sd >= ARRIVAL_RESOLUTION_PX * (1.0 - ARRIVAL_REL):
-            fail("arrival %s sd %g px under arrival_resolution_px %g"
-                 % (d, sd, ARRIVAL_RESOLUTION_PX))
-        if not abs(res) / sd <= a["statistic"] * (1.0 + ARRIVAL_REL) + 1e-4:
-            fail("arrival %s %g px / sd %g px over the statistic %g"
+        if not sd >= ARRIVAL_SD_MIN_PX * (1.0 - ARRIVAL_REL):
+            fail("arrival %s sd %g px under the least sd %g"
+                 % (d, sd, ARRIVAL_SD_MIN_PX))
+        beyond = max(0.0, abs(res) - ARRIVAL_ZONE_PX[d])
+        if not beyond / sd <= a["statistic"] * (1.0 + ARRIVAL_REL) + 1e-4:
+            fail("arrival %s %g px, sd %g px: over the statistic %g"
                  % (d, res, sd, a["statistic"]))
     # -1: no remembered off-plane point was seen over the hold.
     par = a["parallax_px"]
