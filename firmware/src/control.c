@@ -469,29 +469,24 @@ static spvs_real residual_stat(const spvs_control_params_t *p, int k, spvs_real 
 }
 
 /* Mean over the four image corners of the transfer |H p - p| (pixels), of H
- * = I + the residual r (h11 - 1, h12, h13, h31, h32, h33 - 1), and of its
- * row-1 (without h13) and row-3 parts. */
-static void corner_figures(const spvs_control_params_t *p, const spvs_real r[6],
-                           spvs_real *all, spvs_real *lateral, spvs_real *depth)
+ * = I + the residual r (h11 - 1, h12, h13, h31, h32, h33 - 1); for the
+ * telemetry. */
+static spvs_real corner_transfer(const spvs_control_params_t *p, const spvs_real r[6])
 {
-    *all = *lateral = *depth = SPVS_R(0.0);
+    spvs_real all = SPVS_R(0.0);
     for (int k = 0; k < 4; k++) {
         const spvs_real u = (k & 1) ? p->arrival_corner_x_px : -p->arrival_corner_x_px;
         const spvs_real v = (k & 2) ? p->arrival_corner_y_px : -p->arrival_corner_y_px;
         const spvs_real w = r[3] * u + r[4] * v + SPVS_R(1.0) + r[5];
-        const spvs_real x1 = (SPVS_R(1.0) + r[0]) * u + r[1] * v;
         if (!(w > SPVS_R(0.0))) {
             /* A corner behind the camera: as far from the identity as can be. */
-            *all = *depth = SPVS_REAL_MAX;
-            return;
+            return SPVS_REAL_MAX;
         }
-        const spvs_real dx = (x1 + r[2]) / w - u;
+        const spvs_real dx = ((SPVS_R(1.0) + r[0]) * u + r[1] * v + r[2]) / w - u;
         const spvs_real dy = v / w - v;
-        const spvs_real gw = SPVS_R(1.0) / w - SPVS_R(1.0);
-        *all += SPVS_R(0.25) * SPVS_SQRT(dx * dx + dy * dy);
-        *lateral += SPVS_R(0.25) * SPVS_FABS(x1 - u);
-        *depth += SPVS_R(0.25) * SPVS_FABS(gw) * SPVS_SQRT(u * u + v * v);
+        all += SPVS_R(0.25) * SPVS_SQRT(dx * dx + dy * dy);
     }
+    return all;
 }
 
 static spvs_real max3(spvs_real a, spvs_real b, spvs_real c)
@@ -534,8 +529,7 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
     fig[1] = z[4] > z57 ? z[4] : z57;
     fig[2] = z[2];
     fig[3] = max3(max3(fig[0], fig[1], fig[2]), z[3], z[3]);
-    spvs_real lateral = SPVS_R(0.0), depth = SPVS_R(0.0);
-    corner_figures(p, r, &c->arrival_corner_px, &lateral, &depth);
+    c->arrival_corner_px = corner_transfer(p, r);
     c->arrival_stat = fig[3];
     c->arrival_lateral_px = par ? m[6] : m[0];
     c->arrival_lateral_sd_px = par ? sd[6] : sd[0];

@@ -177,16 +177,16 @@ static void params_arrival(spvs_q_ctl_params_t *q, const spvs_control_params_t *
     q->arrival_k = qf_real(p->arrival_k, &sat);
     q->corner_x = qf_real(p->arrival_corner_x_px, &sat);
     q->corner_y = qf_real(p->arrival_corner_y_px, &sat);
-    q->corner_r = qf_sqrt(spvs_qf_add(spvs_qf_mul(q->corner_x, q->corner_x),
-                                      spvs_qf_mul(q->corner_y, q->corner_y)));
+    const spvs_qf_t corner_r = qf_sqrt(spvs_qf_add(spvs_qf_mul(q->corner_x, q->corner_x),
+                                                   spvs_qf_mul(q->corner_y, q->corner_y)));
     /* control.c's residual_scale on the scaled units (h13 2^9 px, h31 and
      * h32 2^-9 per px). */
     q->res_scale[0] = q->corner_x;
     q->res_scale[1] = q->corner_y;
     q->res_scale[2] = qf_of(1, -9);
-    q->res_scale[3] = qf_scale2(spvs_qf_mul(q->corner_x, q->corner_r), -9);
-    q->res_scale[4] = qf_scale2(spvs_qf_mul(q->corner_y, q->corner_r), -9);
-    q->res_scale[5] = q->corner_r;
+    q->res_scale[3] = qf_scale2(spvs_qf_mul(q->corner_x, corner_r), -9);
+    q->res_scale[4] = qf_scale2(spvs_qf_mul(q->corner_y, corner_r), -9);
+    q->res_scale[5] = corner_r;
     q->resolution = qf_real(p->arrival_resolution_px, &sat);
     /* SPVS_CTL_ARRIVAL_PARALLAX_X100 / 100 x SPVS_CTL_NOISE_PARALLAX_X1000 /
      * 1000 sigma. */
@@ -721,10 +721,11 @@ static SPVS_Q_NOINLINE void qadd(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf
 {
     *d = spvs_qf_add(*a, *b);
 }
-/* One corner's three transfers: returns 0 for w <= 0.  Each value named
- * once and updated in place through the pointer forms above. */
+/* One corner's share of the mean transfer, added to *all: returns 0 for
+ * w <= 0.  Each value named once and updated in place through the pointer
+ * forms above. */
 static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
-                                      int k, spvs_qf_t fig[3], uint32_t *sat)
+                                      int k, spvs_qf_t *all, uint32_t *sat)
 {
     const spvs_qf_t u = (k & 1) ? p->corner_x : spvs_qf_neg(p->corner_x);
     const spvs_qf_t v = (k & 2) ? p->corner_y : spvs_qf_neg(p->corner_y);
@@ -745,8 +746,6 @@ static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_q
     qmul(&b, &r[0], &u);
     qmul(&t, &r[1], &v);
     qadd(&b, &b, &t); /* x1 - u */
-    t = qf_scale2(qf_abs(b), -2); /* a corner's share of the mean */
-    qadd(&fig[1], &fig[1], &t);
     t = qf_scale2(r[2], 9); /* h13 in pixels */
     qadd(&b, &b, &t);
     qmul(&t, &u, &g);
@@ -754,38 +753,33 @@ static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_q
     qadd(&b, &b, &t);
     qmul(&b, &b, &a); /* dx */
     qmul(&g, &g, &a); /* g / w */
-    t = qf_abs(g);
-    qmul(&t, &t, &p->corner_r);
-    t = qf_scale2(t, -2);
-    qadd(&fig[2], &fig[2], &t);
     qmul(&g, &v, &g); /* -dy */
     qmul(&b, &b, &b);
     qmul(&g, &g, &g);
     qadd(&t, &b, &g);
-    t = qf_scale2(qf_sqrt(t), -2);
-    qadd(&fig[0], &fig[0], &t);
+    t = qf_scale2(qf_sqrt(t), -2); /* a corner's share of the mean */
+    qadd(all, all, &t);
     return 1;
 }
 
-/* The mean corner transfers of H = I + r (control.c's corner_figures), r
+/* The mean corner transfer of H = I + r (control.c's corner_transfer), r
  * the averaged residual in scaled units (r[2] h13, r[3], r[4] h31, h32),
  * in spvs_qf_t, written without the cancellations of (H p) / w - p:
  * with g = r31 u + r32 v + r33 and w = 1 + g,
- *   dx = (r11 u + r12 v + r13 - u g) / w,  dy = -v g / w,  1/w - 1 = -g / w,
- * and the row-1 transfer x1 - u = r11 u + r12 v.  A corner with w <= 0
- * (behind the camera) makes all and depth the largest value.  fig: all,
- * lateral, depth, each a quarter of the four corners' sum. */
-static SPVS_Q_NOINLINE void corner_figures(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
-                                           spvs_qf_t fig[3], uint32_t *sat)
+ *   dx = (r11 u + r12 v + r13 - u g) / w,  dy = -v g / w.
+ * A corner with w <= 0 (behind the camera) makes it the largest value. */
+static SPVS_Q_NOINLINE spvs_qf_t corner_transfer(const spvs_q_ctl_params_t *p,
+                                                 const spvs_qf_t r[6], uint32_t *sat)
 {
-    fig[0] = fig[1] = fig[2] = qf_of(0, 0);
+    spvs_qf_t all = qf_of(0, 0);
     for (int k = 0; k < 4; k++) {
-        if (!corner_one(p, r, k, fig, sat)) {
-            fig[0].m = fig[2].m = SPVS_Q_I32_MAX;
-            fig[0].e = fig[2].e = 1000;
-            return;
+        if (!corner_one(p, r, k, &all, sat)) {
+            all.m = SPVS_Q_I32_MAX;
+            all.e = 1000;
+            break;
         }
     }
+    return all;
 }
 
 /* control.c's residual_mean_sd: residual k's mean over n frames and its
@@ -855,9 +849,7 @@ static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_pa
     fig[1] = qf_max(z[4], z57);
     fig[2] = z[2];
     fig[3] = qf_max(qf_max(qf_max(fig[0], fig[1]), fig[2]), z[3]);
-    spvs_qf_t cf[3];
-    corner_figures(p, r, cf, sat);
-    c->arrival_corner_px = spvs_qf_to_q32(cf[0], SPVS_QCTL_PX, &tel);
+    c->arrival_corner_px = spvs_qf_to_q32(corner_transfer(p, r, sat), SPVS_QCTL_PX, &tel);
     c->arrival_stat = spvs_qf_to_q32(fig[3], SPVS_QCTL_PX, &tel);
     c->arrival_lateral_px = spvs_qf_to_q32(par ? m[6] : m[0], SPVS_QCTL_PX, &tel);
     c->arrival_lateral_sd_px = spvs_qf_to_q32(par ? sd[6] : sd[0], SPVS_QCTL_PX, &tel);

@@ -105,7 +105,7 @@ typedef struct {
     /* The arrival check (control.h). */
     spvs_qf_t arrival_k;
     spvs_qf_t res_scale[6];   /* pixels per scaled-unit entry of H - I */
-    spvs_qf_t corner_x, corner_y, corner_r; /* pixels; corner_r = |(x, y)| */
+    spvs_qf_t corner_x, corner_y; /* pixels */
     spvs_qf_t resolution;     /* pixels */
     int32_t arrival_par_max;  /* pixels, Q16: 1.75 x 1.665 sigma */
     uint16_t arrival_frames;
