@@ -1,4 +1,4 @@
-/* common.c - status names. */
+/* common.c - status names and the match list's checks (spvs/common.h). */
 #include "spvs/common.h"
 
 const char *spvs_status_str(int status)
@@ -21,4 +21,18 @@ const char *spvs_status_str(int status)
     case SPVS_E_NOT_AT_TARGET: return "not_at_target";
     default: return "unknown_status";
     }
+}
+
+int spvs_match_list_check(const spvs_match_t *m, uint16_t n)
+{
+    if (n > SPVS_MAX_MATCHES) {
+        return SPVS_E_CAPACITY;
+    }
+    if (m == 0 && n > 0) {
+        return SPVS_E_ARG;
+    }
+    if (n < 3u) {
+        return SPVS_E_TOO_FEW;
+    }
+    return SPVS_OK;
 }

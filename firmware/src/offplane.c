@@ -10,17 +10,6 @@
 #include "spvs/homography.h"
 #include "spvs/offplane.h"
 
-void spvs_offplane_reset(spvs_offplane_t *o)
-{
-    SPVS_ASSERT(o != 0);
-    for (uint32_t i = 0; i < SPVS_MAX_FEATURES; i++) {
-        o->score[i] = 0;
-    }
-    o->n_known = 0;
-    o->n_cand = 0;
-    o->n_cand_known = 0;
-}
-
 /* 1 when point q (a row, scaled units) is off the plane of H: its transfer
  * error above off2 forward, and back under Hi when H has an inverse.
  * Where H stretches the image (points seen at a grazing angle), a plane
@@ -51,6 +40,12 @@ typedef spvs_real op_h_t;
 typedef spvs_real op_thr_t; /* the squared threshold, scaled units^2 */
 typedef spvs_real op_px_t;
 typedef spvs_real op_wide_t;
+#define SPVS_CORE_NAME(float_name, fixed_name) float_name
+
+static void reset_note(spvs_offplane_t *o)
+{
+    (void)o;
+}
 
 static spvs_real thr_of(spvs_real offplane_px)
 {
@@ -143,37 +138,3 @@ static int above_thr(const spvs_plane_h_t *e, const spvs_real row[4], const spvs
 }
 
 #include "offplane.inc"
-
-int spvs_offplane_known(const spvs_offplane_t *o, uint16_t f)
-{
-    return known(o, f);
-}
-
-uint16_t spvs_offplane_split(const spvs_offplane_t *o, const spvs_match_t *m, uint16_t n,
-                             uint16_t order[SPVS_MAX_MATCHES])
-{
-    return split_order(o, m, n, order);
-}
-
-void spvs_offplane_collect(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real offplane_px)
-{
-    collect(o, e, offplane_px);
-}
-
-spvs_real spvs_offplane_known_direction_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
-                                            const spvs_real *lateral, spvs_real *scratch)
-{
-    return known_direction(o, H_sc, lateral, scratch);
-}
-
-spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
-                                          spvs_real *scratch)
-{
-    return known_parallax(o, H_sc, scratch);
-}
-
-void spvs_offplane_remember(spvs_offplane_t *o, const spvs_plane_h_t *e, int e_ok,
-                            spvs_real parallax_px, spvs_real offplane_px)
-{
-    remember(o, e, e_ok, parallax_px, offplane_px);
-}

@@ -6,8 +6,9 @@
  * rules are pipeline.inc's, written once for this core and the
  * fixed-point one (fixed/spvs_q.c); this file gives it the float stages.
  *
- * Stage to file (float core; the fixed-point twin of each is in fixed/):
- *   frame check, loader      plane_h.c, plane_h.inc, points.c (accel:
+ * Stage to file (float core; the fixed-point side of each is in fixed/):
+ *   frame check              common.c (spvs_match_list_check, both cores)
+ *   loader                   plane_h.c, plane_h.inc, points.c (accel:
  *                            accel/points_columns.c)
  *   RANSAC, LO, refit        ransac.c, ransac.inc, homography.c, h_point.inc
  *   Sampson inlier test      h_point.inc (hp_inlier)
@@ -15,6 +16,10 @@
  *   epipole                  epipole.c, epipole.inc
  *   controller, arrival      control.c, control_steps.inc
  *   the flow of one frame    pipeline.inc
+ * A .inc is written once for both cores.  Where it defines an entry point
+ * or calls one of two functions that take the same arguments, it names
+ * both, SPVS_CORE_NAME(float name, fixed-point name), so that grep finds
+ * every function under its own name; the including file picks one.
  */
 #include <math.h>
 #include <string.h>
@@ -37,39 +42,8 @@ typedef spvs_real pl_wide_t;
 typedef spvs_real pl_ex_t;
 typedef spvs_real pl_par_t;
 typedef spvs_real pl_cmd_t;
+#define SPVS_CORE_NAME(float_name, fixed_name) float_name
 #define PL_INLINE
-
-static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
-                   int hi_incl)
-{
-    return spvs_real_in(x, lo, lo_incl, hi, hi_incl);
-}
-
-static int ctl_params_check(const spvs_control_params_t *p)
-{
-    return spvs_control_params_check(p);
-}
-
-static spvs_real inlier_px(const spvs_params_t *p)
-{
-    return spvs_inlier_px(p);
-}
-
-static int frame_check(const spvs_match_t *m, uint16_t n)
-{
-    return spvs_plane_h_check(m, n);
-}
-
-static uint16_t offplane_split(spvs_state_t *s, const spvs_match_t *m, uint16_t n)
-{
-    return spvs_offplane_split(&s->off, m, n, s->est.idx);
-}
-
-static int plane_load(spvs_state_t *s, const spvs_match_t *m, uint16_t n, const uint16_t *order,
-                      uint16_t n_plane)
-{
-    return spvs_plane_h_load(&s->est, m, n, order, n_plane);
-}
 
 /* H_px (pixels) in scaled units as the loaded frame's estimate. */
 static int adopt_h(spvs_state_t *s, const spvs_real *H_px)

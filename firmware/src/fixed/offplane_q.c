@@ -6,22 +6,6 @@
  */
 #include "offplane_q.h"
 
-void spvs_q_offplane_reset(spvs_q_offplane_t *o)
-{
-    SPVS_ASSERT(o != 0);
-    for (uint32_t i = 0; i < SPVS_MAX_FEATURES; i++) {
-        o->score[i] = 0;
-    }
-    o->n_known = 0;
-    o->n_cand = 0;
-    o->n_cand_known = 0;
-    o->hi_out_of_range = 0;
-    for (uint32_t i = 0; i < 9u; i++) {
-        o->cand_H[i] = 0;
-    }
-    o->cand_thr = -1;
-}
-
 /* The fast test below decides where o is in [2^13, 2^27) (0.06 px to
  * 1,024 px): there Q (below) is below 2^31 for every w28 of the fast
  * path (at most 2^30), so the test is in 32-bit words and products. */
@@ -186,6 +170,17 @@ typedef int32_t op_h_t;
 typedef off_thr_t op_thr_t;
 typedef int32_t op_px_t; /* Q16 px */
 typedef int64_t op_wide_t;
+#define SPVS_CORE_NAME(float_name, fixed_name) fixed_name
+
+/* The counter and the collect's H and threshold (none yet). */
+static void reset_note(spvs_q_offplane_t *o)
+{
+    o->hi_out_of_range = 0;
+    for (uint32_t i = 0; i < 9u; i++) {
+        o->cand_H[i] = 0;
+    }
+    o->cand_thr = -1;
+}
 
 static off_thr_t thr_of(int32_t offplane_q16)
 {
@@ -293,38 +288,3 @@ static int above_thr(const spvs_q_plane_h_t *e, const int32_t row[4], const off_
 }
 
 #include "../offplane.inc"
-
-int spvs_q_offplane_known(const spvs_q_offplane_t *o, uint16_t f)
-{
-    return known(o, f);
-}
-
-uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m, uint16_t n,
-                               uint16_t order[SPVS_MAX_MATCHES])
-{
-    return split_order(o, m, n, order);
-}
-
-void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
-                             int32_t offplane_q16)
-{
-    collect(o, e, offplane_q16);
-}
-
-int32_t spvs_q_offplane_known_direction_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                            const int32_t *lateral, int32_t *scratch)
-{
-    return known_direction(o, H, lateral, scratch);
-}
-
-int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                           int32_t *scratch)
-{
-    return known_parallax(o, H, scratch);
-}
-
-void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
-                              int32_t parallax_q16, int32_t offplane_q16)
-{
-    remember(o, e, e_ok, parallax_q16, offplane_q16);
-}

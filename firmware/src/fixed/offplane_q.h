@@ -30,8 +30,9 @@
 
 #include "epipole_q.h"
 #include "plane_h_q.h"
+#include "spvs/offplane.h"
 
-typedef struct {
+struct spvs_q_offplane {
     /* The memory, as spvs_offplane_t's. */
     int8_t score[SPVS_MAX_FEATURES];
     uint16_t n_known;
@@ -50,41 +51,6 @@ typedef struct {
      * n_cand_known on passed it). */
     int32_t cand_H[9];
     int32_t cand_thr;
-} spvs_q_offplane_t;
-
-/* offplane_px (float or double bits read by the caller once) to Q16 px:
- * use spvs_q_from_ieee(v, 16, &sat, 0). */
-
-void spvs_q_offplane_reset(spvs_q_offplane_t *o);
-
-int spvs_q_offplane_known(const spvs_q_offplane_t *o, uint16_t f);
-
-/* spvs_offplane_split: the same order[] and count. */
-uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m, uint16_t n,
-                               uint16_t order[SPVS_MAX_MATCHES]);
-
-/* spvs_offplane_collect on the Q estimate: offplane_q16 the threshold in
- * Q16 pixels (negative is taken as 0). */
-void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
-                             int32_t offplane_q16);
-
-/* spvs_offplane_known_parallax_px: the median transfer error of the
- * remembered features' candidates under H (Q27) in Q16 pixels (relative
- * error 2^-27 plus 1/2 unit, saturated below 2^15 px), -SPVS_Q16_ONE (-1
- * px) when none is in view.  scratch: SPVS_MAX_OFFPLANE int32. */
-int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                           int32_t *scratch);
-
-/* spvs_offplane_known_direction_px in Q16 pixels (0 when none is in
- * view).  scratch: SPVS_MAX_OFFPLANE int32. */
-int32_t spvs_q_offplane_known_direction_q16(const spvs_q_offplane_t *o, const int32_t H[9],
-                                            const int32_t *lateral, int32_t *scratch);
-
-/* spvs_offplane_remember: e_ok, parallax_q16 (Q16 px) and offplane_q16
- * as float's arguments.  Where e->H and offplane_q16 are those of the
- * frame's collect, the candidates it tested (from n_cand_known on) are
- * above the threshold forward without a second test. */
-void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
-                              int32_t parallax_q16, int32_t offplane_q16);
+};
 
 #endif /* SPVS_FIXED_OFFPLANE_Q_H */

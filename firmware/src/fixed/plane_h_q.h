@@ -21,9 +21,10 @@
 #define SPVS_FIXED_PLANE_H_Q_H
 
 #include "points_q.h"
+#include "spvs/plane_h.h"
 #include "spvs/ransac.h"
 
-typedef struct {
+struct spvs_q_plane_h {
     spvs_q_store_t pts;
     /* As spvs_plane_h_t: points 0..n_plane are the plane candidates,
      * feat[i] point i's target-image feature. */
@@ -42,27 +43,6 @@ typedef struct {
     int32_t lin_hw[9];
     spvs_q_sums_t lin_sums;
     spvs_q_thr_t thr;
-} spvs_q_plane_h_t;
-
-/* spvs_plane_h_check: the frame's size and pointer (SPVS_OK,
- * SPVS_E_CAPACITY, SPVS_E_ARG or SPVS_E_TOO_FEW), before anything reads
- * the matches. */
-SPVS_NODISCARD int spvs_q_plane_h_check(const spvs_match_t *m, uint16_t n);
-
-/* spvs_plane_h_load on the Q store: the same checks and statuses
- * (SPVS_E_CAPACITY, SPVS_E_ARG, SPVS_E_TOO_FEW, SPVS_E_NONFINITE for a NaN
- * or infinite coordinate, SPVS_E_RANGE for one above SPVS_MAX_COORD_PX or a
- * feature index out of range; where a frame has both, SPVS_E_NONFINITE),
- * the same spread order. */
-SPVS_NODISCARD int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
-                                       const uint16_t *order, uint16_t n_plane);
-
-/* spvs_plane_h_estimate: t2 is the squared inlier threshold in scaled
- * units (spvs_q_t2_from_real, or the fixed build's own from noise_px);
- * confidence and max_iters as RANSAC's (ransac_q.h).  Returns RANSAC's
- * status; on SPVS_OK e->H, e->mask and e->n_inliers hold the estimate. */
-SPVS_NODISCARD int spvs_q_plane_h_estimate(spvs_q_plane_h_t *e, spvs_qf_t t2,
-                                           uint32_t confidence_q32, uint32_t max_iters,
-                                           spvs_rng_t *rng, uint32_t *iters);
+};
 
 #endif /* SPVS_FIXED_PLANE_H_Q_H */

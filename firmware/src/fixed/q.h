@@ -276,10 +276,11 @@ static inline uint32_t spvs_q_recip_norm(uint32_t m)
 /* value = m 2^e, m = 0 or |m| in [2^30, 2^31).  e is kept in int32: the
  * kernels' chains of at most a few dozen operations on inputs with
  * |e| < 200 move it by at most 64 per operation, far from overflow. */
-typedef struct {
+struct spvs_qf {
     int32_t m;
     int32_t e;
-} spvs_qf_t;
+};
+typedef struct spvs_qf spvs_qf_t;
 
 #define SPVS_QF_ZERO_E (-100000)
 

@@ -148,41 +148,8 @@ typedef int32_t pl_par_t;  /* px, Q16 */
 typedef int32_t pl_cmd_t;  /* m/s, rad/s, Q24 */
 /* update is inlined into both entry points, so neither adds a frame to
  * the update's stack. */
+#define SPVS_CORE_NAME(float_name, fixed_name) fixed_name
 #define PL_INLINE SPVS_Q_INLINE
-
-static int real_in(const void *x, const spvs_real *lo, int lo_incl, const spvs_real *hi,
-                   int hi_incl)
-{
-    return spvs_q_real_in(x, lo, lo_incl, hi, hi_incl);
-}
-
-static int ctl_params_check(const spvs_control_params_t *p)
-{
-    return spvs_q_ctl_params_check(p);
-}
-
-/* The float core's threshold (bit for bit in float32, within 2^-28 in
- * double): the rule on offplane_px is the float core's. */
-static spvs_real inlier_px(const spvs_params_t *p)
-{
-    return spvs_q_inlier_px(p);
-}
-
-static int frame_check(const spvs_match_t *m, uint16_t n)
-{
-    return spvs_q_plane_h_check(m, n);
-}
-
-static uint16_t offplane_split(spvs_q_t *s, const spvs_match_t *m, uint16_t n)
-{
-    return spvs_q_offplane_split(&s->off, m, n, s->est.idx);
-}
-
-static int plane_load(spvs_q_t *s, const spvs_match_t *m, uint16_t n, const uint16_t *order,
-                      uint16_t n_plane)
-{
-    return spvs_q_plane_h_load(&s->est, m, n, order, n_plane);
-}
 
 static int plane_estimate(spvs_q_t *s, uint32_t *iters)
 {

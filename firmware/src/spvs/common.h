@@ -1,8 +1,8 @@
 /*
  * common.h - what every module of the core shares beyond spvs.h (the
  * scalar type, the statuses and the match record): the scalar's functions
- * and limits, the compile-time check and the assert hook (private to the
- * core, not installed).
+ * and limits, the compile-time check, the assert hook and the match list's
+ * checks (private to the core, not installed).
  *
  * Units and frames used throughout the core (see DESIGN.md section 1):
  *   - image points are pixels centred on the principal point the controller
@@ -52,6 +52,12 @@ extern "C" {
 #include <assert.h>
 #define SPVS_ASSERT(c) assert(c)
 #endif
+
+/* The checks of a frame's match list that read no values (common.c), as
+ * every core's loader makes them first: SPVS_OK, SPVS_E_CAPACITY
+ * (n > SPVS_MAX_MATCHES), SPVS_E_ARG (m NULL with n > 0) or
+ * SPVS_E_TOO_FEW (n < 3). */
+int spvs_match_list_check(const spvs_match_t *m, uint16_t n);
 
 #ifdef __cplusplus
 }

@@ -45,12 +45,15 @@ typedef struct {
     uint8_t support[SPVS_MAX_OFFPLANE];
 } spvs_offplane_t;
 
+/* The fixed-point core's memory (fixed/offplane_q.h): each entry point
+ * below is written once (offplane.inc) and declared for both cores, the
+ * float one first.  The Q one takes H in Q27 scaled units, rows in Q26 and
+ * pixel quantities in Q16 pixels (int32; docs/FIXED.md). */
+typedef struct spvs_q_offplane spvs_q_offplane_t;
+
 /* Forget every feature. */
 void spvs_offplane_reset(spvs_offplane_t *o);
-
-/* 1 when the memory holds feature f as off the plane (0 for f out of
- * range). */
-int spvs_offplane_known(const spvs_offplane_t *o, uint16_t f);
+void spvs_q_offplane_reset(spvs_q_offplane_t *o);
 
 /* Splits the matches m[0..n) (n <= SPVS_MAX_MATCHES) for
  * spvs_plane_h_load: order[] gets the indices of the matches whose feature
@@ -58,17 +61,25 @@ int spvs_offplane_known(const spvs_offplane_t *o, uint16_t f);
  * the back.  Returns the number of the former. */
 uint16_t spvs_offplane_split(const spvs_offplane_t *o, const spvs_match_t *m, uint16_t n,
                              uint16_t order[SPVS_MAX_MATCHES]);
+uint16_t spvs_q_offplane_split(const spvs_q_offplane_t *o, const spvs_match_t *m, uint16_t n,
+                               uint16_t order[SPVS_MAX_MATCHES]);
 
-/* Collects this frame's candidates from the estimate e (its points, H_sc
- * and inlier mask); offplane_px is the transfer error, pixels, above which
- * a rejected plane candidate is one.  At most SPVS_MAX_OFFPLANE. */
+/* Collects this frame's candidates from the estimate e (its points, H and
+ * inlier mask); offplane_px is the transfer error, pixels, above which a
+ * rejected plane candidate is one (in Q16, negative is taken as 0).  At
+ * most SPVS_MAX_OFFPLANE. */
 void spvs_offplane_collect(spvs_offplane_t *o, const spvs_plane_h_t *e, spvs_real offplane_px);
+void spvs_q_offplane_collect(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e,
+                             int32_t offplane_q16);
 
 /* Median transfer error, pixels, of the remembered features' candidates
- * under H_sc (scaled units); negative when none is in view.  scratch:
- * SPVS_MAX_OFFPLANE scalars. */
+ * under H_sc (scaled units); negative when none is in view (-1 px in Q16;
+ * the Q error's relative error is 2^-27 plus 1/2 unit, saturated below
+ * 2^15 px).  scratch: SPVS_MAX_OFFPLANE values. */
 spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
                                           spvs_real *scratch);
+int32_t spvs_q_offplane_known_parallax_q16(const spvs_q_offplane_t *o, const int32_t H[9],
+                                           int32_t *scratch);
 
 /* The median of one component of the same candidates' transfer errors,
  * signed, pixels (current minus transferred goal point; 0 when none is in
@@ -78,12 +89,18 @@ spvs_real spvs_offplane_known_parallax_px(const spvs_offplane_t *o, const spvs_r
  * scratch: SPVS_MAX_OFFPLANE values. */
 spvs_real spvs_offplane_known_direction_px(const spvs_offplane_t *o, const spvs_real H_sc[9],
                                            const spvs_real *lateral, spvs_real *scratch);
+int32_t spvs_q_offplane_known_direction_q16(const spvs_q_offplane_t *o, const int32_t H[9],
+                                            const int32_t *lateral, int32_t *scratch);
 
 /* Updates the memory after the epipole: e_ok says whether it was found
  * (o->support then holds its supporters), parallax_px is the frame's
- * parallax. */
+ * parallax.  The Q core's collect notes its H and threshold: where they
+ * are e's and offplane_q16, the candidates it tested (from n_cand_known
+ * on) are above the threshold forward without a second test. */
 void spvs_offplane_remember(spvs_offplane_t *o, const spvs_plane_h_t *e, int e_ok,
                             spvs_real parallax_px, spvs_real offplane_px);
+void spvs_q_offplane_remember(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e, int e_ok,
+                              int32_t parallax_q16, int32_t offplane_q16);
 
 #ifdef __cplusplus
 }

@@ -47,7 +47,7 @@ extern "C" {
 #define SPVS_H_LIN_COST 24
 
 /* A frame's points, scaled units, in the build's layout (rows or columns:
- * read them with spvs_plane_h_point). */
+ * points.h reads them). */
 typedef struct {
     spvs_real v[4u * SPVS_MAX_MATCHES];
     /* The largest |x_cur| and |y_cur| of the frame, scaled units: they
@@ -79,10 +79,12 @@ typedef struct {
     spvs_real t2;
 } spvs_plane_h_t;
 
-/* The checks of a frame that need no values: returns SPVS_OK,
- * SPVS_E_CAPACITY (n > SPVS_MAX_MATCHES), SPVS_E_ARG (m NULL with n > 0) or
- * SPVS_E_TOO_FEW (n < 3). */
-SPVS_NODISCARD int spvs_plane_h_check(const spvs_match_t *m, uint16_t n);
+/* The fixed-point core's estimator (fixed/plane_h_q.h) and its block
+ * floating-point scalar (fixed/q.h): load and estimate are written once
+ * (plane_h.inc) and declared for both cores, the float one first.  The Q
+ * estimator holds H in Q27 scaled units (h22 = 1). */
+typedef struct spvs_q_plane_h spvs_q_plane_h_t;
+typedef struct spvs_qf spvs_qf_t;
 
 /* Loads a frame: m[0..n) in centred pixels.  order: NULL when every match
  * is a plane candidate (n_plane = n); else n indices into m, the plane
@@ -93,13 +95,17 @@ SPVS_NODISCARD int spvs_plane_h_check(const spvs_match_t *m, uint16_t n);
  * by image position or by object, so mismatches come in runs, and the
  * inlier count's bail-out test needs every stretch of the stored order to
  * look like the whole.
- * Returns spvs_plane_h_check's statuses, SPVS_E_NONFINITE (a NaN or
+ * Returns spvs_match_list_check's statuses, SPVS_E_NONFINITE (a NaN or
  * infinite coordinate), SPVS_E_RANGE (|coordinate| > SPVS_MAX_COORD_PX or a
  * feature index >= SPVS_MAX_FEATURES) or SPVS_E_TOO_FEW (fewer than
- * SPVS_MIN_INLIERS plane candidates).  Bound: n matches, twice for a bad
+ * SPVS_MIN_INLIERS plane candidates); where a frame has several bad values,
+ * the first one's (match by match, each coordinate's NaN before its
+ * range), the same in both cores.  Bound: n matches, twice for a bad
  * frame. */
 SPVS_NODISCARD int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, uint16_t n,
                                      const uint16_t *order, uint16_t n_plane);
+SPVS_NODISCARD int spvs_q_plane_h_load(spvs_q_plane_h_t *e, const spvs_match_t *m, uint16_t n,
+                                       const uint16_t *order, uint16_t n_plane);
 
 /* Estimates H on the loaded plane candidates: RANSAC (inlier threshold
  * inlier_px pixels on the Sampson error, confidence in (0, 1), at most max_iters <=
@@ -109,10 +115,15 @@ SPVS_NODISCARD int spvs_plane_h_load(spvs_plane_h_t *e, const spvs_match_t *m, u
  * failure).
  * Returns SPVS_OK, SPVS_E_DEGENERATE (every sample degenerate) or
  * SPVS_E_NO_CONSENSUS (fewer than SPVS_MIN_INLIERS inliers), and
- * SPVS_E_ARG for options out of range. */
+ * SPVS_E_ARG for options out of range.  The Q estimate takes the squared
+ * threshold t2 in scaled units (spvs_q_t2_from_real, or the fixed build's
+ * own from noise_px) and the confidence in units of 2^-32. */
 SPVS_NODISCARD int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px,
                                          spvs_real confidence, uint32_t max_iters,
                                          spvs_rng_t *rng, uint32_t *iters);
+SPVS_NODISCARD int spvs_q_plane_h_estimate(spvs_q_plane_h_t *e, spvs_qf_t t2,
+                                           uint32_t confidence_q32, uint32_t max_iters,
+                                           spvs_rng_t *rng, uint32_t *iters);
 
 /* Takes H_sc (scaled units, planar form) as the estimate of the loaded
  * frame instead of estimating it: e->mask and e->n_inliers get its inliers
@@ -122,10 +133,6 @@ SPVS_NODISCARD int spvs_plane_h_estimate(spvs_plane_h_t *e, spvs_real inlier_px,
  * error. */
 SPVS_NODISCARD int spvs_plane_h_adopt(spvs_plane_h_t *e, const spvs_real H_sc[9],
                                       spvs_real inlier_px);
-
-/* Point i of the loaded frame as a row (x_tgt, y_tgt, x_cur, y_cur),
- * scaled units. */
-void spvs_plane_h_point(const spvs_plane_h_t *e, uint16_t i, spvs_real row[4]);
 
 #ifdef __cplusplus
 }
