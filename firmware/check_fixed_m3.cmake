@@ -1,6 +1,6 @@
 # Compiles every Q-format source of firmware/src/fixed for a Cortex-M3 (no
 # FPU) and fails if an object references a floating-point helper
-# (check_fixed_symbols.cmake).  With the fixed-point build's setting
+# (check_symbols.cmake with NO_FLOAT).  With the fixed-point build's setting
 # (SPVS_USE_FIXED=1: spvs.h's pipeline is the Q one, spvs_fixed.c is built).
 # Usage: cmake -DCC= -DNM= -DSRCDIR= -DINC= -DOBJDIR= -DDOUBLE=0|1 -DCHECK= -P check_fixed_m3.cmake
 file(GLOB srcs ${SRCDIR}/*.c)
@@ -22,5 +22,6 @@ foreach(src IN LISTS srcs)
     message(FATAL_ERROR "cortex-m3 compile of ${name}.c failed: ${err}")
   endif()
   set(LIB "")
+  set(NO_FLOAT ON)
   include(${CHECK})
 endforeach()

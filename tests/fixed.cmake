@@ -11,7 +11,7 @@ if(SPVS_ARM_GCC AND SPVS_ARM_NM)
                      -DSRCDIR=${PROJECT_SOURCE_DIR}/firmware/src/fixed
                      -DINC=${PROJECT_SOURCE_DIR}/firmware/include
                      -DOBJDIR=${CMAKE_CURRENT_BINARY_DIR}/fixed_m3_${dbl} -DDOUBLE=${dbl}
-                     -DCHECK=${PROJECT_SOURCE_DIR}/firmware/check_fixed_symbols.cmake
+                     -DCHECK=${PROJECT_SOURCE_DIR}/firmware/check_symbols.cmake
                      -P ${PROJECT_SOURCE_DIR}/firmware/check_fixed_m3.cmake)
     set_tests_properties(fixed_m3_no_float_${dbl} PROPERTIES LABELS "unit;fixed" TIMEOUT 60)
   endforeach()
