@@ -71,8 +71,8 @@ endforeach()
 
 # The fixed-point accelerators (firmware/src/fixed/accel) against the
 # reference path compiled into the test: the loader's store and the inlier
-# count bit for bit, the cost and the sums within stated bounds.  Only
-# where the accelerators are built.
+# count bit for bit, the cost and the sums within stated bounds, the
+# off-plane test bit for bit.  Only where the accelerators are built.
 if(SPVS_ACCEL)
   spvs_unity_test(NAME test_fixed_accel SOURCES ${spvs_unit_dir}/test_fixed_accel.c
                   LIBS spvs::fixed LABELS fixed TIMEOUT 120 FLOAT_STAGES)

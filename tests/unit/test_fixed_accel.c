@@ -16,7 +16,10 @@
  *   sums    every term of SPVS_T_LIN, SPVS_T_FIT_Y, SPVS_T_FIT_X and
  *           SPVS_T_SAMPSON within TOL_SUM of the largest term of its block
  *           (the fast paths' weights keep 2^-20 to 2^-25 of their bound
- *           over the frame, docs/FIXED.md), and the same return values.
+ *           over the frame, docs/FIXED.md), and the same return values;
+ *   off-plane test  the same answer for every row, both ways round, at
+ *           thresholds from 0.01 px to 1,000 px and at each row's own
+ *           transfer error (one unit of Q16 px either side).
  */
 #include <math.h>
 #include <stddef.h>
@@ -25,6 +28,8 @@
 
 #include "unit_support.h"
 
+#include "fixed/epipole_q.h"
+#include "fixed/offplane_test_q.h"
 #include "fixed/points_q.h"
 #include "fixed/sums_q.h"
 #include "spvs/homography.h"
@@ -48,6 +53,11 @@
 #undef spvs_q_pts_sum
 #undef spvs_q_lin_move
 #undef spvs_q_sum_fast
+#define spvs_q_off_thr ref_q_off_thr
+#define spvs_q_off_above ref_q_off_above
+#include "fixed/offplane_test_q.c"
+#undef spvs_q_off_thr
+#undef spvs_q_off_above
 
 #include "fixed_scene.h"
 
@@ -236,6 +246,64 @@ static void test_accel_cost_sums(void)
     TEST_ASSERT_EQUAL_INT64(sums, SCENES * 4);
 }
 
+/* The two off-plane tests on row p under H at offplane_q16: the same
+ * answer.  Returns 1 when the row's error is within one unit of Q16 px of
+ * the threshold. */
+static int check_off(const int32_t H[9], const int32_t p[4], int32_t offplane_q16)
+{
+    const spvs_q_off_thr_t ta = spvs_q_off_thr(offplane_q16);
+    const spvs_q_off_thr_t tr = ref_q_off_thr(offplane_q16);
+    TEST_ASSERT_EQUAL_UINT64(ta.off2, tr.off2);
+    TEST_ASSERT_EQUAL_INT64(ref_q_off_above(H, p, &tr), spvs_q_off_above(H, p, &ta));
+    const int64_t e2 = spvs_q_transfer_err2(H, p);
+    const uint32_t lo = offplane_q16 > 1 ? 2u * (uint32_t)(offplane_q16 - 1) : 0u;
+    const uint32_t hi = 2u * (uint32_t)offplane_q16 + 2u;
+    return e2 >= 0 && (uint64_t)e2 >= (uint64_t)lo * lo && (uint64_t)e2 <= (uint64_t)hi * hi;
+}
+
+static void test_accel_offplane(void)
+{
+    uint64_t rng = 0x0ff9u;
+    static scene_t sc;
+    long tests = 0, near = 0;
+    /* 0.01, 0.5, 2, 5 and 1,000 px in Q16. */
+    const int32_t fixed_q16[] = {655, 32768, 131072, 327680, 65536000};
+    for (int s = 0; s < SCENES; s++) {
+        make_scene(&sc, &rng, 40 + (int)(synth_uniform(&rng) * 200), 1.0, 0.3);
+        load_both(&sc);
+        for (int m = 0; m < 4; m++) {
+            int32_t Hq[9];
+            if (m == 0) {
+                TEST_ASSERT_EQUAL_INT64(spvs_q_h_from_real(sc.Hs, Hq), 0);
+            } else {
+                some_model(&sc, &rng, Hq);
+            }
+            for (uint16_t i = 0; i < sc.n; i++) {
+                int32_t row[4];
+                spvs_q_pts_row(&sc.qst, i, row);
+                const int32_t back[4] = {row[2], row[3], row[0], row[1]};
+                for (size_t k = 0; k < sizeof fixed_q16 / sizeof fixed_q16[0]; k++) {
+                    (void)check_off(Hq, row, fixed_q16[k]);
+                    (void)check_off(Hq, back, fixed_q16[k]);
+                    tests += 2;
+                }
+                /* At the row's own error: o = 2 offplane_q16 = sqrt(e2). */
+                const int64_t e2 = spvs_q_transfer_err2(Hq, row);
+                if (e2 > 0) {
+                    const int32_t own = (int32_t)(spvs_q_isqrt64((uint64_t)e2) / 2u);
+                    for (int32_t d = -1; d <= 1; d++) {
+                        near += check_off(Hq, row, own + d);
+                        tests++;
+                    }
+                }
+            }
+        }
+    }
+    UNIT_NOTE("off-plane test: %ld tests, %ld within a unit of the threshold, "
+              "accelerated = reference\n", tests, near);
+    TEST_ASSERT_TRUE(near >= 10000);
+}
+
 void suite_fixed_accel(void);
 void suite_fixed_accel(void)
 {
@@ -243,6 +311,7 @@ void suite_fixed_accel(void)
     RUN_TEST(test_accel_load);
     RUN_TEST(test_accel_score);
     RUN_TEST(test_accel_cost_sums);
+    RUN_TEST(test_accel_offplane);
 }
 
 UNIT_MAIN(suite_fixed_accel)

@@ -5,84 +5,7 @@
  * step is made; here they say where the fixed-point version differs.
  */
 #include "offplane_q.h"
-
-/* The fast test below decides where o is in [2^13, 2^27) (0.06 px to
- * 1,024 px): there Q (below) is below 2^31 for every w28 of the fast
- * path (at most 2^30), so the test is in 32-bit words and products. */
-#define OFF_FAST_MIN ((uint32_t)1 << 13)
-#define OFF_FAST_MAX ((uint32_t)1 << 27)
-
-/* The threshold: o = 2 offplane_q16, offplane_px in Q26 scaled units
- * (Q16 pixels are Q25 scaled units), below 2^32; off2 = o^2 in Q52
- * scaled units^2, below 2^64; negative is 0.  o_fast is o where the fast
- * test decides, else 0: that range decided once per frame. */
-typedef struct {
-    uint64_t off2;
-    uint32_t o_fast;
-} off_thr_t;
-
-static off_thr_t off_thr(int32_t offplane_q16)
-{
-    off_thr_t t;
-    const uint32_t o = offplane_q16 > 0 ? 2u * (uint32_t)offplane_q16 : 0u;
-    t.off2 = (uint64_t)o * o;
-    t.o_fast = o >= OFF_FAST_MIN && o < OFF_FAST_MAX ? o : 0u;
-    return t;
-}
-
-/* Whether the squared transfer error of row p under H exceeds off2:
- * -1 for w <= SPVS_W_EPS (float's e2 = -1, above no threshold), else 1
- * when spvs_q_transfer's du^2 + dv^2 > off2, 0 when not; the same answer
- * as computing that transfer, which takes a reciprocal and two scaled
- * ratios, where most points are far from the threshold.
- * On the fast path the ratio's exact value d = n28 / w28 (Q26: d 2^26)
- * gives e = |d|^2 2^52 = A 2^52 / w28^2 with A = nx28^2 + ny28^2 (below
- * 2^61), and e > off2 is A > t^2 with t = o w28 2^-26, where
- * Q = floor(o w28 2^-26) <= t < Q + 1 (o w28 < 2^57).  spvs_q_transfer's
- * du is within 2^-27 |d| + 1 unit of d 2^26 for w28 >= 2^25 (k <= 5 in
- * spvs_q_ratio_fast: the reciprocal's 2^-28 and its clamp's 2^-31, 1/2
- * unit of Q(31 - k), 1/2 of Q26), so its e2 is within 2^-26 e +
- * 2.9 sqrt(e) + 2 of e.  With o >= 2^13, A above (Q + 1 + (Q + 1) / 2^8)^2
- * makes e > off2 (1 + 2^-7) and e2 > off2; A below (Q - Q / 2^8 - 1)^2
- * makes e < off2 (1 - 2^-8) and e2 < off2.  Between, and off the fast
- * path, the transfer decides. */
-static SPVS_Q_NOINLINE int64_t err2_call(const int32_t H[9], const int32_t p[4])
-{
-    return spvs_q_transfer_err2(H, p);
-}
-
-static SPVS_Q_INLINE int transfer_above(const int32_t H[9], int32_t tx, int32_t ty, int32_t cx,
-                                        int32_t cy, off_thr_t t)
-{
-    spvs_q_tf_t f;
-    const int path = spvs_q_transfer_front_v(H, tx, ty, cx, cy, &f);
-    if (path == SPVS_Q_TF_BEHIND) {
-        return -1;
-    }
-    if (path == SPVS_Q_TF_FAST) {
-        if (t.o_fast != 0u && f.w28 >= ((int32_t)1 << 25)) {
-            const uint64_t A = (uint64_t)((int64_t)f.nx28 * f.nx28) +
-                               (uint64_t)((int64_t)f.ny28 * f.ny28);
-            /* o < 2^27 and w28 <= 2^30: Q < 2^31.  w28 opaque, so that the
-             * product is one UMULL (GCC otherwise extends w28's sign). */
-            const uint32_t uw = (uint32_t)spvs_q_opaque32(f.w28);
-            const uint32_t Q = (uint32_t)(((uint64_t)t.o_fast * uw) >> 26);
-            const uint32_t hi = Q + 1u + ((Q + 1u) >> 8); /* below 2^31.01 */
-            if (A > (uint64_t)hi * hi) {
-                return 1;
-            }
-            const uint32_t lo = Q - (Q >> 8);
-            if (lo >= 1u && A < (uint64_t)(lo - 1u) * (lo - 1u)) {
-                return 0;
-            }
-        }
-    }
-    /* Near the threshold or off the fast path (rare): the transfer itself,
-     * out of line (it repeats the first half), so that flash holds one
-     * copy of it; w > SPVS_W_EPS, so its e2 is not negative. */
-    const int32_t row[4] = {tx, ty, cx, cy};
-    return (uint64_t)err2_call(H, row) > t.off2;
-}
+#include "offplane_test_q.h"
 
 /* num 2^e / det (id = 1 / det) in Q27, rounded, saturated (flagged). */
 static int32_t hi_entry(int64_t num, int32_t e, spvs_qf_t id, uint32_t *sat)
@@ -124,42 +47,22 @@ static int inverse_q(const int32_t H[9], int32_t Hi[9], int *out_of_range)
     return 1;
 }
 
-/* offplane.c's off_plane on a Q26 row: the forward error above off2, and
- * the back one too where Hi is given (a back transfer behind the camera
- * does not count against it).  One loop over the two tests, so that the
- * transfer is inlined once. */
-static SPVS_Q_INLINE int off_plane(const int32_t H[9], const int32_t *Hi, const int32_t q[4],
-                                   off_thr_t t)
+/* offplane.c's off_plane on a Q26 row: the forward error above the
+ * threshold, and the back one too where Hi is given (a back transfer
+ * behind the camera does not count against it). */
+static int off_plane(const int32_t H[9], const int32_t *Hi, const int32_t q[4],
+                     spvs_q_off_thr_t t)
 {
-    /* The row's values, which the back test takes the other way round
-     * (current to target), swapped in place of a copy of the row. */
-    int32_t tx = q[0], ty = q[1], cx = q[2], cy = q[3];
-    const int32_t *M = H;
-    /* Bound: two tests, forward and back. */
-    for (int dir = 0; dir < 2; dir++) {
-        const int a = transfer_above(M, tx, ty, cx, cy, t);
-        if (dir == 0 ? a != 1 : a == 0) {
+    if (spvs_q_off_above(H, q, &t) != 1) {
+        return 0;
+    }
+    if (Hi != 0) {
+        const int32_t back[4] = {q[2], q[3], q[0], q[1]};
+        if (spvs_q_off_above(Hi, back, &t) == 0) {
             return 0;
         }
-        if (Hi == 0) {
-            break;
-        }
-        M = Hi;
-        const int32_t x = tx, y = ty;
-        tx = cx;
-        ty = cy;
-        cx = x;
-        cy = y;
     }
     return 1;
-}
-
-/* transfer_above as a call, for the few supporters spvs_q_offplane_remember
- * tests (one copy of the transfer in flash rather than another inline). */
-static SPVS_Q_NOINLINE int transfer_above_call(const int32_t H[9], const int32_t p[4],
-                                               const off_thr_t *t)
-{
-    return transfer_above(H, p[0], p[1], p[2], p[3], *t);
 }
 
 /* ---- the fixed-point core's side of offplane.inc ---------------------------- */
@@ -167,7 +70,7 @@ static SPVS_Q_NOINLINE int transfer_above_call(const int32_t H[9], const int32_t
 typedef spvs_q_offplane_t op_t;
 typedef spvs_q_plane_h_t op_est_t;
 typedef int32_t op_h_t;
-typedef off_thr_t op_thr_t;
+typedef spvs_q_off_thr_t op_thr_t;
 typedef int32_t op_px_t; /* Q16 px */
 typedef int64_t op_wide_t;
 #define SPVS_CORE_NAME(float_name, fixed_name) fixed_name
@@ -182,9 +85,9 @@ static void reset_note(spvs_q_offplane_t *o)
     o->cand_thr = -1;
 }
 
-static off_thr_t thr_of(int32_t offplane_q16)
+static spvs_q_off_thr_t thr_of(int32_t offplane_q16)
 {
-    return off_thr(offplane_q16);
+    return spvs_q_off_thr(offplane_q16);
 }
 
 /* The collect's H and threshold, whose forward tests remember reuses. */
@@ -219,7 +122,7 @@ static const int32_t *inverse_of(spvs_q_offplane_t *o, const spvs_q_plane_h_t *e
 
 static int64_t cand_err2(const int32_t H[9], const int32_t row[4])
 {
-    return err2_call(H, row);
+    return spvs_q_transfer_err2(H, row);
 }
 
 /* The error's root in Q16 px: the square root is monotone (to its
@@ -282,9 +185,10 @@ static uint32_t trusted_from(const spvs_q_offplane_t *o, const spvs_q_plane_h_t 
     return same ? o->n_cand_known : SPVS_MAX_OFFPLANE;
 }
 
-static int above_thr(const spvs_q_plane_h_t *e, const int32_t row[4], const off_thr_t *thr)
+static int above_thr(const spvs_q_plane_h_t *e, const int32_t row[4],
+                     const spvs_q_off_thr_t *thr)
 {
-    return transfer_above_call(e->H, row, thr) == 1;
+    return spvs_q_off_above(e->H, row, thr) == 1;
 }
 
 #include "../offplane.inc"
