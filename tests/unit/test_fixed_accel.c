@@ -19,7 +19,11 @@
  *           over the frame, docs/FIXED.md), and the same return values;
  *   off-plane test  the same answer for every row, both ways round, at
  *           thresholds from 0.01 px to 1,000 px and at each row's own
- *           transfer error (one unit of Q16 px either side).
+ *           transfer error (one unit of Q16 px either side);
+ *   cone    the epipole's support test: the same answer for every pair (a
+ *           third within 1e-8 rad of the cone's edge), every count exact
+ *           from `need` on and below `need` under it, the same floor
+ *           square roots.
  */
 #include <math.h>
 #include <stddef.h>
@@ -28,6 +32,7 @@
 
 #include "unit_support.h"
 
+#include "fixed/epipole_cone_q.h"
 #include "fixed/epipole_q.h"
 #include "fixed/offplane_test_q.h"
 #include "fixed/points_q.h"
@@ -58,6 +63,13 @@
 #include "fixed/offplane_test_q.c"
 #undef spvs_q_off_thr
 #undef spvs_q_off_above
+#define spvs_q_cone_supports ref_q_cone_supports
+#define spvs_q_cone_count ref_q_cone_count
+#define spvs_q_sqrt_floor ref_q_sqrt_floor
+#include "fixed/epipole_cone_q.c"
+#undef spvs_q_cone_supports
+#undef spvs_q_cone_count
+#undef spvs_q_sqrt_floor
 
 #include "fixed_scene.h"
 
@@ -304,6 +316,77 @@ static void test_accel_offplane(void)
     TEST_ASSERT_TRUE(near >= 10000);
 }
 
+/* A Q30 unit direction at angle a (radians). */
+static void unit_dir(double a, int32_t d[2])
+{
+    d[0] = (int32_t)lround(cos(a) * 1073741824.0);
+    d[1] = (int32_t)lround(sin(a) * 1073741824.0);
+}
+
+static void test_accel_cone(void)
+{
+    uint64_t rng = 0xc0e5u;
+    static int32_t u[SPVS_MAX_OFFPLANE + 1][2];
+    long pairs = 0, edge = 0, counts = 0;
+    /* sin^2 of the cone in Q30: 0, 1e-4, 0.01 (the default), 0.25, 0.5. */
+    const uint32_t tol_q30[] = {0u, 107374u, 10737418u, 268435456u, 536870912u};
+    for (size_t t = 0; t < sizeof tol_q30 / sizeof tol_q30[0]; t++) {
+        const uint64_t tol = (uint64_t)tol_q30[t] << 32;
+        const spvs_q_cone_t k = spvs_q_cone(tol);
+        const double half = asin(sqrt((double)tol_q30[t] / 1073741824.0));
+        for (int s = 0; s < 200; s++) {
+            const double aj = synth_uniform(&rng) * 6.283185307179586;
+            int32_t dj[2];
+            unit_dir(aj, dj);
+            const uint16_t n = (uint16_t)(1 + synth_uniform(&rng) * SPVS_MAX_OFFPLANE);
+            for (uint16_t i = 0; i < n; i++) {
+                /* A third at the cone's edge (within 1e-8 rad), a third
+                 * inside or near it, the rest anywhere; a few zero. */
+                const double r = synth_uniform(&rng);
+                const double side = synth_uniform(&rng) < 0.5 ? -1.0 : 1.0;
+                double a = aj + 6.283185307179586 * synth_uniform(&rng);
+                if (r < 0.33) {
+                    a = aj + side * (half + (synth_uniform(&rng) - 0.5) * 2e-8);
+                } else if (r < 0.66) {
+                    a = aj + side * half * 1.5 * synth_uniform(&rng);
+                }
+                unit_dir(a, u[i]);
+                if (synth_uniform(&rng) < 0.02) {
+                    u[i][0] = 0;
+                    u[i][1] = 0;
+                }
+                const int sa = spvs_q_cone_supports(u[i], dj[0], dj[1], &k);
+                TEST_ASSERT_EQUAL_INT64(ref_q_cone_supports(u[i], dj[0], dj[1], &k), sa);
+                pairs++;
+                edge += r < 0.33;
+            }
+            u[n][0] = 0;
+            u[n][1] = 0;
+            const uint16_t full = ref_q_cone_count(u, n, dj[0], dj[1], &k, 1u);
+            for (uint32_t need = 1; need <= (uint32_t)n + 1u; need++) {
+                const uint16_t c = spvs_q_cone_count(u, n, dj[0], dj[1], &k, need);
+                /* Exact from need on; below need, below need. */
+                TEST_ASSERT_TRUE(full >= need ? c == full : c < need);
+                counts++;
+            }
+        }
+    }
+    /* The roots: the floor, on squares, their neighbours and random x. */
+    long roots = 0;
+    for (int s = 0; s < 20000; s++) {
+        const uint64_t r = (uint64_t)(synth_uniform(&rng) * 4294967295.0);
+        const uint64_t xs[] = {r * r, r * r - 1u, r * r + 1u,
+                               (uint64_t)(synth_uniform(&rng) * 18446744073709551615.0)};
+        for (size_t k = 0; k < sizeof xs / sizeof xs[0]; k++) {
+            TEST_ASSERT_EQUAL_UINT64(ref_q_sqrt_floor(xs[k]), spvs_q_sqrt_floor(xs[k]));
+            roots++;
+        }
+    }
+    UNIT_NOTE("epipole cone: %ld pairs (%ld at the edge), %ld counts, %ld roots, "
+              "accelerated = reference\n", pairs, edge, counts, roots);
+    TEST_ASSERT_TRUE(edge >= 5000);
+}
+
 void suite_fixed_accel(void);
 void suite_fixed_accel(void)
 {
@@ -312,6 +395,7 @@ void suite_fixed_accel(void)
     RUN_TEST(test_accel_score);
     RUN_TEST(test_accel_cost_sums);
     RUN_TEST(test_accel_offplane);
+    RUN_TEST(test_accel_cone);
 }
 
 UNIT_MAIN(suite_fixed_accel)

@@ -28,7 +28,7 @@ trap 'rm -rf "$work"' EXIT
 src=$root/firmware/src
 # The Q stages without spvs_fixed.c, which defines spvs_update only in the
 # fixed-point build (SPVS_FIXED=ON); the image links the float core too.
-qsrc=$(ls "$src"/fixed/*.c "$src"/fixed/accel/*.c | grep -v -e '/spvs_fixed\.c$' -e '/fixed/score_q\.c$' -e '/fixed/sums_q\.c$' -e '/fixed/load_q\.c$' -e '/fixed/offplane_test_q\.c$')
+qsrc=$(ls "$src"/fixed/*.c "$src"/fixed/accel/*.c | grep -v -e '/spvs_fixed\.c$' -e '/fixed/score_q\.c$' -e '/fixed/sums_q\.c$' -e '/fixed/load_q\.c$' -e '/fixed/offplane_test_q\.c$' -e '/fixed/epipole_cone_q\.c$')
 cc -O2 -std=c11 -I"$root/firmware/include" -I"$src" -I"$root/tests" "$here/gen.c" -o "$work/gen" \
    "$build/firmware/libspvs_fixed.a" "$build/firmware/libspvs_core.a" -lm
 for cpu in $cpus; do

@@ -15,7 +15,7 @@ src=$root/firmware/src
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 flags="-mcpu=cortex-m3 -mthumb -mfloat-abi=soft -Os -std=c11 -DNDEBUG -DSPVS_USE_DOUBLE=0"
-for f in $(ls "$src"/fixed/*.c "$src"/fixed/accel/*.c | grep -v -e '/spvs_fixed\.c$' -e '/fixed/score_q\.c$' -e '/fixed/sums_q\.c$' -e '/fixed/load_q\.c$' -e '/fixed/offplane_test_q\.c$') "$src/rng.c" "$src/common.c" "$src/params.c"; do
+for f in $(ls "$src"/fixed/*.c "$src"/fixed/accel/*.c | grep -v -e '/spvs_fixed\.c$' -e '/fixed/score_q\.c$' -e '/fixed/sums_q\.c$' -e '/fixed/load_q\.c$' -e '/fixed/offplane_test_q\.c$' -e '/fixed/epipole_cone_q\.c$') "$src/rng.c" "$src/common.c" "$src/params.c"; do
   arm-none-eabi-gcc $flags -I"$root/firmware/include" -I"$src" -fstack-usage -fcallgraph-info=su \
     -c "$f" -o "$work/$(basename "$f" .c).o"
 done
