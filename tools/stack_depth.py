@@ -167,7 +167,7 @@ def main():
     ap.add_argument("ci_dir")
     ap.add_argument("--root", default="spvs_update")
     ap.add_argument("--image", help="linked image, for library leaf frames")
-    ap.add_argument("--indirect", default="est_fit,est_score",
+    ap.add_argument("--indirect", default="est_fit,est_score,est_cost,est_refine",
                     help="functions an indirect call may reach")
     a = ap.parse_args()
     frames, kinds, calls = load(a.ci_dir)

@@ -40,5 +40,5 @@ arm-none-eabi-gcc $flags -I"$root/firmware/include" -I"$src" "$work/main.c" "$wo
 [ $# -gt 0 ] || set -- spvs_q_update
 for r in "$@"; do
   /usr/bin/python3 "$root/tools/stack_depth.py" "$work" --root "$r" --image "$work/img.elf" \
-    --indirect q_est_fit,q_est_score,q_est_cost,q_est_refine
+    --indirect est_fit,est_score,est_cost,est_refine
 done
