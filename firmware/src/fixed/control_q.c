@@ -69,7 +69,7 @@ static spvs_qf_t qf_scale2(spvs_qf_t a, int32_t e)
     return a;
 }
 
-static SPVS_Q_NOINLINE spvs_qf_t qf_div(spvs_qf_t a, spvs_qf_t b, uint32_t *sat)
+static spvs_qf_t qf_div(spvs_qf_t a, spvs_qf_t b, uint32_t *sat)
 {
     return spvs_qf_mul(a, spvs_qf_recip(b, sat));
 }
@@ -77,7 +77,7 @@ static SPVS_Q_NOINLINE spvs_qf_t qf_div(spvs_qf_t a, spvs_qf_t b, uint32_t *sat)
 /* sqrt(a) for a >= 0 (a negative a gives 0): the mantissa widened to 62 or
  * 63 bits with an even exponent, its exact integer root (31 bits),
  * relative error <= 2^-30. */
-static SPVS_Q_NOINLINE spvs_qf_t qf_sqrt(spvs_qf_t a)
+static spvs_qf_t qf_sqrt(spvs_qf_t a)
 {
     if (a.m <= 0) {
         return qf_of(0, 0);
@@ -487,7 +487,7 @@ static int64_t hold_below(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p)
  * 2^61, the root below 2^31), P = h11 - h33 and Q = h13 / alpha_x +
  * alpha_x h31 in Q27; each product below 2^61, a sum of two below 2^62,
  * rounded to Q27 into int64 sums. */
-static SPVS_Q_NOINLINE void plane_accumulate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+static void plane_accumulate(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
                                              const spvs_q_ctl_input_t *in)
 {
     const int32_t *H = in->H;
@@ -510,7 +510,7 @@ static SPVS_Q_NOINLINE void plane_accumulate(spvs_q_ctl_t *c, const spvs_q_ctl_p
 
 /* |n_k| over min_signal_ratio |n|: compared squared, both sides
  * non-negative, so no square root is taken; false for n = 0. */
-static SPVS_Q_NOINLINE int normal_has_signal(const spvs_q_ctl_t *c,
+static int normal_has_signal(const spvs_q_ctl_t *c,
                                              const spvs_q_ctl_params_t *p, int k)
 {
     spvs_qf_t sq[3];
@@ -627,7 +627,7 @@ static void fit_add(spvs_q_ctl_t *c, int32_t s, int32_t D, int32_t ax)
  * exact (and the slopes kept for a re-entry); D while the distances spread
  * under SPVS_CTL_FIT_MIN_SPREAD_UM.  Sequential assignments to few named
  * values (spvs_qf_t results go through memory on the AAPCS). */
-static SPVS_Q_NOINLINE int32_t fit_line(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+static int32_t fit_line(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
                                         int32_t s, int32_t D)
 {
     uint32_t *sat = &c->sat;
@@ -658,7 +658,7 @@ static SPVS_Q_NOINLINE int32_t fit_line(spvs_q_ctl_t *c, const spvs_q_ctl_params
 }
 
 /* A re-entered step 2's signal: D = d0 - sign(d0) |b| s, Q27. */
-static SPVS_Q_NOINLINE int32_t reentry_remaining(spvs_q_ctl_t *c)
+static int32_t reentry_remaining(spvs_q_ctl_t *c)
 {
     uint32_t *sat = &c->sat;
     const int32_t d0 = c->reentry_d0;
@@ -679,7 +679,7 @@ static int32_t residual_clamp(int32_t v)
 /* Standing still after step 3: H - I summed exactly (Q27, at most
  * SPVS_CTL_ARRIVAL_MAX_FRAMES x 2^32), and the residuals in Q16 pixels
  * with their squares (control.c's arrival_add). */
-static SPVS_Q_NOINLINE void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+static void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
                                         const spvs_q_ctl_input_t *in, int with_parallax)
 {
     const int32_t *H = in->H;
@@ -708,23 +708,24 @@ static SPVS_Q_NOINLINE void arrival_add(spvs_q_ctl_t *c, const spvs_q_ctl_params
     }
 }
 
-/* spvs_qf_t operations on pointers for the arrival check, out of line:
- * a spvs_qf_t result is returned through memory on the AAPCS, and each
- * call site of the value-returning forms keeps a slot of its own in the
- * caller's frame.  d may be a or b. */
-static SPVS_Q_NOINLINE void qmul(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf_t *b)
+/* spvs_qf_t operations on pointers for the arrival check: a spvs_qf_t
+ * result is returned through memory on the AAPCS, and each call site of
+ * the value-returning forms keeps a slot of its own in the caller's frame.
+ * d may be a or b. */
+static void qmul(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf_t *b)
 {
     *d = spvs_qf_mul(*a, *b);
 }
 
-static SPVS_Q_NOINLINE void qadd(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf_t *b)
+static void qadd(spvs_qf_t *d, const spvs_qf_t *a, const spvs_qf_t *b)
 {
     *d = spvs_qf_add(*a, *b);
 }
+
 /* One corner's share of the mean transfer, added to *all: returns 0 for
  * w <= 0.  Each value named once and updated in place through the pointer
  * forms above. */
-static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
+static int corner_one(const spvs_q_ctl_params_t *p, const spvs_qf_t r[6],
                                       int k, spvs_qf_t *all, uint32_t *sat)
 {
     const spvs_qf_t u = (k & 1) ? p->corner_x : spvs_qf_neg(p->corner_x);
@@ -768,7 +769,7 @@ static SPVS_Q_NOINLINE int corner_one(const spvs_q_ctl_params_t *p, const spvs_q
  * with g = r31 u + r32 v + r33 and w = 1 + g,
  *   dx = (r11 u + r12 v + r13 - u g) / w,  dy = -v g / w.
  * A corner with w <= 0 (behind the camera) makes it the largest value. */
-static SPVS_Q_NOINLINE spvs_qf_t corner_transfer(const spvs_q_ctl_params_t *p,
+static spvs_qf_t corner_transfer(const spvs_q_ctl_params_t *p,
                                                  const spvs_qf_t r[6], uint32_t *sat)
 {
     spvs_qf_t all = qf_of(0, 0);
@@ -784,7 +785,7 @@ static SPVS_Q_NOINLINE spvs_qf_t corner_transfer(const spvs_q_ctl_params_t *p,
 
 /* control.c's residual_mean_sd: residual k's mean over n frames and its
  * standard deviation, pixels. */
-static SPVS_Q_NOINLINE spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, int k, uint32_t n,
+static spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, int k, uint32_t n,
                                                   spvs_qf_t *sd)
 {
     const spvs_qf_t inv = spvs_qf_recip(qf_of(n, 0), &c->sat);
@@ -800,7 +801,7 @@ static SPVS_Q_NOINLINE spvs_qf_t residual_mean_sd(spvs_q_ctl_t *c, int k, uint32
 }
 
 /* control.c's residual_stat. */
-static SPVS_Q_NOINLINE spvs_qf_t residual_stat(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+static spvs_qf_t residual_stat(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
                                                int k, spvs_qf_t m, spvs_qf_t sd)
 {
     spvs_qf_t zone = p->resolution;
@@ -822,7 +823,7 @@ static spvs_qf_t qf_max(spvs_qf_t a, spvs_qf_t b)
 /* The averaged residual r (scaled units, as the sums), the check's figures
  * in spvs_qf_t (control_steps.inc's order) and, for the telemetry, in int32
  * Q16 (control.c's arrival_figures). */
-static SPVS_Q_NOINLINE void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
+static void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
                                             spvs_qf_t r[6], spvs_qf_t fig[4])
 {
     uint32_t *sat = &c->sat;
@@ -870,7 +871,7 @@ static spvs_qf_t reentry_h33(const spvs_qf_t r[6])
     return spvs_qf_neg(r[5]);
 }
 
-static SPVS_Q_NOINLINE spvs_qf_t reentry_h33_scaled(spvs_q_ctl_t *c, const spvs_qf_t r[6])
+static spvs_qf_t reentry_h33_scaled(spvs_q_ctl_t *c, const spvs_qf_t r[6])
 {
     return spvs_qf_mul(r[5], qf_div(c->slope_sig, c->slope_ax, &c->sat));
 }

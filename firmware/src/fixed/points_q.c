@@ -58,8 +58,8 @@ static spvs_qf_t q_e2(const int32_t *h, const int32_t *p)
 
 
 
-/* The term of a point beyond cost's fast path, in Q52; out of line. */
-SPVS_Q_NOINLINE uint64_t spvs_q_cost_exact(const int32_t *h, const int32_t *p, uint32_t *sat)
+/* The term of a point beyond cost's fast path, in Q52. */
+uint64_t spvs_q_cost_exact(const int32_t *h, const int32_t *p, uint32_t *sat)
 {
     return (uint64_t)spvs_qf_to_q64(q_e2(h, p), SPVS_QCOST, sat);
 }
@@ -120,11 +120,10 @@ static spvs_qf_t qf_c(int32_t q) /* a Q26 coordinate */
 }
 
 /* SPVS_T_FIT_Y and SPVS_T_FIT_X terms of one point (h_point.inc):
- * q = sc (x, y, 1), sc = v / w or 1 / w, r = y / w or u.  Not inlined:
- * its spvs_qf_t temporaries stay out of spvs_q_pts_sum's frame, under
- * which spvs_q_terms_lin's own frame comes on the LIN sums' exact path. */
-SPVS_Q_NOINLINE void spvs_q_terms_fit(int kind, const q_eps_t *r, const int32_t *p,
-                                      spvs_q_sums_t *s)
+ * q = sc (x, y, 1), sc = v / w or 1 / w, r = y / w or u.  A call from
+ * the sums' translation unit: its spvs_qf_t temporaries stay out of
+ * spvs_q_pts_sum's frame. */
+void spvs_q_terms_fit(int kind, const q_eps_t *r, const int32_t *p, spvs_q_sums_t *s)
 {
     uint32_t z = 0;
     const spvs_qf_t iw = spvs_qf_recip(spvs_qf_from_i64(r->w, -53), &z);
@@ -146,10 +145,10 @@ SPVS_Q_NOINLINE void spvs_q_terms_fit(int kind, const q_eps_t *r, const int32_t 
 /* SPVS_T_LIN terms of one point (h_point.inc): the joint fit of rows 1
  * and 3 at the Sampson weights W = (J J^T)^-1 = adj(J J^T) / det of H,
  * added to s (sub = 0) or subtracted (sub = 1, spvs_q_lin_move). */
-/* Not inlined: its spvs_qf_t temporaries stay out of spvs_q_pts_sum's
- * frame, which the fast path uses alone. */
-SPVS_Q_NOINLINE void spvs_q_terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p,
-                                      spvs_q_sums_t *s, int sub)
+/* A call from the sums' translation unit: its spvs_qf_t temporaries stay
+ * out of spvs_q_pts_sum's frame, which the fast path uses alone. */
+void spvs_q_terms_lin(const int32_t *h, const q_eps_t *r, const int32_t *p, spvs_q_sums_t *s,
+                      int sub)
 {
     uint32_t z = 0;
     const spvs_qf_t x = qf_c(p[0]), y = qf_c(p[1]), u = qf_c(p[2]), v = qf_c(p[3]);
@@ -201,9 +200,9 @@ SPVS_Q_NOINLINE void spvs_q_terms_lin(const int32_t *h, const q_eps_t *r, const 
  * exact residuals r): num and den rounded to 31 bits after sums of
  * squares (no cancellation, relative 2^-29 each), one reciprocal (2^-28)
  * and one product (2^-31): relative error below 2^-26. */
-/* Not inlined: its temporaries stay out of spvs_q_pts_sum's frame. */
-SPVS_Q_NOINLINE spvs_qf_t spvs_q_sampson_term(const int32_t *h, const q_eps_t *r,
-                                                const int32_t *p)
+/* A call from the sums' translation unit: its temporaries stay out of
+ * spvs_q_pts_sum's frame. */
+spvs_qf_t spvs_q_sampson_term(const int32_t *h, const q_eps_t *r, const int32_t *p)
 {
     spvs_qf_t num, den;
     q_sampson_nd(h, p, r, &num, &den);
@@ -214,7 +213,7 @@ SPVS_Q_NOINLINE spvs_qf_t spvs_q_sampson_term(const int32_t *h, const q_eps_t *r
 
 /* q_eps as a call, for the per-point paths where its size matters more
  * than a call's few instructions (the Sampson sum, the moved point). */
-SPVS_Q_NOINLINE void spvs_q_eps_call(const int32_t *h, const int32_t *p, q_eps_t *r)
+void spvs_q_eps_call(const int32_t *h, const int32_t *p, q_eps_t *r)
 {
     q_eps(h, p, r);
 }
@@ -223,7 +222,7 @@ SPVS_Q_NOINLINE void spvs_q_eps_call(const int32_t *h, const int32_t *p, q_eps_t
 /* One point's squared Sampson error from its exact residuals
  * (spvs_q_sampson_term) into out's term 0; 0 when w <= SPVS_W_EPS (out
  * unchanged). */
-SPVS_Q_NOINLINE int spvs_q_sampson_exact(const int32_t *h, const int32_t *p, spvs_q_sums_t *out)
+int spvs_q_sampson_exact(const int32_t *h, const int32_t *p, spvs_q_sums_t *out)
 {
     q_eps_t r;
     spvs_q_eps_call(h, p, &r);
@@ -236,11 +235,10 @@ SPVS_Q_NOINLINE int spvs_q_sampson_exact(const int32_t *h, const int32_t *p, spv
 
 
 /* One point's terms on the exact path (spvs_q_terms_lin or spvs_q_terms_fit) into s;
- * 0 when w <= SPVS_W_EPS (s unchanged).  Out of line, so that
- * spvs_q_pts_sum's loop over the points keeps its own values in
- * registers. */
-SPVS_Q_NOINLINE int spvs_q_sum_exact_point(int kind, const int32_t *h, const int32_t *p,
-                                           spvs_q_sums_t *s)
+ * 0 when w <= SPVS_W_EPS (s unchanged).  A call from the sums'
+ * translation unit, so that spvs_q_pts_sum's loop over the points keeps
+ * its own values in registers. */
+int spvs_q_sum_exact_point(int kind, const int32_t *h, const int32_t *p, spvs_q_sums_t *s)
 {
     q_eps_t r;
     spvs_q_eps_call(h, p, &r);
