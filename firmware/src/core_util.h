@@ -101,9 +101,8 @@ static inline void spvs_sort_small(spvs_real *v, uint16_t n)
  * spread order, the position among them advancing by `stride` (mod
  * n_plane) from slot to slot, through order[] when it is given; the other
  * slots take order[k]. */
-static SPVS_ALWAYS_INLINE uint16_t spvs_slot_source(uint16_t k, uint16_t n_plane,
-                                                    const uint16_t *order, uint16_t stride,
-                                                    uint16_t *pos)
+static inline uint16_t spvs_slot_source(uint16_t k, uint16_t n_plane, const uint16_t *order,
+                                        uint16_t stride, uint16_t *pos)
 {
     if (order != 0 && k >= n_plane) {
         return order[k];
