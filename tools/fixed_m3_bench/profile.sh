@@ -72,6 +72,7 @@ head = """#include <math.h>
 #include <stdint.h>
 #include "board.h"
 #include "fmt.h"
+#include "spvs/ransac.h"
 #include "spvs/spvs.h"
 #define NS_PER_TICK 40u
 #define MEASURE_ICOUNT_SHIFT 8
