@@ -15,6 +15,7 @@
 #include "spvs/control.h"
 #include "spvs/offplane.h"
 #include "spvs/epipole.h"
+#include "spvs/instance.h"
 #include "fixed/control_q.h"
 #include "data.h"
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
@@ -61,7 +62,7 @@ static void putk(const char *pre, const char *k, uint32_t v)
     b[i] = 0;
     putu(b, v);
 }
-static void stages_f(spvs_t *s, const char *pre)
+static void stages_f(spvs_state_t *s, const char *pre)
 {
     spvs_offplane_t *const o = &s->off;
     uint32_t t0 = now();
@@ -258,7 +259,7 @@ int main(void)
      * estimate, so the same candidates): the off-plane collect, the
      * epipole, the memory's update; then the same on a frame with
      * off-plane points (keys o*), and the arrival check's decision. */
-    stages_f(&sf, "");
+    stages_f(spvs_state(&sf), "");
     stages_q(&sq, "");
     static spvs_match_t mo[NO];
     for (int i = 0; i < NO; i++) {
@@ -272,7 +273,7 @@ int main(void)
     putu("oupdate_f ", t1 - t0); putu("cnt_oupdate_f_st ", (uint32_t)(ouf + 100));
     t0 = now(); const int ouq = spvs_q_update(&sq, mo, NO, 0.1f, &out); t1 = now();
     putu("oupdate_q ", t1 - t0); putu("cnt_oupdate_q_st ", (uint32_t)(ouq + 100));
-    stages_f(&sf, "o");
+    stages_f(spvs_state(&sf), "o");
     stages_q(&sq, "o");
     arrive_f(&pp.ctl);
     arrive_q(&sq.p.ctl_p);
