@@ -56,50 +56,6 @@ constexpr int kFinalStops = 3;
  * image front end, sim/frontend.h: SIFT matches, not 1 px point noise). */
 constexpr double kArrivalSigmaPx = 1.5;
 
-const char *const kUsage =
-    "usage: spvs-camera --goal GOAL.png --source SRC [options]\n"
-    "       spvs-camera teach --source SRC --out GOAL.png [options]\n"
-    "Camera front end of spvs: matches each frame against the goal image and\n"
-    "estimates H (or runs the controller) with the core.  docs/CAMERA.md.\n"
-    "\n"
-    "  --source SRC        /dev/videoN, a video file, a folder of images read\n"
-    "                      in name order, or a pattern DIR/frame_*.png\n"
-    "  --goal FILE         the goal image (spvs-camera teach writes one)\n"
-    "  --method 1|2|3      run the controller and publish (v, w); without it\n"
-    "                      each frame's H is estimated only\n"
-    "  --transport T       none (default), lcm, zenoh or dds.  lcm, zenoh or\n"
-    "                      dds without --method: the matches go to a\n"
-    "                      controller (spvs-node, spvs-node --dds for dds,\n"
-    "                      $ROS_DOMAIN_ID) as spvs-sim sends them,\n"
-    "                      and its command comes back; lcm with --method: the\n"
-    "                      command and telemetry are published on SPVS_CMD\n"
-    "                      and SPVS_STATE\n"
-    "  --focal-px F        focal length, pixels; principal point at the image\n"
-    "                      centre, no distortion\n"
-    "  --calib FILE.yml    OpenCV calibration (camera_matrix,\n"
-    "                      distortion_coefficients); one of the two is needed\n"
-    "  --json              one JSON object per frame on stdout, then a summary\n"
-    "  --json-matches      --json, each frame also with its kept matches \"m\":\n"
-    "                      [feature, x_goal, y_goal, x_cur, y_cur] (centred px)\n"
-    "  --dt S              frame period of files and folders, seconds (0.1);\n"
-    "                      a device's frames are timed by the clock\n"
-    "  --max-frames N      stop after N frames (all)\n"
-    "  --ratio R           Lowe's ratio test, (0, 1] (0.7)\n"
-    "  --features N        features detected per frame, 100..20000 (1500)\n"
-    "  --goal-features N   goal features kept, 50..512 (500)\n"
-    "  --subpixel 0|1      refine matched corners to sub-pixel (1)\n"
-    "  --half auto|0|1     detect on the halved image (auto: width >= 600)\n"
-    "  --seed S            RANSAC seed (0)\n"
-    "  --lcm-url URL       LCM provider (udpm://239.255.76.67:7667?ttl=0)\n"
-    "  --zenoh-endpoint E  Zenoh endpoint (tcp/127.0.0.1:7447)\n"
-    "  --timeout S         transport wait for each command, seconds (2)\n"
-    "  --frame N           teach: the frame of the source to keep (0; a\n"
-    "                      device skips 10 frames first)\n"
-    "  --help              this text\n"
-    "\n"
-    "Exit status: 0 the source ended (or --max-frames), 1 a lost device, a\n"
-    "transport or output error, 2 bad options or an unusable goal.\n";
-
 struct Options {
     bool teach = false;
     std::string source, goal, out, calib;
@@ -118,58 +74,158 @@ struct Options {
     spvscam::VisionParams vp;
 };
 
-void parse_value(Options &o, const std::string &name, const char *val)
+/* One option of the command line: the parser and --help read the same
+ * table.  metavar nullptr: a flag; a '\n' in help continues the text under
+ * its first line. */
+struct OptSpec {
+    const char *name;
+    const char *metavar;
+    const char *help;
+    void (*set)(Options &o, const char *val);
+};
+
+void set_transport(Options &o, const char *val)
 {
-    if (name == "--source") {
-        o.source = val;
-    } else if (name == "--goal") {
-        o.goal = val;
-    } else if (name == "--out") {
-        o.out = val;
-    } else if (name == "--calib") {
-        o.calib = val;
-    } else if (name == "--focal-px") {
-        o.focal_px = sim_cli_real("--focal-px", val, 1.0, 1e6, SIM_CLI_CLOSED);
-    } else if (name == "--method") {
-        o.method = (int)sim_cli_int("--method", val, 1, 3);
-    } else if (name == "--transport") {
-        o.transport = val;
-        if (o.transport != "none" && o.transport != "lcm" &&
-            o.transport != "zenoh" && o.transport != "dds") {
-            sim_cli_fail("--transport: '%s' is not none, lcm, zenoh or dds", val);
-        }
-    } else if (name == "--dt") {
-        o.dt_s = sim_cli_real("--dt", val, 0.0, 60.0, SIM_CLI_OPEN_LO);
-    } else if (name == "--max-frames") {
-        o.max_frames = sim_cli_int("--max-frames", val, 1, 1000000000LL);
-    } else if (name == "--frame") {
-        o.teach_frame = sim_cli_int("--frame", val, 0, 1000000000LL);
-    } else if (name == "--ratio") {
-        o.vp.ratio = sim_cli_real("--ratio", val, 0.0, 1.0, SIM_CLI_OPEN_LO);
-    } else if (name == "--features") {
-        o.vp.frame_features = (int)sim_cli_int("--features", val, 100, 20000);
-    } else if (name == "--goal-features") {
-        o.vp.goal_features = (int)sim_cli_int("--goal-features", val,
-                                              spvscam::Vision::kMinGoalFeatures,
-                                              SPVS_MAX_FEATURES);
-    } else if (name == "--subpixel") {
-        o.vp.subpixel = (int)sim_cli_int("--subpixel", val, 0, 1);
-    } else if (name == "--half") {
-        o.vp.half = std::strcmp(val, "auto") == 0
-                        ? -1
-                        : (int)sim_cli_int("--half", val, 0, 1);
-    } else if (name == "--seed") {
-        o.seed = (uint32_t)sim_cli_int("--seed", val, 0, 4294967295LL);
-    } else if (name == "--lcm-url") {
-        o.lcm_url = val;
-    } else if (name == "--zenoh-endpoint") {
-        o.zenoh_endpoint = val;
-    } else if (name == "--timeout") {
-        o.timeout_s = sim_cli_real("--timeout", val, 0.0, 3600.0,
-                                   SIM_CLI_OPEN_LO);
-    } else {
-        sim_cli_fail("unknown option '%s'", name.c_str());
+    o.transport = val;
+    if (o.transport != "none" && o.transport != "lcm" && o.transport != "zenoh" &&
+        o.transport != "dds") {
+        sim_cli_fail("--transport: '%s' is not none, lcm, zenoh or dds", val);
     }
+}
+
+void set_half(Options &o, const char *val)
+{
+    o.vp.half = std::strcmp(val, "auto") == 0 ? -1 : (int)sim_cli_int("--half", val, 0, 1);
+}
+
+void set_goal_features(Options &o, const char *val)
+{
+    o.vp.goal_features = (int)sim_cli_int("--goal-features", val,
+                                          spvscam::Vision::kMinGoalFeatures, SPVS_MAX_FEATURES);
+}
+
+/* Every option, in the order --help lists them. */
+const OptSpec kOpts[] = {
+    {"--source", "SRC",
+     "/dev/videoN, a video file, a folder of images read\n"
+     "in name order, or a pattern DIR/frame_*.png",
+     [](Options &o, const char *v) { o.source = v; }},
+    {"--goal", "FILE", "the goal image (spvs-camera teach writes one)",
+     [](Options &o, const char *v) { o.goal = v; }},
+    {"--out", "FILE", "teach: where the goal image is written",
+     [](Options &o, const char *v) { o.out = v; }},
+    {"--method", "1|2|3",
+     "run the controller and publish (v, w); without it\n"
+     "each frame's H is estimated only",
+     [](Options &o, const char *v) { o.method = (int)sim_cli_int("--method", v, 1, 3); }},
+    {"--transport", "T",
+     "none (default), lcm, zenoh or dds.  lcm, zenoh or\n"
+     "dds without --method: the matches go to a\n"
+     "controller (spvs-node, spvs-node --dds for dds,\n"
+     "$ROS_DOMAIN_ID) as spvs-sim sends them,\n"
+     "and its command comes back; lcm with --method: the\n"
+     "command and telemetry are published on SPVS_CMD\n"
+     "and SPVS_STATE",
+     set_transport},
+    {"--focal-px", "F",
+     "focal length, pixels; principal point at the image\n"
+     "centre, no distortion",
+     [](Options &o, const char *v) {
+         o.focal_px = sim_cli_real("--focal-px", v, 1.0, 1e6, SIM_CLI_CLOSED);
+     }},
+    {"--calib", "FILE.yml",
+     "OpenCV calibration (camera_matrix,\n"
+     "distortion_coefficients); one of the two is needed",
+     [](Options &o, const char *v) { o.calib = v; }},
+    {"--json", nullptr, "one JSON object per frame on stdout, then a summary",
+     [](Options &o, const char *) { o.json = true; }},
+    {"--json-matches", nullptr,
+     "--json, each frame also with its kept matches \"m\":\n"
+     "[feature, x_goal, y_goal, x_cur, y_cur] (centred px)",
+     [](Options &o, const char *) { o.json = o.json_matches = true; }},
+    {"--dt", "S",
+     "frame period of files and folders, seconds (0.1);\n"
+     "a device's frames are timed by the clock",
+     [](Options &o, const char *v) {
+         o.dt_s = sim_cli_real("--dt", v, 0.0, 60.0, SIM_CLI_OPEN_LO);
+     }},
+    {"--max-frames", "N", "stop after N frames (all)",
+     [](Options &o, const char *v) {
+         o.max_frames = sim_cli_int("--max-frames", v, 1, 1000000000LL);
+     }},
+    {"--ratio", "R", "Lowe's ratio test, (0, 1] (0.7)",
+     [](Options &o, const char *v) {
+         o.vp.ratio = sim_cli_real("--ratio", v, 0.0, 1.0, SIM_CLI_OPEN_LO);
+     }},
+    {"--features", "N", "features detected per frame, 100..20000 (1500)",
+     [](Options &o, const char *v) {
+         o.vp.frame_features = (int)sim_cli_int("--features", v, 100, 20000);
+     }},
+    {"--goal-features", "N", "goal features kept, 50..512 (500)", set_goal_features},
+    {"--subpixel", "0|1", "refine matched corners to sub-pixel (1)",
+     [](Options &o, const char *v) { o.vp.subpixel = (int)sim_cli_int("--subpixel", v, 0, 1); }},
+    {"--half", "auto|0|1", "detect on the halved image (auto: width >= 600)", set_half},
+    {"--seed", "S", "RANSAC seed (0)",
+     [](Options &o, const char *v) {
+         o.seed = (uint32_t)sim_cli_int("--seed", v, 0, 4294967295LL);
+     }},
+    {"--lcm-url", "URL", "LCM provider (udpm://239.255.76.67:7667?ttl=0)",
+     [](Options &o, const char *v) { o.lcm_url = v; }},
+    {"--zenoh-endpoint", "E", "Zenoh endpoint (tcp/127.0.0.1:7447)",
+     [](Options &o, const char *v) { o.zenoh_endpoint = v; }},
+    {"--timeout", "S", "transport wait for each command, seconds (2)",
+     [](Options &o, const char *v) {
+         o.timeout_s = sim_cli_real("--timeout", v, 0.0, 3600.0, SIM_CLI_OPEN_LO);
+     }},
+    {"--frame", "N",
+     "teach: the frame of the source to keep (0; a\n"
+     "device skips 10 frames first)",
+     [](Options &o, const char *v) {
+         o.teach_frame = sim_cli_int("--frame", v, 0, 1000000000LL);
+     }},
+    {"--help", nullptr, "this text", nullptr},
+};
+
+/* The column where the help texts start in --help. */
+constexpr int kHelpCol = 22;
+
+void usage(FILE *f)
+{
+    std::fputs("usage: spvs-camera --goal GOAL.png --source SRC [options]\n"
+               "       spvs-camera teach --source SRC --out GOAL.png [options]\n"
+               "Camera front end of spvs: matches each frame against the goal image and\n"
+               "estimates H (or runs the controller) with the core.  docs/CAMERA.md.\n"
+               "\n",
+               f);
+    for (const OptSpec &o : kOpts) {
+        const std::string left = o.metavar ? std::string(o.name) + " " + o.metavar : o.name;
+        std::fprintf(f, "  %-*s", kHelpCol - 2, left.c_str());
+        if ((int)left.size() > kHelpCol - 4) {
+            std::fprintf(f, "\n  %-*s", kHelpCol - 2, "");
+        }
+        for (const char *c = o.help; *c; ++c) {
+            if (*c == '\n') {
+                std::fprintf(f, "\n  %-*s", kHelpCol - 2, "");
+            } else {
+                std::fputc(*c, f);
+            }
+        }
+        std::fputc('\n', f);
+    }
+    std::fputs("\n"
+               "Exit status: 0 the source ended (or --max-frames), 1 a lost device, a\n"
+               "transport or output error, 2 bad options or an unusable goal.\n",
+               f);
+}
+
+const OptSpec *find_opt(const std::string &name)
+{
+    for (const OptSpec &o : kOpts) {
+        if (name == o.name) {
+            return &o;
+        }
+    }
+    return nullptr;
 }
 
 Options parse_options(int argc, char **argv)
@@ -183,33 +239,36 @@ Options parse_options(int argc, char **argv)
     }
     for (; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (arg == "--help" || arg == "-h") {
-            std::fputs(kUsage, stdout);
+        if (arg == "-h") {
+            usage(stdout);
             std::exit(0);
         }
         if (arg.rfind("--", 0) != 0) {
             sim_cli_fail("unexpected argument '%s'", arg.c_str());
         }
-        if (arg == "--json") {
-            o.json = true;
-            continue;
-        }
-        if (arg == "--json-matches") {
-            o.json = o.json_matches = true;
-            continue;
-        }
-        std::string name = arg;
-        const char *val = nullptr;
         const size_t eq = arg.find('=');
-        if (eq != std::string::npos) {
-            name = arg.substr(0, eq);
+        const std::string name = eq != std::string::npos ? arg.substr(0, eq) : arg;
+        const OptSpec *spec = find_opt(name);
+        if (spec == nullptr) {
+            sim_cli_fail("unknown option '%s'", name.c_str());
+        }
+        if (spec->set == nullptr) {
+            usage(stdout);
+            std::exit(0);
+        }
+        const char *val = nullptr;
+        if (spec->metavar == nullptr) {
+            if (eq != std::string::npos) {
+                sim_cli_fail("%s takes no value", name.c_str());
+            }
+        } else if (eq != std::string::npos) {
             val = argv[i] + eq + 1;
         } else if (i + 1 < argc) {
             val = argv[++i];
         } else {
             sim_cli_fail("%s needs a value", arg.c_str());
         }
-        parse_value(o, name, val);
+        spec->set(o, val);
     }
     if (o.source.empty()) {
         sim_cli_fail("--source is needed");
