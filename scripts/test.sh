@@ -75,14 +75,18 @@ run_ctest double "$dir" -R "^($(echo $core_tests | tr ' ' '|')|unity_self_fail_c
 
 # The reference path (SPVS_ACCEL=OFF: nothing from firmware/src/accel, the
 # Cortex-M4F's point layout, firmware/src/points.c): the core's tests again,
-# and the closed loop must equal the accelerated build's bit for bit.
+# the fixed-point image built on the same path in the closed loop on the
+# emulated Cortex-M3, bit for bit the host's reference core, and the closed
+# loop must equal the accelerated build's bit for bit.
 dir=build/test-reference
-echo "=== configure and build (float32 core, reference path, core tests) ==="
+ref_mcu_tests="target_m3_fixed_build target_m3_fixed_qemu mcu_closed_loop_fixed_m1
+  mcu_closed_loop_fixed_m2 mcu_closed_loop_fixed_m3"
+echo "=== configure and build (float32 core, reference path, core and MCU tests) ==="
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPVS_DOUBLE=OFF \
   -DSPVS_ACCEL=OFF >/dev/null
-cmake --build "$dir" -j "$jobs" --target $core_tests spvs-sim
-echo "=== ctest (float32 core, reference path, core tests) ==="
-run_ctest reference "$dir" -R "^($(echo $core_tests | tr ' ' '|')|unity_self_fail_count)\$"
+cmake --build "$dir" -j "$jobs" --target $core_tests spvs-sim spvs-serial-agent
+echo "=== ctest (float32 core, reference path, core and MCU tests) ==="
+run_ctest reference "$dir" -R "^($(echo $core_tests $ref_mcu_tests | tr ' ' '|')|unity_self_fail_count)\$"
 echo "=== closed loop: accelerated build against the reference path ==="
 tests/compare_layouts.sh build/test-float/sim_host/spvs-sim "$dir/sim_host/spvs-sim" || status=1
 

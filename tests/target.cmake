@@ -10,6 +10,13 @@ find_program(SPVS_QEMU_ARM qemu-system-arm)
 if(SPVS_ARM_GCC AND SPVS_QEMU_ARM AND NOT SPVS_DOUBLE AND NOT SPVS_SANITIZE)
   set(spvs_cross_dir ${CMAKE_BINARY_DIR}/cortex-m4f)
   set(spvs_target_script ${CMAKE_CURRENT_SOURCE_DIR}/target/target_test.sh)
+  # The images build the host's path (SPVS_ACCEL), so each replays and
+  # matches the host core of this build bit for bit.
+  if(SPVS_ACCEL)
+    set(spvs_target_accel ON)
+  else()
+    set(spvs_target_accel OFF)
+  endif()
   if(TARGET spvs-sim)
     set(spvs_replay_sim $<TARGET_FILE:spvs-sim>)
   else()
@@ -21,7 +28,7 @@ if(SPVS_ARM_GCC AND SPVS_QEMU_ARM AND NOT SPVS_DOUBLE AND NOT SPVS_SANITIZE)
   # twin must fail.  In every float32 host build and in the fixed-point one.
   set(spvs_cross_m3_fixed_dir ${CMAKE_BINARY_DIR}/cortex-m3-fixed)
   add_test(NAME target_m3_fixed_build
-           COMMAND ${spvs_target_script} --cpu cortex-m3 --fixed build ${PROJECT_SOURCE_DIR}
+           COMMAND ${spvs_target_script} --cpu cortex-m3 --fixed --accel ${spvs_target_accel} build ${PROJECT_SOURCE_DIR}
                    ${spvs_cross_m3_fixed_dir} ${spvs_replay_sim})
   add_test(NAME target_m3_fixed_qemu COMMAND ${spvs_target_script} run ${spvs_cross_m3_fixed_dir})
   add_test(NAME target_m3_fixed_tamper
@@ -35,7 +42,7 @@ endif()
 # fixed-point build, whose spvs-sim runs the fixed-point core.
 if(SPVS_ARM_GCC AND SPVS_QEMU_ARM AND NOT SPVS_DOUBLE AND NOT SPVS_SANITIZE AND NOT SPVS_FIXED)
   add_test(NAME target_build
-           COMMAND ${spvs_target_script} build ${PROJECT_SOURCE_DIR} ${spvs_cross_dir}
+           COMMAND ${spvs_target_script} --accel ${spvs_target_accel} build ${PROJECT_SOURCE_DIR} ${spvs_cross_dir}
                    ${spvs_replay_sim})
   add_test(NAME target_qemu COMMAND ${spvs_target_script} run ${spvs_cross_dir})
   add_test(NAME target_qemu_tamper COMMAND ${spvs_target_script} tamper ${spvs_cross_dir})
@@ -49,7 +56,7 @@ if(SPVS_ARM_GCC AND SPVS_QEMU_ARM AND NOT SPVS_DOUBLE AND NOT SPVS_SANITIZE AND 
   # build) refuses an image that calls float helpers.
   set(spvs_cross_m3_dir ${CMAKE_BINARY_DIR}/cortex-m3)
   add_test(NAME target_m3_build
-           COMMAND ${spvs_target_script} --cpu cortex-m3 build ${PROJECT_SOURCE_DIR}
+           COMMAND ${spvs_target_script} --cpu cortex-m3 --accel ${spvs_target_accel} build ${PROJECT_SOURCE_DIR}
                    ${spvs_cross_m3_dir} ${spvs_replay_sim})
   add_test(NAME target_m3_qemu COMMAND ${spvs_target_script} run ${spvs_cross_m3_dir})
   add_test(NAME target_m3_qemu_tamper COMMAND ${spvs_target_script} tamper ${spvs_cross_m3_dir})

@@ -2,7 +2,7 @@
 # Cross-build the images of target/ and run them under QEMU: the Cortex-M4F
 # on mps2-an386 (default) or the Cortex-M3 without FPU on mps2-an385.
 #
-#   tests/target/target_test.sh [--cpu CPU] [--fixed] build SRC CROSS_DIR [SPVS_SIM]
+#   tests/target/target_test.sh [--cpu CPU] [--fixed] [--accel ON|OFF] build SRC CROSS_DIR [SPVS_SIM]
 #       configure and build the cross tree in CROSS_DIR: the root project
 #       with the cortex-m4f (or --cpu's) preset settings (SPVS_HOST=OFF),
 #       which adds target/ (images) and serial/ (the serial link's codec);
@@ -10,6 +10,9 @@
 #       --fixed: the fixed-point build (SPVS_FIXED=ON, docs/FIXED.md), whose
 #       test image links no float helper and replays the host's fixed-point
 #       core bit for bit;
+#       --accel: the images' SPVS_ACCEL (default ON), the host build's, so
+#       that an image replays the same path as the host core it is compared
+#       with (the fixed-point reference sums round otherwise);
 #       with SPVS_SIM (a host float32 spvs-sim), first record the replay run
 #       with it (tools/make_replay.sh [--fixed]), so target and host run the
 #       same core.
@@ -58,6 +61,7 @@ qemu_run() {
 
 cpu=cortex-m4f
 fixed=OFF
+accel=ON
 while [ $# -gt 0 ]; do
   case "$1" in
     -h|--help) usage; exit 0 ;;
@@ -69,6 +73,14 @@ while [ $# -gt 0 ]; do
     --fixed)
       fixed=ON
       shift
+      ;;
+    --accel)
+      [ $# -ge 2 ] || die_usage "--accel needs ON or OFF"
+      case "$2" in
+        ON|OFF) accel=$2 ;;
+        *) die_usage "--accel: '$2' is not ON or OFF" ;;
+      esac
+      shift 2
       ;;
     *) break ;;
   esac
@@ -99,7 +111,7 @@ case "$mode" in
     cmake -S "$src" -B "$cross" -G Ninja \
       -DCMAKE_TOOLCHAIN_FILE="$src/cmake/toolchain-arm-none-eabi.cmake" \
       -DSPVS_HOST=OFF -DSPVS_DOUBLE=OFF -DSPVS_FIXED=$fixed -DSPVS_CPU="$cpu" \
-      -DCMAKE_BUILD_TYPE=MinSizeRel "${extra[@]}" >/dev/null
+      -DSPVS_ACCEL=$accel -DCMAKE_BUILD_TYPE=MinSizeRel "${extra[@]}" >/dev/null
     cmake --build "$cross"
     # The post-build step already refuses double helpers; say it here too.
     for elf in "$cross"/target/*.elf; do
