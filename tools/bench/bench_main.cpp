@@ -134,41 +134,147 @@ std::vector<bool> parse_families(const char *opt, const char *s)
     return on;
 }
 
+/* One option of the command line: the parser and --help read the same
+ * table.  metavar nullptr: a flag; a mode is one of the exclusive modes;
+ * a '\n' in help continues the text under its first line. */
+struct OptSpec {
+    const char *name;
+    const char *metavar;
+    bool mode;
+    const char *help;
+    void (*set)(Options &o, const char *opt, const char *val);
+};
+
+void set_mode(Options &o, const char *m)
+{
+    if (!o.mode.empty())
+        sim_cli_fail("only one mode per run (%s and %s)", o.mode.c_str(), m);
+    o.mode = m;
+}
+
+void set_estimators(Options &o, const char *, const char *v)
+{
+    o.estimators = split_list(v);
+    if (o.estimators.empty())
+        sim_cli_fail("--estimators needs a comma-separated list");
+}
+
+/* Every option, in the order --help lists them. */
+const OptSpec kOpts[] = {
+    {"--generate", "FILE", true, "write the case matrix (HOMBENCH v1)",
+     [](Options &o, const char *opt, const char *v) { set_mode(o, opt); o.file = v; }},
+    {"--cases", "FILE", true,
+     "time estimators on FILE, one JSON line per (case_id,\n"
+     "estimator); needs --json",
+     [](Options &o, const char *opt, const char *v) { set_mode(o, opt); o.file = v; }},
+    {"--full", nullptr, true, "whole matrix, tables (or JSON lines with --json)",
+     [](Options &o, const char *opt, const char *) { set_mode(o, opt); }},
+    {"--short", nullptr, true, "CI mode: one case, few repeats, JSON lines",
+     [](Options &o, const char *opt, const char *) { set_mode(o, opt); }},
+    {"--callgrind", "EST", true, "EST for --count K estimates at --n, --mismatch, --sigma",
+     [](Options &o, const char *opt, const char *v) {
+         set_mode(o, opt);
+         o.callgrind_est = v;
+     }},
+    {"--json", nullptr, false, "JSON lines instead of tables",
+     [](Options &o, const char *, const char *) { o.json = true; }},
+    {"--repeats", "K", false, "timed estimates per record and estimator",
+     [](Options &o, const char *opt, const char *v) {
+         o.repeats = (int)parse_long(opt, v, 1, 100000);
+     }},
+    {"--warmup", "K", false, "untimed estimates per estimator before timing",
+     [](Options &o, const char *opt, const char *v) {
+         o.warmup = (int)parse_long(opt, v, 0, 100000);
+     }},
+    {"--estimators", "a,b|all", false, "estimators (default: spvs for --cases, all otherwise)",
+     set_estimators},
+    {"--order", "turns|blocks", false,
+     "on each record, estimators take turns repeat by repeat\n"
+     "(default), or each runs its repeats back to back",
+     [](Options &o, const char *opt, const char *v) {
+         o.blocks = parse_choice(opt, v, "turns", "blocks");
+     }},
+    {"--between", "none|frame", false,
+     "untimed work before every timed estimate: nothing\n"
+     "(default), or one camera frame's feature extraction\n"
+     "(ORB, 500 features, 640x480) after which the matches\n"
+     "are handed over afresh: every estimator starts cold",
+     [](Options &o, const char *opt, const char *v) {
+         o.frame = parse_choice(opt, v, "none", "frame");
+     }},
+    {"--case", "ID", false,
+     "with --generate or --full: only case ID of the matrix\n"
+     "(0-71, ((iFamily * 4 + iN) * 3 + iMismatch) * 2 + iSigma;\n"
+     "15 = homing, N 200, 20 %, 1 px; 39 = fig5, 63 = grazing)",
+     [](Options &o, const char *opt, const char *v) {
+         o.only_case = (int)parse_long(opt, v, 0, kCases - 1);
+     }},
+    {"--family", "F[,F]|all", false,
+     "with --generate or --full: only these pose families:\n"
+     "homing (P poses along the run from (-3, -10, -30 deg)),\n"
+     "fig5 (P along each of the six Figure 5 runs),\n"
+     "grazing (the goal image's centre 60-100 deg off the\n"
+     "optical axis, P angles at each Figure 5 start)",
+     [](Options &o, const char *opt, const char *v) { o.families = parse_families(opt, v); }},
+    {"--instances", "I", false, "case generation: random instances per case (8)",
+     [](Options &o, const char *opt, const char *v) {
+         o.instances = (uint32_t)parse_long(opt, v, 1, 10000);
+     }},
+    {"--poses", "P", false, "case generation: poses per start (8)",
+     [](Options &o, const char *opt, const char *v) {
+         o.poses = (uint32_t)parse_long(opt, v, 1, (long)HB_POSE_STRIDE - 1);
+     }},
+    {"--seed", "S", false, "case generation: seed (1)",
+     [](Options &o, const char *opt, const char *v) {
+         o.seed = (uint64_t)parse_long(opt, v, 0, 2147483647L);
+     }},
+    {"--per-record", nullptr, false,
+     "also print one JSON line per (record, estimator) on stderr:\n"
+     "the pose, its view (off_axis_deg, inliers_over_3px) and\n"
+     "the estimator's successes and median corner error",
+     [](Options &o, const char *, const char *) { o.per_record = true; }},
+    {"--jsonl", "FILE", false, "with --full: also write the JSON lines to FILE",
+     [](Options &o, const char *, const char *v) { o.jsonl_path = v; }},
+    {"--n", "N", false, "callgrind mode: matches (100)",
+     [](Options &o, const char *opt, const char *v) {
+         o.n = (uint32_t)parse_long(opt, v, 4, (long)HB_MAX_N);
+     }},
+    {"--mismatch", "F", false, "callgrind mode: mismatched share (0.2)",
+     [](Options &o, const char *opt, const char *v) { o.mismatch = parse_double(opt, v, 0.0, 0.9); }},
+    {"--sigma", "PX", false, "callgrind mode: noise, pixels (1)",
+     [](Options &o, const char *opt, const char *v) { o.sigma = parse_double(opt, v, 0.0, 100.0); }},
+    {"--count", "K", false, "callgrind mode: estimates (1000)",
+     [](Options &o, const char *opt, const char *v) {
+         o.count = parse_long(opt, v, 0, 100000000L);
+     }},
+    {"--help", nullptr, false, "this text", nullptr},
+};
+
+/* The column where the help texts start. */
+constexpr int kHelpCol = 25;
+
 void print_help()
 {
-    std::printf(
-        "usage: spvs-bench MODE [options]\n"
-        "modes:\n"
-        "  --generate FILE        write the case matrix (HOMBENCH v1)\n"
-        "  --cases FILE --json    time estimators on FILE, one JSON line per (case_id, estimator)\n"
-        "  --full                 whole matrix, tables (or JSON lines with --json)\n"
-        "  --short                CI mode: one case, few repeats, JSON lines\n"
-        "  --callgrind EST        EST for --count K estimates at --n, --mismatch, --sigma\n"
-        "options:\n"
-        "  --repeats K            timed estimates per record and estimator\n"
-        "  --warmup K             untimed estimates per estimator before timing\n"
-        "  --estimators a,b|all   estimators (default: spvs for --cases, all otherwise)\n"
-        "  --order turns|blocks   on each record, estimators take turns repeat by repeat\n"
-        "                         (default), or each runs its repeats back to back\n"
-        "  --between none|frame   untimed work before every timed estimate: nothing\n"
-        "                         (default), or one camera frame's feature extraction\n"
-        "                         (ORB, 500 features, 640x480) after which the matches\n"
-        "                         are handed over afresh: every estimator starts cold\n"
-        "  --case ID              with --generate or --full: only case ID of the matrix\n"
-        "                         (0-71, ((iFamily * 4 + iN) * 3 + iMismatch) * 2 + iSigma;\n"
-        "                         15 = homing, N 200, 20 %%, 1 px; 39 = fig5, 63 = grazing)\n"
-        "  --family F[,F]|all     with --generate or --full: only these pose families:\n"
-        "                         homing (P poses along the run from (-3, -10, -30 deg)),\n"
-        "                         fig5 (P along each of the six Figure 5 runs),\n"
-        "                         grazing (the goal image's centre 60-100 deg off the\n"
-        "                         optical axis, P angles at each Figure 5 start)\n"
-        "  --instances I --poses P --seed S   case generation (default 8, 8, 1)\n"
-        "  --per-record           also print one JSON line per (record, estimator) on stderr:\n"
-        "                         the pose, its view (off_axis_deg, inliers_over_3px) and\n"
-        "                         the estimator's successes and median corner error\n"
-        "  --jsonl FILE           with --full: also write the JSON lines to FILE\n"
-        "  --n N --mismatch F --sigma PX --count K   callgrind mode\n"
-        "estimators in this build:");
+    std::printf("usage: spvs-bench MODE [options]\n");
+    for (int section = 0; section < 2; section++) {
+        std::printf(section == 0 ? "modes:\n" : "options:\n");
+        for (const OptSpec &o : kOpts) {
+            if (o.mode != (section == 0))
+                continue;
+            const std::string left = o.metavar ? std::string(o.name) + " " + o.metavar : o.name;
+            std::printf("  %-*s", kHelpCol - 2, left.c_str());
+            if ((int)left.size() > kHelpCol - 4)
+                std::printf("\n  %-*s", kHelpCol - 2, "");
+            for (const char *c = o.help; *c; ++c) {
+                if (*c == '\n')
+                    std::printf("\n  %-*s", kHelpCol - 2, "");
+                else
+                    std::putchar(*c);
+            }
+            std::putchar('\n');
+        }
+    }
+    std::printf("estimators in this build:");
     for (const auto &e : bench::available_estimators())
         std::printf(" %s", e.c_str());
     std::printf("\n");
@@ -178,73 +284,29 @@ Options parse(int argc, char **argv)
 {
     sim_cli_program("spvs-bench");
     Options o;
-    auto need = [&](int &i) -> const char * {
-        if (i + 1 >= argc)
-            sim_cli_fail("%s needs a value", argv[i]);
-        return argv[++i];
-    };
-    auto set_mode = [&](const char *m) {
-        if (!o.mode.empty())
-            sim_cli_fail("only one mode per run (%s and %s)", o.mode.c_str(), m);
-        o.mode = m;
-    };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (!std::strcmp(a, "--help") || !std::strcmp(a, "-h")) {
+        if (!std::strcmp(a, "-h")) {
             print_help();
             std::exit(0);
-        } else if (!std::strcmp(a, "--generate")) {
-            set_mode("--generate");
-            o.file = need(i);
-        } else if (!std::strcmp(a, "--cases")) {
-            set_mode("--cases");
-            o.file = need(i);
-        } else if (!std::strcmp(a, "--full")) {
-            set_mode("--full");
-        } else if (!std::strcmp(a, "--short")) {
-            set_mode("--short");
-        } else if (!std::strcmp(a, "--callgrind")) {
-            set_mode("--callgrind");
-            o.callgrind_est = need(i);
-        } else if (!std::strcmp(a, "--json")) {
-            o.json = true;
-        } else if (!std::strcmp(a, "--per-record")) {
-            o.per_record = true;
-        } else if (!std::strcmp(a, "--jsonl")) {
-            o.jsonl_path = need(i);
-        } else if (!std::strcmp(a, "--repeats")) {
-            o.repeats = (int)parse_long(a, need(i), 1, 100000);
-        } else if (!std::strcmp(a, "--warmup")) {
-            o.warmup = (int)parse_long(a, need(i), 0, 100000);
-        } else if (!std::strcmp(a, "--order")) {
-            o.blocks = parse_choice(a, need(i), "turns", "blocks");
-        } else if (!std::strcmp(a, "--between")) {
-            o.frame = parse_choice(a, need(i), "none", "frame");
-        } else if (!std::strcmp(a, "--estimators")) {
-            o.estimators = split_list(need(i));
-            if (o.estimators.empty())
-                sim_cli_fail("--estimators needs a comma-separated list");
-        } else if (!std::strcmp(a, "--case")) {
-            o.only_case = (int)parse_long(a, need(i), 0, kCases - 1);
-        } else if (!std::strcmp(a, "--family")) {
-            o.families = parse_families(a, need(i));
-        } else if (!std::strcmp(a, "--instances")) {
-            o.instances = (uint32_t)parse_long(a, need(i), 1, 10000);
-        } else if (!std::strcmp(a, "--poses")) {
-            o.poses = (uint32_t)parse_long(a, need(i), 1, (long)HB_POSE_STRIDE - 1);
-        } else if (!std::strcmp(a, "--seed")) {
-            o.seed = (uint64_t)parse_long(a, need(i), 0, 2147483647L);
-        } else if (!std::strcmp(a, "--n")) {
-            o.n = (uint32_t)parse_long(a, need(i), 4, (long)HB_MAX_N);
-        } else if (!std::strcmp(a, "--mismatch")) {
-            o.mismatch = parse_double(a, need(i), 0.0, 0.9);
-        } else if (!std::strcmp(a, "--sigma")) {
-            o.sigma = parse_double(a, need(i), 0.0, 100.0);
-        } else if (!std::strcmp(a, "--count")) {
-            o.count = parse_long(a, need(i), 0, 100000000L);
-        } else {
-            sim_cli_fail("unknown option '%s'", a);
         }
+        const OptSpec *spec = nullptr;
+        for (const OptSpec &s : kOpts)
+            if (!std::strcmp(a, s.name))
+                spec = &s;
+        if (spec == nullptr)
+            sim_cli_fail("unknown option '%s'", a);
+        if (spec->set == nullptr) {
+            print_help();
+            std::exit(0);
+        }
+        const char *v = nullptr;
+        if (spec->metavar != nullptr) {
+            if (i + 1 >= argc)
+                sim_cli_fail("%s needs a value", a);
+            v = argv[++i];
+        }
+        spec->set(o, spec->name, v);
     }
     if (o.mode.empty())
         sim_cli_fail("no mode given");

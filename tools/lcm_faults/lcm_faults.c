@@ -217,30 +217,110 @@ static void on_frame(const lcm_recv_buf_t *rbuf, const char *channel,
 /* Seeds and frame numbers: integers up to 10^15. */
 #define MAX_COUNT 1000000000000000LL
 
-static const char usage_text[] =
-    "usage: spvs-lcm-faults [options]\n"
-    "Forwards SPVS_MATCHES frames between LCM channels with faults.\n"
-    "  --lcm-url URL       LCM provider (default $LCM_DEFAULT_URL)\n"
-    "  --in CH             channel listened to (SPVS_MATCHES_RAW)\n"
-    "  --out CH            channel forwarded to (SPVS_MATCHES)\n"
-    "  --seed S            fault generator seed, integer >= 0 (1)\n"
-    "  --drop P            fraction of frames lost, [0, 1] (0)\n"
-    "  --delay-max S       uniform delay of each frame, [0, S] seconds (0)\n"
-    "  --dup P             fraction of frames sent twice (0)\n"
-    "  --reorder P         fraction of frames sent after the next one (0)\n"
-    "  --time-back P       fraction of frames whose utime goes back 1..3\n"
-    "                      periods (0)\n"
-    "  --period S          control period for --time-back, seconds (0.1)\n"
-    "  --pause-after N     after frame seq N forward nothing for --pause S\n"
-    "  --pause S           pause length, seconds (0)\n"
-    "  --help\n"
-    "On SIGINT/SIGTERM: one line of counts on stdout, exit 0.\n";
+/* What the command line sets: the relay's fault settings and the two
+ * ends of the relay. */
+typedef struct {
+    relay_t *r;
+    const char *url;
+    const char *in_ch;
+} faults_cli_t;
+
+static void set_url(faults_cli_t *c, const char *o, const char *v) { (void)o; c->url = v; }
+static void set_in(faults_cli_t *c, const char *o, const char *v) { (void)o; c->in_ch = v; }
+static void set_out(faults_cli_t *c, const char *o, const char *v) { (void)o; c->r->out_ch = v; }
+static void set_seed(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->rng = (uint64_t)sim_cli_int(o, v, 0, MAX_COUNT);
+}
+static void set_drop(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->drop = sim_cli_real(o, v, 0.0, 1.0, SIM_CLI_CLOSED);
+}
+static void set_delay(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->delay_max_s = sim_cli_real(o, v, 0.0, 60.0, SIM_CLI_CLOSED);
+}
+static void set_dup(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->dup = sim_cli_real(o, v, 0.0, 1.0, SIM_CLI_CLOSED);
+}
+static void set_reorder(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->reorder = sim_cli_real(o, v, 0.0, 1.0, SIM_CLI_CLOSED);
+}
+static void set_time_back(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->time_back = sim_cli_real(o, v, 0.0, 1.0, SIM_CLI_CLOSED);
+}
+static void set_period(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->period_s = sim_cli_real(o, v, 1e-3, 60.0, SIM_CLI_CLOSED);
+}
+static void set_pause_after(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->pause_after = sim_cli_int(o, v, 0, MAX_COUNT);
+}
+static void set_pause(faults_cli_t *c, const char *o, const char *v)
+{
+    c->r->pause_s = sim_cli_real(o, v, 0.0, 3600.0, SIM_CLI_CLOSED);
+}
+
+/* One option: the parser and --help read the same table (a '\n' in help
+ * continues the text under its first line; set NULL: --help). */
+typedef struct {
+    const char *name;
+    const char *metavar;
+    const char *help;
+    void (*set)(faults_cli_t *c, const char *opt, const char *v);
+} fault_opt_t;
+
+static const fault_opt_t k_opts[] = {
+    {"--lcm-url", "URL", "LCM provider (default $LCM_DEFAULT_URL)", set_url},
+    {"--in", "CH", "channel listened to (SPVS_MATCHES_RAW)", set_in},
+    {"--out", "CH", "channel forwarded to (SPVS_MATCHES)", set_out},
+    {"--seed", "S", "fault generator seed, integer >= 0 (1)", set_seed},
+    {"--drop", "P", "fraction of frames lost, [0, 1] (0)", set_drop},
+    {"--delay-max", "S", "uniform delay of each frame, [0, S] seconds (0)", set_delay},
+    {"--dup", "P", "fraction of frames sent twice (0)", set_dup},
+    {"--reorder", "P", "fraction of frames sent after the next one (0)", set_reorder},
+    {"--time-back", "P", "fraction of frames whose utime goes back 1..3\nperiods (0)",
+     set_time_back},
+    {"--period", "S", "control period for --time-back, seconds (0.1)", set_period},
+    {"--pause-after", "N", "after frame seq N forward nothing for --pause S", set_pause_after},
+    {"--pause", "S", "pause length, seconds (0)", set_pause},
+    {"--help", NULL, "this text", NULL},
+};
+#define N_OPTS (sizeof(k_opts) / sizeof(k_opts[0]))
+
+/* The column where the help texts start. */
+#define HELP_COL 22
+
+static void usage(void)
+{
+    fputs("usage: spvs-lcm-faults [options]\n"
+          "Forwards SPVS_MATCHES frames between LCM channels with faults.\n",
+          stdout);
+    for (size_t k = 0; k < N_OPTS; k++) {
+        const fault_opt_t *o = &k_opts[k];
+        char left[64];
+        snprintf(left, sizeof(left), "%s%s%s", o->name, o->metavar ? " " : "",
+                 o->metavar ? o->metavar : "");
+        printf("  %-*s", HELP_COL - 2, left);
+        for (const char *c = o->help; *c; c++) {
+            if (*c == '\n')
+                printf("\n  %-*s", HELP_COL - 2, "");
+            else
+                putchar(*c);
+        }
+        putchar('\n');
+    }
+    fputs("On SIGINT/SIGTERM: one line of counts on stdout, exit 0.\n", stdout);
+}
 
 int main(int argc, char **argv)
 {
     static relay_t r;
-    const char *url = getenv("LCM_DEFAULT_URL");
-    const char *in_ch = "SPVS_MATCHES_RAW";
+    faults_cli_t cli = {&r, getenv("LCM_DEFAULT_URL"), "SPVS_MATCHES_RAW"};
     r.out_ch = "SPVS_MATCHES";
     r.period_s = 0.1;
     r.pause_after = -1;
@@ -251,41 +331,23 @@ int main(int argc, char **argv)
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
-        if (strcmp(a, "--help") == 0) {
-            fputs(usage_text, stdout);
+        const fault_opt_t *o = NULL;
+        for (size_t k = 0; k < N_OPTS && o == NULL; k++)
+            if (strcmp(a, k_opts[k].name) == 0)
+                o = &k_opts[k];
+        if (o != NULL && o->set == NULL) {
+            usage();
             return 0;
         }
         if (i + 1 >= argc)
             sim_cli_fail("missing value for: %s", a);
         const char *v = argv[++i];
-        if (strcmp(a, "--lcm-url") == 0) {
-            url = v;
-        } else if (strcmp(a, "--in") == 0) {
-            in_ch = v;
-        } else if (strcmp(a, "--out") == 0) {
-            r.out_ch = v;
-        } else if (strcmp(a, "--seed") == 0) {
-            r.rng = (uint64_t)sim_cli_int(a, v, 0, MAX_COUNT);
-        } else if (strcmp(a, "--drop") == 0) {
-            r.drop = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
-        } else if (strcmp(a, "--delay-max") == 0) {
-            r.delay_max_s = sim_cli_real(a, v, 0.0, 60.0, SIM_CLI_CLOSED);
-        } else if (strcmp(a, "--dup") == 0) {
-            r.dup = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
-        } else if (strcmp(a, "--reorder") == 0) {
-            r.reorder = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
-        } else if (strcmp(a, "--time-back") == 0) {
-            r.time_back = sim_cli_real(a, v, 0.0, 1.0, SIM_CLI_CLOSED);
-        } else if (strcmp(a, "--period") == 0) {
-            r.period_s = sim_cli_real(a, v, 1e-3, 60.0, SIM_CLI_CLOSED);
-        } else if (strcmp(a, "--pause-after") == 0) {
-            r.pause_after = sim_cli_int(a, v, 0, MAX_COUNT);
-        } else if (strcmp(a, "--pause") == 0) {
-            r.pause_s = sim_cli_real(a, v, 0.0, 3600.0, SIM_CLI_CLOSED);
-        } else {
+        if (o == NULL)
             sim_cli_fail("unknown option: %s", a);
-        }
+        o->set(&cli, o->name, v);
     }
+    const char *url = cli.url;
+    const char *in_ch = cli.in_ch;
     if (strcmp(in_ch, r.out_ch) == 0)
         sim_cli_fail("--in and --out must differ: %s", in_ch);
 
