@@ -386,8 +386,7 @@ static const sim_opt_t k_opts[] = {
 };
 #define N_OPTS (sizeof(k_opts) / sizeof(k_opts[0]))
 
-/* The option column's width: a help text's later lines start under its
- * first, and a longer option is followed by two spaces. */
+/* The option column's width in --help (sim_cli_help_option). */
 #define HELP_COL 22
 
 static void show_help(options_t *o, const char *name, const char *val)
@@ -400,19 +399,7 @@ static void show_help(options_t *o, const char *name, const char *val)
           "\n",
           stdout);
     for (size_t k = 0; k < N_OPTS; ++k) {
-        char left[64];
-        snprintf(left, sizeof(left), "%s%s%s", k_opts[k].name, k_opts[k].metavar ? " " : "",
-                 k_opts[k].metavar ? k_opts[k].metavar : "");
-        const int w = (int)strlen(left);
-        printf("  %s%*s", left, w < HELP_COL ? HELP_COL - w : 2, "");
-        for (const char *c = k_opts[k].help; *c; ++c) {
-            if (*c == '\n') {
-                printf("\n  %*s", HELP_COL, "");
-            } else {
-                putchar(*c);
-            }
-        }
-        putchar('\n');
+        sim_cli_help_option(stdout, HELP_COL, k_opts[k].name, k_opts[k].metavar, k_opts[k].help);
     }
     fputs("\n"
           "Exit status: 0 run completed (any outcome), 1 link or output error,\n"

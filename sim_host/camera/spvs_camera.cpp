@@ -186,8 +186,8 @@ const OptSpec kOpts[] = {
     {"--help", nullptr, "this text", nullptr},
 };
 
-/* The column where the help texts start in --help. */
-constexpr int kHelpCol = 22;
+/* The option column's width in --help (sim_cli_help_option). */
+constexpr int kHelpCol = 20;
 
 void usage(FILE *f)
 {
@@ -198,19 +198,7 @@ void usage(FILE *f)
                "\n",
                f);
     for (const OptSpec &o : kOpts) {
-        const std::string left = o.metavar ? std::string(o.name) + " " + o.metavar : o.name;
-        std::fprintf(f, "  %-*s", kHelpCol - 2, left.c_str());
-        if ((int)left.size() > kHelpCol - 4) {
-            std::fprintf(f, "\n  %-*s", kHelpCol - 2, "");
-        }
-        for (const char *c = o.help; *c; ++c) {
-            if (*c == '\n') {
-                std::fprintf(f, "\n  %-*s", kHelpCol - 2, "");
-            } else {
-                std::fputc(*c, f);
-            }
-        }
-        std::fputc('\n', f);
+        sim_cli_help_option(f, kHelpCol, o.name, o.metavar, o.help);
     }
     std::fputs("\n"
                "Exit status: 0 the source ended (or --max-frames), 1 a lost device, a\n"

@@ -180,3 +180,25 @@ void sim_cli_triple(const char *opt, const char *s, double lo, double hi,
         sim_cli_fail("%s", err);
     }
 }
+
+void sim_cli_help_option(FILE *f, int col, const char *name, const char *metavar,
+                         const char *help)
+{
+    char left[96];
+    const int w = snprintf(left, sizeof(left), "%s%s%s", name, metavar ? " " : "",
+                           metavar ? metavar : "");
+    fprintf(f, "  %s", left);
+    if (w <= col - 2) {
+        fprintf(f, "%*s", col - w, "");
+    } else {
+        fprintf(f, "\n  %*s", col, "");
+    }
+    for (const char *c = help; *c; c++) {
+        if (*c == '\n') {
+            fprintf(f, "\n  %*s", col, "");
+        } else {
+            fputc(*c, f);
+        }
+    }
+    fputc('\n', f);
+}

@@ -152,6 +152,13 @@ void set_mode(Options &o, const char *m)
     o.mode = m;
 }
 
+/* A mode that names a file: --generate FILE, --cases FILE. */
+void set_mode_file(Options &o, const char *opt, const char *v)
+{
+    set_mode(o, opt);
+    o.file = v;
+}
+
 void set_estimators(Options &o, const char *, const char *v)
 {
     o.estimators = split_list(v);
@@ -161,12 +168,11 @@ void set_estimators(Options &o, const char *, const char *v)
 
 /* Every option, in the order --help lists them. */
 const OptSpec kOpts[] = {
-    {"--generate", "FILE", true, "write the case matrix (HOMBENCH v1)",
-     [](Options &o, const char *opt, const char *v) { set_mode(o, opt); o.file = v; }},
+    {"--generate", "FILE", true, "write the case matrix (HOMBENCH v1)", set_mode_file},
     {"--cases", "FILE", true,
      "time estimators on FILE, one JSON line per (case_id,\n"
      "estimator); needs --json",
-     [](Options &o, const char *opt, const char *v) { set_mode(o, opt); o.file = v; }},
+     set_mode_file},
     {"--full", nullptr, true, "whole matrix, tables (or JSON lines with --json)",
      [](Options &o, const char *opt, const char *) { set_mode(o, opt); }},
     {"--short", nullptr, true, "CI mode: one case, few repeats, JSON lines",
@@ -250,8 +256,8 @@ const OptSpec kOpts[] = {
     {"--help", nullptr, false, "this text", nullptr},
 };
 
-/* The column where the help texts start. */
-constexpr int kHelpCol = 25;
+/* The option column's width in --help (sim_cli_help_option). */
+constexpr int kHelpCol = 23;
 
 void print_help()
 {
@@ -261,17 +267,7 @@ void print_help()
         for (const OptSpec &o : kOpts) {
             if (o.mode != (section == 0))
                 continue;
-            const std::string left = o.metavar ? std::string(o.name) + " " + o.metavar : o.name;
-            std::printf("  %-*s", kHelpCol - 2, left.c_str());
-            if ((int)left.size() > kHelpCol - 4)
-                std::printf("\n  %-*s", kHelpCol - 2, "");
-            for (const char *c = o.help; *c; ++c) {
-                if (*c == '\n')
-                    std::printf("\n  %-*s", kHelpCol - 2, "");
-                else
-                    std::putchar(*c);
-            }
-            std::putchar('\n');
+            sim_cli_help_option(stdout, kHelpCol, o.name, o.metavar, o.help);
         }
     }
     std::printf("estimators in this build:");

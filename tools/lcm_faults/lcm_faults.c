@@ -292,28 +292,16 @@ static const fault_opt_t k_opts[] = {
 };
 #define N_OPTS (sizeof(k_opts) / sizeof(k_opts[0]))
 
-/* The column where the help texts start. */
-#define HELP_COL 22
+/* The option column's width in --help (sim_cli_help_option). */
+#define HELP_COL 20
 
 static void usage(void)
 {
     fputs("usage: spvs-lcm-faults [options]\n"
           "Forwards SPVS_MATCHES frames between LCM channels with faults.\n",
           stdout);
-    for (size_t k = 0; k < N_OPTS; k++) {
-        const fault_opt_t *o = &k_opts[k];
-        char left[64];
-        snprintf(left, sizeof(left), "%s%s%s", o->name, o->metavar ? " " : "",
-                 o->metavar ? o->metavar : "");
-        printf("  %-*s", HELP_COL - 2, left);
-        for (const char *c = o->help; *c; c++) {
-            if (*c == '\n')
-                printf("\n  %-*s", HELP_COL - 2, "");
-            else
-                putchar(*c);
-        }
-        putchar('\n');
-    }
+    for (size_t k = 0; k < N_OPTS; k++)
+        sim_cli_help_option(stdout, HELP_COL, k_opts[k].name, k_opts[k].metavar, k_opts[k].help);
     fputs("On SIGINT/SIGTERM: one line of counts on stdout, exit 0.\n", stdout);
 }
 

@@ -11,6 +11,8 @@
  *     unit tests use them;
  *   - sim_cli_int/real/triple: the same for a command line, refusing bad
  *     input through sim_cli_fail.
+ * Each program keeps its options in one table that its parser and its
+ * --help read; sim_cli_help_option lays out one row of --help.
  *
  * Accepted text: an integer is what strtoll reads in base 10 (an optional
  * sign and decimal digits); a real is what strtod reads that is finite and
@@ -24,6 +26,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -82,6 +85,13 @@ double sim_cli_real(const char *opt, const char *s, double lo, double hi,
                     int bounds);
 void sim_cli_triple(const char *opt, const char *s, double lo, double hi,
                     double out[3]);
+
+/* One option's lines of --help on f: "  NAME METAVAR" (metavar NULL for a
+ * flag), then help from `col` columns after the indent: on the same line
+ * where two spaces are left before it, else on the next; each '\n' in help
+ * starts a line at the same column. */
+void sim_cli_help_option(FILE *f, int col, const char *name, const char *metavar,
+                         const char *help);
 
 #ifdef __cplusplus
 }
