@@ -99,6 +99,16 @@ static spvs_real val_of_x10(int n)
     return (spvs_real)n * SPVS_R(0.1);
 }
 
+static spvs_real val_max(spvs_real a, spvs_real b)
+{
+    return a > b ? a : b;
+}
+
+static spvs_real val_hypot(spvs_real a, spvs_real b)
+{
+    return SPVS_SQRT(a * a + b * b);
+}
+
 static spvs_real val_times(spvs_real a, int k)
 {
     return (spvs_real)k * a;
@@ -489,21 +499,14 @@ static spvs_real corner_transfer(const spvs_control_params_t *p, const spvs_real
     return all;
 }
 
-static spvs_real max3(spvs_real a, spvs_real b, spvs_real c)
-{
-    const spvs_real m = a > b ? a : b;
-    return m > c ? m : c;
-}
-
-/* The averaged residual r (entries of H - I), the check's figures (|mean|
- * / sd per direction and all; control_steps.inc's FIG_*) and the
- * telemetry's. */
+/* The averaged residual r (entries of H - I), each residual's statistic
+ * z (control_steps.inc's arrival_combine reads them) and the telemetry's
+ * means and sds. */
 static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, spvs_real r[6],
-                            spvs_real fig[4])
+                            spvs_real z[SPVS_CTL_ARRIVAL_RESIDUALS])
 {
     const spvs_real nf = (spvs_real)c->arrive_n;
     spvs_real m[SPVS_CTL_ARRIVAL_RESIDUALS], sd[SPVS_CTL_ARRIVAL_RESIDUALS];
-    spvs_real z[SPVS_CTL_ARRIVAL_RESIDUALS];
     for (int k = 0; k < 6; k++) {
         m[k] = residual_mean_sd(c, k, nf, &sd[k]);
         r[k] = c->arrive_sum[k] / nf;
@@ -519,24 +522,18 @@ static void arrival_figures(spvs_control_t *c, const spvs_control_params_t *p, s
             z[k] = residual_stat(p, k, m[k], sd[k]);
         }
     }
-    fig[0] = max3(z[0], z[1], z[6]);
-    /* Along the optical axis the plane's row 3 and the radial parallax
-     * (independent points) each see little: h33 - 1 and the radial
-     * parallax are taken together, as a chi-square of two.  h31 moves with
-     * the heading and the depth alike: it counts in the verdict, not in
-     * the direction. */
-    const spvs_real z57 = SPVS_SQRT(z[5] * z[5] + z[7] * z[7]);
-    fig[1] = z[4] > z57 ? z[4] : z57;
-    fig[2] = z[2];
-    fig[3] = max3(max3(fig[0], fig[1], fig[2]), z[3], z[3]);
     c->arrival_corner_px = corner_transfer(p, r);
-    c->arrival_stat = fig[3];
     c->arrival_lateral_px = par ? m[6] : m[0];
     c->arrival_lateral_sd_px = par ? sd[6] : sd[0];
     c->arrival_depth_px = par ? m[7] : m[5];
     c->arrival_depth_sd_px = par ? sd[7] : sd[5];
     c->arrival_h13_px = m[2];
     c->arrival_h13_sd_px = sd[2];
+}
+
+static void arrival_stat_keep(spvs_control_t *c, spvs_real stat)
+{
+    c->arrival_stat = stat;
 }
 
 static spvs_real parallax_mean(const spvs_control_t *c)

@@ -815,21 +815,25 @@ static spvs_qf_t residual_stat(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
     return beyond.m > 0 ? qf_div(beyond, sd, &c->sat) : qf_of(0, 0);
 }
 
-static spvs_qf_t qf_max(spvs_qf_t a, spvs_qf_t b)
+static spvs_qf_t val_max(spvs_qf_t a, spvs_qf_t b)
 {
     return spvs_qf_le(a, b) ? b : a;
 }
 
-/* The averaged residual r (scaled units, as the sums), the check's figures
- * in spvs_qf_t (control_steps.inc's order) and, for the telemetry, in int32
- * Q16 (control.c's arrival_figures). */
-static void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
-                                            spvs_qf_t r[6], spvs_qf_t fig[4])
+static spvs_qf_t val_hypot(spvs_qf_t a, spvs_qf_t b)
+{
+    return qf_sqrt(spvs_qf_add(spvs_qf_mul(a, a), spvs_qf_mul(b, b)));
+}
+
+/* The averaged residual r (scaled units, as the sums), each residual's
+ * statistic z in spvs_qf_t and, for the telemetry, the means and sds in
+ * int32 Q16 (control.c's arrival_figures). */
+static void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p, spvs_qf_t r[6],
+                            spvs_qf_t z[SPVS_CTL_ARRIVAL_RESIDUALS])
 {
     uint32_t *sat = &c->sat;
     uint32_t tel = 0;
     spvs_qf_t t, a, m[SPVS_CTL_ARRIVAL_RESIDUALS], sd[SPVS_CTL_ARRIVAL_RESIDUALS];
-    spvs_qf_t z[SPVS_CTL_ARRIVAL_RESIDUALS];
     t = spvs_qf_recip(qf_of(c->arrive_n, 0), sat);
     for (int k = 0; k < 6; k++) {
         a = qf_of(c->arrive_sum[k], SPVS_QH);
@@ -845,19 +849,21 @@ static void arrival_figures(spvs_q_ctl_t *c, const spvs_q_ctl_params_t *p,
             z[k] = residual_stat(c, p, k, m[k], sd[k]);
         }
     }
-    fig[0] = qf_max(qf_max(z[0], z[1]), z[6]);
-    const spvs_qf_t z57 = qf_sqrt(spvs_qf_add(spvs_qf_mul(z[5], z[5]), spvs_qf_mul(z[7], z[7])));
-    fig[1] = qf_max(z[4], z57);
-    fig[2] = z[2];
-    fig[3] = qf_max(qf_max(qf_max(fig[0], fig[1]), fig[2]), z[3]);
     c->arrival_corner_px = spvs_qf_to_q32(corner_transfer(p, r, sat), SPVS_QCTL_PX, &tel);
-    c->arrival_stat = spvs_qf_to_q32(fig[3], SPVS_QCTL_PX, &tel);
     c->arrival_lateral_px = spvs_qf_to_q32(par ? m[6] : m[0], SPVS_QCTL_PX, &tel);
     c->arrival_lateral_sd_px = spvs_qf_to_q32(par ? sd[6] : sd[0], SPVS_QCTL_PX, &tel);
     c->arrival_depth_px = spvs_qf_to_q32(par ? m[7] : m[5], SPVS_QCTL_PX, &tel);
     c->arrival_depth_sd_px = spvs_qf_to_q32(par ? sd[7] : sd[5], SPVS_QCTL_PX, &tel);
     c->arrival_h13_px = spvs_qf_to_q32(m[2], SPVS_QCTL_PX, &tel);
     c->arrival_h13_sd_px = spvs_qf_to_q32(sd[2], SPVS_QCTL_PX, &tel);
+}
+
+/* The statistic's telemetry in Q16 (its saturation is the telemetry's,
+ * not the controller's). */
+static void arrival_stat_keep(spvs_q_ctl_t *c, spvs_qf_t stat)
+{
+    uint32_t tel = 0;
+    c->arrival_stat = spvs_qf_to_q32(stat, SPVS_QCTL_PX, &tel);
 }
 
 /* The frames' mean parallax, Q16 pixels, rounded. */
